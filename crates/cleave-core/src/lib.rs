@@ -1,0 +1,17 @@
+//! cleave-core: the numerical core of cleave, an explicit finite-element code for transient
+//! dynamics of solids (8-node hexahedra, one-point integration, central differences).
+//!
+//! The data falls in three kinds (see `shared/design/architecture.md`):
+//! - [`model::Model`]: what never changes during a run (mesh, materials, loads, controls);
+//! - [`state::State`]: what a step changes (time, positions, velocities, stresses, energies);
+//! - scratch buffers inside the solver, never saved.
+//!
+//! Deck ids appear only in the model's id tables and in messages; everything else uses dense
+//! internal indices (`u32` for nodes and elements, `usize` for parts, materials, curves).
+
+pub mod curve;
+pub mod element;
+pub mod material;
+pub mod math;
+pub mod mesh;
+pub mod model;

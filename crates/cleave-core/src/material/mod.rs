@@ -1,0 +1,94 @@
+//! Constitutive laws for solid elements, as pointwise stress updates.
+//!
+//! Every law is hypoelastic in the Jaumann (Hughes-Winget) sense: the element kernel first
+//! rotates the stress and any tensorial history with the incremental rotation, then calls
+//! [`SolidLaw::update`] with the rate-of-deformation increment `d_eps = D dt` (tensor
+//! components, LS-DYNA order xx yy zz xy yz zx).
+
+mod elastic;
+mod plastic;
+
+pub use elastic::update_elastic;
+pub use plastic::update_plastic_kinematic;
+
+use crate::math::Sym3;
+use crate::model::{Material, MaterialKind};
+
+/// Per-element history of a material point: effective plastic strain and back stress.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct History {
+    /// Effective (equivalent) plastic strain.
+    pub eps_p: f64,
+    /// Back stress (kinematic hardening centre), deviatoric.
+    pub back: Sym3,
+}
+
+/// A material law with its parameters precomputed for the kernel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolidLaw {
+    Elastic,
+    /// Bilinear plasticity: `sigy` initial yield, `hp` plastic hardening modulus
+    /// E Et / (E - Et), `beta` isotropic fraction.
+    PlasticKinematic {
+        sigy: f64,
+        hp: f64,
+        beta: f64,
+    },
+}
+
+/// Material parameters the element kernel needs, precomputed once per material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolidParams {
+    pub density: f64,
+    /// Lame lambda.
+    pub lambda: f64,
+    /// Shear modulus G.
+    pub shear: f64,
+    /// Dilatational wave speed sqrt((lambda + 2G)/rho).
+    pub wave_speed: f64,
+    pub law: SolidLaw,
+}
+
+impl SolidParams {
+    /// Kernel parameters of a deformable material; `None` for a rigid one.
+    pub fn from_material(m: &Material) -> Option<Self> {
+        let law = match m.kind {
+            MaterialKind::Elastic => SolidLaw::Elastic,
+            MaterialKind::PlasticKinematic { sigy, etan, beta } => {
+                // Plastic hardening modulus: 1/Et = 1/E + 1/Hp.
+                let hp = if etan > 0.0 && etan < m.young {
+                    m.young * etan / (m.young - etan)
+                } else {
+                    0.0
+                };
+                SolidLaw::PlasticKinematic { sigy, hp, beta }
+            }
+            MaterialKind::Rigid { .. } => return None,
+        };
+        Some(Self {
+            density: m.density,
+            lambda: m.lame_lambda(),
+            shear: m.shear_modulus(),
+            wave_speed: m.wave_speed(),
+            law,
+        })
+    }
+
+    /// Update `sigma` (already rotated) with the strain increment `d_eps`.
+    #[inline]
+    pub fn update(&self, sigma: &mut Sym3, d_eps: &Sym3, hist: &mut History) {
+        match self.law {
+            SolidLaw::Elastic => update_elastic(self.lambda, self.shear, sigma, d_eps),
+            SolidLaw::PlasticKinematic { sigy, hp, beta } => update_plastic_kinematic(
+                self.lambda,
+                self.shear,
+                sigy,
+                hp,
+                beta,
+                sigma,
+                d_eps,
+                hist,
+            ),
+        }
+    }
+}

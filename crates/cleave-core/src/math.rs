@@ -1,0 +1,211 @@
+//! Small fixed-size linear algebra: 3-vectors as `[f64; 3]` and symmetric tensors as
+//! `[f64; 6]` in LS-DYNA order (xx, yy, zz, xy, yz, zx).
+
+/// A 3-vector.
+pub type Vec3 = [f64; 3];
+/// A symmetric 3x3 tensor in LS-DYNA order: xx, yy, zz, xy, yz, zx.
+pub type Sym3 = [f64; 6];
+
+#[inline]
+pub fn add(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+#[inline]
+pub fn sub(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+#[inline]
+pub fn scale(a: Vec3, s: f64) -> Vec3 {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+#[inline]
+pub fn dot(a: Vec3, b: Vec3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+#[inline]
+pub fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+#[inline]
+pub fn norm(a: Vec3) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Trace of a symmetric tensor.
+#[inline]
+pub fn trace(s: &Sym3) -> f64 {
+    s[0] + s[1] + s[2]
+}
+
+/// Deviatoric part of a symmetric tensor.
+#[inline]
+pub fn deviator(s: &Sym3) -> Sym3 {
+    let p = trace(s) / 3.0;
+    [s[0] - p, s[1] - p, s[2] - p, s[3], s[4], s[5]]
+}
+
+/// Double contraction s:t of two symmetric tensors (off-diagonal terms count twice).
+#[inline]
+pub fn ddot(s: &Sym3, t: &Sym3) -> f64 {
+    s[0] * t[0] + s[1] * t[1] + s[2] * t[2] + 2.0 * (s[3] * t[3] + s[4] * t[4] + s[5] * t[5])
+}
+
+/// Von Mises equivalent stress sqrt(3/2 s':s').
+#[inline]
+pub fn von_mises(s: &Sym3) -> f64 {
+    let d = deviator(s);
+    (1.5 * ddot(&d, &d)).sqrt()
+}
+
+/// Traction t = s n of a symmetric tensor on a unit normal n.
+#[inline]
+pub fn sym_mul_vec(s: &Sym3, n: Vec3) -> Vec3 {
+    [
+        s[0] * n[0] + s[3] * n[1] + s[5] * n[2],
+        s[3] * n[0] + s[1] * n[1] + s[4] * n[2],
+        s[5] * n[0] + s[4] * n[1] + s[2] * n[2],
+    ]
+}
+
+/// 3x3 matrix, row-major.
+pub type Mat3 = [[f64; 3]; 3];
+
+#[inline]
+pub fn mat_mul(a: &Mat3, b: &Mat3) -> Mat3 {
+    let mut c = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            c[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+        }
+    }
+    c
+}
+#[inline]
+pub fn mat_vec(a: &Mat3, v: Vec3) -> Vec3 {
+    [dot(a[0], v), dot(a[1], v), dot(a[2], v)]
+}
+#[inline]
+pub fn transpose(a: &Mat3) -> Mat3 {
+    [
+        [a[0][0], a[1][0], a[2][0]],
+        [a[0][1], a[1][1], a[2][1]],
+        [a[0][2], a[1][2], a[2][2]],
+    ]
+}
+pub fn det(a: &Mat3) -> f64 {
+    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+}
+/// Inverse of a 3x3 matrix; `None` when singular.
+pub fn inverse(a: &Mat3) -> Option<Mat3> {
+    let d = det(a);
+    if d == 0.0 || !d.is_finite() {
+        return None;
+    }
+    let inv_d = 1.0 / d;
+    Some([
+        [
+            (a[1][1] * a[2][2] - a[1][2] * a[2][1]) * inv_d,
+            (a[0][2] * a[2][1] - a[0][1] * a[2][2]) * inv_d,
+            (a[0][1] * a[1][2] - a[0][2] * a[1][1]) * inv_d,
+        ],
+        [
+            (a[1][2] * a[2][0] - a[1][0] * a[2][2]) * inv_d,
+            (a[0][0] * a[2][2] - a[0][2] * a[2][0]) * inv_d,
+            (a[0][2] * a[1][0] - a[0][0] * a[1][2]) * inv_d,
+        ],
+        [
+            (a[1][0] * a[2][1] - a[1][1] * a[2][0]) * inv_d,
+            (a[0][1] * a[2][0] - a[0][0] * a[2][1]) * inv_d,
+            (a[0][0] * a[1][1] - a[0][1] * a[1][0]) * inv_d,
+        ],
+    ])
+}
+
+/// Rotation matrix exp([w]x) for a rotation vector w (Rodrigues' formula).
+pub fn rotation_from_vector(w: Vec3) -> Mat3 {
+    let th = norm(w);
+    if th < 1e-300 {
+        return [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    }
+    let k = scale(w, 1.0 / th);
+    let (s, c) = th.sin_cos();
+    let v = 1.0 - c;
+    [
+        [
+            c + k[0] * k[0] * v,
+            k[0] * k[1] * v - k[2] * s,
+            k[0] * k[2] * v + k[1] * s,
+        ],
+        [
+            k[1] * k[0] * v + k[2] * s,
+            c + k[1] * k[1] * v,
+            k[1] * k[2] * v - k[0] * s,
+        ],
+        [
+            k[2] * k[0] * v - k[1] * s,
+            k[2] * k[1] * v + k[0] * s,
+            c + k[2] * k[2] * v,
+        ],
+    ]
+}
+
+/// Symmetric tensor as a full matrix.
+pub fn sym_to_mat(s: &Sym3) -> Mat3 {
+    [[s[0], s[3], s[5]], [s[3], s[1], s[4]], [s[5], s[4], s[2]]]
+}
+/// Symmetric part of a full matrix, in LS-DYNA order.
+pub fn mat_to_sym(m: &Mat3) -> Sym3 {
+    [
+        m[0][0],
+        m[1][1],
+        m[2][2],
+        0.5 * (m[0][1] + m[1][0]),
+        0.5 * (m[1][2] + m[2][1]),
+        0.5 * (m[2][0] + m[0][2]),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rodrigues_is_orthogonal_and_rotates() {
+        let r = rotation_from_vector([0.0, 0.0, std::f64::consts::FRAC_PI_2]);
+        let v = mat_vec(&r, [1.0, 0.0, 0.0]);
+        assert!((v[0]).abs() < 1e-15 && (v[1] - 1.0).abs() < 1e-15);
+        let rtr = mat_mul(&transpose(&r), &r);
+        for (i, row) in rtr.iter().enumerate() {
+            for (j, x) in row.iter().enumerate() {
+                let e = if i == j { 1.0 } else { 0.0 };
+                assert!((x - e).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn inverse_times_matrix_is_identity() {
+        let a = [[2.0, 1.0, 0.5], [0.1, 3.0, 0.2], [0.3, -0.4, 1.5]];
+        let ai = inverse(&a).unwrap();
+        let p = mat_mul(&a, &ai);
+        for (i, row) in p.iter().enumerate() {
+            for (j, x) in row.iter().enumerate() {
+                let e = if i == j { 1.0 } else { 0.0 };
+                assert!((x - e).abs() < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn von_mises_of_uniaxial_is_the_stress() {
+        assert!((von_mises(&[5.0, 0.0, 0.0, 0.0, 0.0, 0.0]) - 5.0).abs() < 1e-14);
+        // pure shear tau: sqrt(3) tau
+        assert!((von_mises(&[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]) - 2.0 * 3f64.sqrt()).abs() < 1e-14);
+    }
+}

@@ -1,0 +1,47 @@
+//! Structured mesh generators for tests, benchmarks and examples.
+
+use crate::math::Vec3;
+
+/// A structured block of nx x ny x nz hexahedra spanning [0,lx] x [0,ly] x [0,lz].
+/// Nodes are numbered x fastest, then y, then z; elements likewise.
+pub struct BoxMesh {
+    pub x: Vec<Vec3>,
+    pub conn: Vec<[u32; 8]>,
+}
+
+impl BoxMesh {
+    pub fn new(n: [usize; 3], l: [f64; 3]) -> Self {
+        let [nx, ny, nz] = n;
+        let mut x = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    x.push([
+                        l[0] * i as f64 / nx as f64,
+                        l[1] * j as f64 / ny as f64,
+                        l[2] * k as f64 / nz as f64,
+                    ]);
+                }
+            }
+        }
+        let id = |i: usize, j: usize, k: usize| (i + (nx + 1) * (j + (ny + 1) * k)) as u32;
+        let mut conn = Vec::with_capacity(nx * ny * nz);
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    conn.push([
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ]);
+                }
+            }
+        }
+        Self { x, conn }
+    }
+}

@@ -1,0 +1,312 @@
+//! The model: everything about a run that does not change while it runs.
+//!
+//! Built once by the deck reader (`cleave-io`) or by the mesh generators in [`crate::mesh`],
+//! validated there, then consumed read-only by the solver. Node and element references are
+//! dense internal indices (`u32`); deck ids live only in `node_ids`, `elem_ids` and the `id`
+//! fields, for output and messages.
+
+use crate::curve::Curve;
+use crate::math::Vec3;
+
+/// A complete model.
+#[derive(Clone, Debug, Default)]
+pub struct Model {
+    pub title: String,
+    /// Deck id of each node.
+    pub node_ids: Vec<i64>,
+    /// Reference (initial) coordinates of each node.
+    pub x0: Vec<Vec3>,
+    /// Initial velocity of each node (from `*INITIAL_VELOCITY_*`, resolved by the builder).
+    pub v0: Vec<Vec3>,
+    /// Deck id of each element.
+    pub elem_ids: Vec<i64>,
+    /// Part index (into `parts`) of each element.
+    pub elem_part: Vec<u32>,
+    /// Connectivity: 8 node indices per hexahedron, LS-DYNA corner order.
+    pub conn: Vec<[u32; 8]>,
+    pub parts: Vec<Part>,
+    pub sections: Vec<Section>,
+    pub materials: Vec<Material>,
+    pub curves: Vec<Curve>,
+    pub node_sets: Vec<NodeSet>,
+    pub part_sets: Vec<PartSet>,
+    pub segment_sets: Vec<SegmentSet>,
+    /// Single-point constraints, one entry per constrained node (sets expanded, repeated
+    /// constraints on a node merged by OR).
+    pub spcs: Vec<Spc>,
+    pub prescribed: Vec<PrescribedMotion>,
+    pub body_loads: Vec<BodyLoad>,
+    pub rigid_walls: Vec<RigidWall>,
+    pub contacts: Vec<ContactDef>,
+    pub separations: Vec<SeparationDef>,
+    pub control: Control,
+    pub output: OutputRequests,
+}
+
+/// `*PART`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Part {
+    pub id: i64,
+    pub title: String,
+    /// Index into `Model::sections`.
+    pub section: usize,
+    /// Index into `Model::materials`.
+    pub material: usize,
+}
+
+/// `*SECTION_SOLID`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Section {
+    pub id: i64,
+    /// Element formulation; only 1 (one-point hexahedron with hourglass control) is supported.
+    pub elform: i32,
+}
+
+/// A material card. Common parameters are fields; the law's own are in `kind`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub id: i64,
+    /// Mass density RO (kg/m^3 in SI).
+    pub density: f64,
+    /// Young's modulus E.
+    pub young: f64,
+    /// Poisson's ratio PR, in (-1, 0.5).
+    pub poisson: f64,
+    pub kind: MaterialKind,
+}
+
+impl Material {
+    /// Shear modulus G = E / (2 (1 + nu)).
+    pub fn shear_modulus(&self) -> f64 {
+        self.young / (2.0 * (1.0 + self.poisson))
+    }
+    /// Bulk modulus K = E / (3 (1 - 2 nu)).
+    pub fn bulk_modulus(&self) -> f64 {
+        self.young / (3.0 * (1.0 - 2.0 * self.poisson))
+    }
+    /// Lame's first parameter lambda = E nu / ((1 + nu)(1 - 2 nu)).
+    pub fn lame_lambda(&self) -> f64 {
+        self.young * self.poisson / ((1.0 + self.poisson) * (1.0 - 2.0 * self.poisson))
+    }
+    /// Dilatational (P-wave) speed c = sqrt((lambda + 2G) / rho), used for the time step.
+    pub fn wave_speed(&self) -> f64 {
+        ((self.lame_lambda() + 2.0 * self.shear_modulus()) / self.density).sqrt()
+    }
+}
+
+/// The constitutive law of a material.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialKind {
+    /// `*MAT_ELASTIC` (`*MAT_001`): isotropic linear elastic (hypoelastic, Jaumann rate).
+    Elastic,
+    /// `*MAT_PLASTIC_KINEMATIC` (`*MAT_003`): bilinear elastic-plastic, von Mises yield,
+    /// hardening mixed between kinematic (BETA = 0) and isotropic (BETA = 1).
+    PlasticKinematic { sigy: f64, etan: f64, beta: f64 },
+    /// `*MAT_RIGID` (`*MAT_020`). With `cmo = 1` the constraints are global:
+    /// `con1` translations, `con2` rotations, each coded 0 none, 1 x, 2 y, 3 z, 4 x+y,
+    /// 5 y+z, 6 z+x, 7 all. `cmo = 0`: no constraints.
+    Rigid { cmo: i32, con1: i32, con2: i32 },
+}
+
+/// A node set; members are node indices.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeSet {
+    pub id: i64,
+    pub nodes: Vec<u32>,
+}
+
+/// A part set; members are part indices.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartSet {
+    pub id: i64,
+    pub parts: Vec<usize>,
+}
+
+/// A segment set; each segment is 4 node indices (a triangle repeats its third node).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SegmentSet {
+    pub id: i64,
+    pub segments: Vec<[u32; 4]>,
+}
+
+/// A single-point constraint: `dof[0..3]` translations x, y, z; `dof[3..6]` rotations
+/// (carried for completeness; solid nodes have no rotational dofs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spc {
+    pub node: u32,
+    pub dof: [bool; 6],
+}
+
+/// What a prescribed motion acts on.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MotionTarget {
+    Node(u32),
+    /// A rigid part, by part index.
+    Rigid(usize),
+}
+
+/// Whether a prescribed motion curve gives velocity or displacement.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Vad {
+    /// VAD = 0.
+    Velocity,
+    /// VAD = 2.
+    Displacement,
+}
+
+/// `*BOUNDARY_PRESCRIBED_MOTION_{NODE,SET,RIGID}` (sets expanded to one entry per node).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PrescribedMotion {
+    pub target: MotionTarget,
+    /// 0, 1, 2 for x, y, z (deck DOF 1, 2, 3).
+    pub axis: usize,
+    pub vad: Vad,
+    /// Index into `Model::curves`.
+    pub curve: usize,
+    /// Scale factor SF applied to the curve's ordinate.
+    pub sf: f64,
+}
+
+/// `*LOAD_BODY_{X,Y,Z}`: a base acceleration; the body feels `-sf * curve(t)` along `axis`
+/// (so gravity along -z is `*LOAD_BODY_Z` with +9.81).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyLoad {
+    pub axis: usize,
+    /// Index into `Model::curves`; `None` (LCID 0) means a constant 1.
+    pub curve: Option<usize>,
+    pub sf: f64,
+}
+
+impl BodyLoad {
+    /// The acceleration the body load imposes at time `t` (along `axis`).
+    pub fn acceleration(&self, curves: &[Curve], t: f64) -> f64 {
+        let c = self.curve.map_or(1.0, |i| curves[i].eval(t));
+        -self.sf * c
+    }
+}
+
+/// `*RIGIDWALL_PLANAR`: a fixed stonewall. The wall normal points from the tail (XT, YT, ZT)
+/// towards the head (XH, YH, ZH) into the half-space where the nodes live.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RigidWall {
+    /// Ordinal (1-based) of the wall in the deck, used in rwforc.csv.
+    pub id: i64,
+    /// Slave nodes; `None` (NSID = 0) means every node.
+    pub nodes: Option<Vec<u32>>,
+    pub tail: Vec3,
+    pub head: Vec3,
+    /// Coulomb friction coefficient; 1.0 or more means no sliding.
+    pub fric: f64,
+}
+
+/// Which side of a contact: by part set, part, segment set, or everything.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ContactSurface {
+    All,
+    PartSet(usize),
+    Part(usize),
+    SegmentSet(usize),
+}
+
+/// `*CONTACT_AUTOMATIC_SINGLE_SURFACE` / `*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactDef {
+    /// Ordinal (1-based) of the contact in the deck, used in rcforc.csv.
+    pub id: i64,
+    pub single_surface: bool,
+    pub slave: ContactSurface,
+    /// Master side (surface to surface only).
+    pub master: Option<ContactSurface>,
+    /// Static and dynamic friction, exponential decay coefficient.
+    pub fs: f64,
+    pub fd: f64,
+    pub dc: f64,
+}
+
+/// `*MAT_ADD_SEPARATION`: the elements of `material` form a separation group.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeparationDef {
+    /// Index into `Model::materials`.
+    pub material: usize,
+    /// 1: normal stress; 2: effective stress; 3: effective stress onset + Camacho-Ortiz law.
+    pub model: i32,
+    pub sigmax: f64,
+    pub beta: f64,
+    pub gc: f64,
+    /// 1: faces to other materials may fail; 0: they stay bonded.
+    pub bond: i32,
+}
+
+/// Hourglass control form.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Hourglass {
+    /// IHQ = 1: viscous (Flanagan-Belytschko).
+    Viscous,
+    /// IHQ = 4 or 5: stiffness (Flanagan-Belytschko).
+    Stiffness,
+}
+
+/// `*CONTROL_*` settings, with LS-DYNA's defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Control {
+    /// ENDTIM.
+    pub end_time: f64,
+    /// DTINIT (0: computed).
+    pub dt_init: f64,
+    /// TSSFAC, default 0.9.
+    pub tssfac: f64,
+    pub hourglass: Hourglass,
+    /// QH, default 0.1.
+    pub qh: f64,
+    /// Quadratic bulk viscosity Q1, default 1.5.
+    pub q1: f64,
+    /// Linear bulk viscosity Q2, default 0.06.
+    pub q2: f64,
+    /// SLSFAC, default 0.1.
+    pub slsfac: f64,
+}
+
+impl Default for Control {
+    fn default() -> Self {
+        Self {
+            end_time: 0.0,
+            dt_init: 0.0,
+            tssfac: 0.9,
+            hourglass: Hourglass::Viscous,
+            qh: 0.1,
+            q1: 1.5,
+            q2: 0.06,
+            slsfac: 0.1,
+        }
+    }
+}
+
+/// `*DATABASE_*` requests. An interval of 0 means "not requested" for the CSV histories
+/// (they are then written at the first and last time only) and "first and last state" for the
+/// ParaView states.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OutputRequests {
+    pub glstat_dt: f64,
+    pub nodout_dt: f64,
+    pub elout_dt: f64,
+    pub rwforc_dt: f64,
+    pub rcforc_dt: f64,
+    pub d3plot_dt: f64,
+    /// `*DATABASE_HISTORY_NODE` members, node indices.
+    pub history_nodes: Vec<u32>,
+    /// `*DATABASE_HISTORY_SOLID` members, element indices.
+    pub history_solids: Vec<u32>,
+}
+
+impl Model {
+    pub fn num_nodes(&self) -> usize {
+        self.x0.len()
+    }
+    pub fn num_elements(&self) -> usize {
+        self.conn.len()
+    }
+    /// The material of element `e`.
+    pub fn element_material(&self, e: usize) -> &Material {
+        &self.materials[self.parts[self.elem_part[e] as usize].material]
+    }
+}

@@ -1,0 +1,1 @@
+//! cleave-io: the LS-DYNA keyword deck reader and the result writers.

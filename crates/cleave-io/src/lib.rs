@@ -1,1 +1,4 @@
-//! cleave-io: the LS-DYNA keyword deck reader and the result writers.
+//! cleave-io: the LS-DYNA keyword deck reader ([`deck`]) and the result writers ([`output`]).
+
+pub mod deck;
+pub mod output;

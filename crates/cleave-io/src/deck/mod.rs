@@ -1,0 +1,1 @@
+//! The LS-DYNA keyword deck reader: lexing, field decoding, and building a `Model`.

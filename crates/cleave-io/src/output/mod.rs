@@ -1,0 +1,1 @@
+//! Result writers: CSV histories, summary JSON, ParaView VTU/VTP/PVD, PNG plots.

@@ -11,7 +11,13 @@
 
 pub mod curve;
 pub mod element;
+pub mod error;
 pub mod material;
 pub mod math;
 pub mod mesh;
 pub mod model;
+pub mod rigid;
+pub mod setup;
+pub mod solver;
+pub mod state;
+pub mod topology;

@@ -45,3 +45,44 @@ impl BoxMesh {
         Self { x, conn }
     }
 }
+
+use crate::model::{Control, Material, Model, Part, Section};
+
+/// A one-part model of a structured box (deck ids = index + 1), with the given material and
+/// end time and every other setting at its default. Tests, benches and examples start here.
+pub fn box_model(n: [usize; 3], l: [f64; 3], material: Material, end_time: f64) -> Model {
+    let m = BoxMesh::new(n, l);
+    let nn = m.x.len();
+    let ne = m.conn.len();
+    Model {
+        title: format!("box {}x{}x{}", n[0], n[1], n[2]),
+        node_ids: (1..=nn as i64).collect(),
+        v0: vec![[0.0; 3]; nn],
+        x0: m.x,
+        elem_ids: (1..=ne as i64).collect(),
+        elem_part: vec![0; ne],
+        conn: m.conn,
+        parts: vec![Part {
+            id: 1,
+            title: "box".into(),
+            section: 0,
+            material: 0,
+        }],
+        sections: vec![Section { id: 1, elform: 1 }],
+        materials: vec![material],
+        control: Control {
+            end_time,
+            ..Control::default()
+        },
+        ..Model::default()
+    }
+}
+
+impl Model {
+    /// Indices of the nodes whose coordinate `axis` is within `tol` of `value`.
+    pub fn nodes_where(&self, axis: usize, value: f64, tol: f64) -> Vec<u32> {
+        (0..self.x0.len() as u32)
+            .filter(|&i| (self.x0[i as usize][axis] - value).abs() <= tol)
+            .collect()
+    }
+}

@@ -1,1 +1,43 @@
-fn main() {}
+//! `cleave`: explicit finite-element dynamics of solids with fracture by element separation.
+//!
+//! `main` only parses the command line, calls the command, and maps its error to the exit
+//! codes of the interface page: 0 success, 2 bad input, 3 numerical failure, 1 anything else.
+
+mod bench;
+mod check;
+mod cli;
+mod example;
+mod failure;
+mod progress;
+mod results;
+mod run;
+
+use clap::Parser;
+
+use crate::failure::Failure;
+
+fn main() {
+    let cli = cli::Cli::parse();
+    let outcome = std::panic::catch_unwind(|| dispatch(cli));
+    let code = match outcome {
+        Ok(Ok(())) => 0,
+        Ok(Err(f)) => {
+            eprintln!("error: {f}");
+            f.exit_code()
+        }
+        Err(_) => {
+            eprintln!("error: internal error (a bug in cleave); please report it with the deck");
+            1
+        }
+    };
+    std::process::exit(code);
+}
+
+fn dispatch(cli: cli::Cli) -> Result<(), Failure> {
+    match cli.command {
+        cli::Command::Run(a) => run::run(&a),
+        cli::Command::Check(a) => check::check(&a),
+        cli::Command::Example(a) => example::example(&a),
+        cli::Command::Bench(a) => bench::bench(&a),
+    }
+}

@@ -12,14 +12,15 @@
 //! 3. material update with d_eps = D dt_prev; internal energy by the mid-point rule
 //!    dE = V_mid (sigma_old + sigma_new)/2 : d_eps;
 //! 4. bulk viscosity (LS-DYNA theory manual, section 18): in compression (eps_v' < 0)
-//!    q = rho l (Q1 l eps_v'^2 - Q2 c eps_v'), l = V^(1/3); added as a pressure;
+//!    q = rho l (Q1 l eps_v'^2 - Q2 c eps_v'), l = V^(1/3); added as a pressure; its work is
+//!    charged as -V (q^(n-1) + q^n)/2 tr(D) dt, q^(n-1) kept per element (`q_prev`);
 //! 5. corner forces f_a = -V sigma b_a at x^n (b_a = dN_a/dx at the centre);
 //! 6. hourglass forces on the Flanagan-Belytschko vectors
 //!    gamma_alpha = Gamma_alpha - sum_i (Gamma_alpha . x_i) b_i (orthogonal to linear fields,
 //!    so rigid motion and uniform strain make none), with rates qdot_alpha = sum_a v_a gamma_alpha,a:
-//!    viscous (IHQ 1): f_a -= a_h sum_alpha qdot_alpha gamma_alpha,a, a_h = QH rho c V^(2/3) / 4;
-//!    stiffness (IHQ 4/5): Q_alpha += k dt qdot_alpha, f_a -= sum_alpha Q_alpha gamma_alpha,a,
-//!    k = QH (lambda + 2G) V (sum_a b_a.b_a) / 8;
+//!    viscous (IHQ 1): F_alpha = a_h qdot_alpha, a_h = QH rho c V^(2/3) / 4;
+//!    stiffness (IHQ 4/5): F_alpha += k dt qdot_alpha, k = QH (lambda + 2G) V (sum_a b_a.b_a) / 8;
+//!    f_a -= sum_alpha F_alpha gamma_alpha,a; F is kept per element (`hg_force`) for both forms;
 //! 7. the element's stable time step: dt = l_c / (Q + sqrt(Q^2 + c^2)), l_c = V / A_max,
 //!    Q = Q2 c + Q1 l_c |eps_v'| in compression, else 0 (LS-DYNA theory manual, eq. 22.11).
 
@@ -65,7 +66,9 @@ pub fn hex8_step(
     ctl: &KernelControls,
     sigma: &mut Sym3,
     hist: &mut History,
+    q_prev: &mut f64,
     hg_force: Option<&mut [f64; 12]>,
+    // (None: the previous force is taken as zero; tests of a single step use this)
     f: &mut [Vec3; 8],
 ) -> Result<ElementStep, InvertedElement> {
     let jn = centre_jacobian(x);
@@ -121,9 +124,11 @@ pub fn hex8_step(
             q = mat.density
                 * lq
                 * (ctl.q1 * lq * eps_v_rate * eps_v_rate - ctl.q2 * mat.wave_speed * eps_v_rate);
-            de_internal -= vol_mid * q * eps_v_rate * dt_prev;
         }
+        // trapezoid in q for the same reason as the hourglass work below
+        de_internal -= vol_mid * 0.5 * (*q_prev + q) * eps_v_rate * dt_prev;
     }
+    *q_prev = q;
 
     // 5: corner forces from the total stress sigma - q I.
     let s = [
@@ -162,36 +167,34 @@ pub fn hex8_step(
             }
         }
     }
-    let mut de_hourglass = 0.0;
-    match (ctl.hourglass, hg_force) {
-        (Hourglass::Stiffness, Some(qf)) => {
+    // The generalized hourglass force F of the previous step is kept in `hg_force`, so the
+    // work of each force is charged over its own interval with v^n = mean of the half steps:
+    // dE = 1/2 (F^(n-1) + F^n) . qdot^(n-1/2) dt. (Charging F^n . qdot^(n-1/2) dt instead
+    // over-counts the dissipation of modes that flip sign every step, as impacts excite.)
+    let coef = match ctl.hourglass {
+        Hourglass::Stiffness => {
             let bb: f64 = b
                 .iter()
                 .map(|ba| ba[0] * ba[0] + ba[1] * ba[1] + ba[2] * ba[2])
                 .sum();
-            let k = ctl.qh * (mat.lambda + 2.0 * mat.shear) * vol * bb / 8.0;
-            for al in 0..4 {
-                for i in 0..3 {
-                    let old = qf[3 * al + i];
-                    let new = old + k * dt_prev * qdot[al][i];
-                    qf[3 * al + i] = new;
-                    de_hourglass += 0.5 * (old + new) * qdot[al][i] * dt_prev;
-                    for a in 0..8 {
-                        f[a][i] -= new * gamma[al][a];
-                    }
-                }
-            }
+            ctl.qh * (mat.lambda + 2.0 * mat.shear) * vol * bb / 8.0 * dt_prev
         }
-        _ => {
-            let ah = ctl.qh * mat.density * mat.wave_speed * vol.powf(2.0 / 3.0) / 4.0;
-            for al in 0..4 {
-                for i in 0..3 {
-                    let fq = ah * qdot[al][i];
-                    de_hourglass += fq * qdot[al][i] * dt_prev;
-                    for a in 0..8 {
-                        f[a][i] -= fq * gamma[al][a];
-                    }
-                }
+        Hourglass::Viscous => ctl.qh * mat.density * mat.wave_speed * vol.powf(2.0 / 3.0) / 4.0,
+    };
+    let mut de_hourglass = 0.0;
+    let mut scratch = [0.0; 12];
+    let stored = hg_force.unwrap_or(&mut scratch);
+    for al in 0..4 {
+        for i in 0..3 {
+            let old = stored[3 * al + i];
+            let new = match ctl.hourglass {
+                Hourglass::Stiffness => old + coef * qdot[al][i],
+                Hourglass::Viscous => coef * qdot[al][i],
+            };
+            stored[3 * al + i] = new;
+            de_hourglass += 0.5 * (old + new) * qdot[al][i] * dt_prev;
+            for a in 0..8 {
+                f[a][i] -= new * gamma[al][a];
             }
         }
     }
@@ -292,7 +295,19 @@ mod tests {
         let mut s = s0;
         let mut h = History::default();
         let mut f = [[0.0; 3]; 8];
-        let out = hex8_step(&x1, &v, dt, &steel(), &ctl(), &mut s, &mut h, None, &mut f).unwrap();
+        let out = hex8_step(
+            &x1,
+            &v,
+            dt,
+            &steel(),
+            &ctl(),
+            &mut s,
+            &mut h,
+            &mut 0.0,
+            None,
+            &mut f,
+        )
+        .unwrap();
         let mut expect = s0;
         rotate_sym(&rot, &mut expect);
         for i in 0..6 {

@@ -1,0 +1,188 @@
+//! Preprocessing done once before the first step: lumped masses, the node-to-corner index,
+//! per-material kernel parameters, rigid bodies and the constraint lists.
+
+use crate::element::hex8;
+use crate::material::SolidParams;
+use crate::math::Vec3;
+use crate::model::{Model, MotionTarget, PrescribedMotion};
+use crate::rigid::{build_rigid_bodies, RigidBody, NOT_RIGID};
+
+/// Everything derived from the model that the step loop reads.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    /// Lumped nodal mass: each element gives rho V / 8 to each of its corners (V exact).
+    pub mass: Vec<f64>,
+    /// 1 / mass (0 for massless nodes).
+    pub inv_mass: Vec<f64>,
+    /// CSR index from node to its element corners (entry = 8 e + corner), ascending, so the
+    /// assembly sums corner forces in a fixed order whatever the thread count.
+    pub corner_start: Vec<u32>,
+    pub corners: Vec<u32>,
+    /// Kernel parameters per material (None: rigid).
+    pub params: Vec<Option<SolidParams>>,
+    /// Material index of each element.
+    pub elem_mat: Vec<u32>,
+    pub rigid: Vec<RigidBody>,
+    /// Rigid body of each node, or `NOT_RIGID`.
+    pub node_rigid: Vec<u32>,
+    /// Per-node translational SPC (only non-rigid nodes with at least one fixed dof).
+    pub spc: Vec<(u32, [bool; 3])>,
+    /// Prescribed motion on nodes.
+    pub node_motion: Vec<PrescribedMotion>,
+    /// Prescribed motion on rigid bodies, with the body index as target.
+    pub rigid_motion: Vec<(usize, PrescribedMotion)>,
+    /// Slave nodes of each rigid wall (rigid-body nodes excluded).
+    pub wall_nodes: Vec<Vec<u32>>,
+    /// Messages worth showing the user.
+    pub warnings: Vec<String>,
+}
+
+impl Setup {
+    pub fn new(model: &Model) -> Result<Self, String> {
+        let nn = model.num_nodes();
+        let ne = model.num_elements();
+        let mut mass = vec![0.0; nn];
+        for (e, conn) in model.conn.iter().enumerate() {
+            let xe: [Vec3; 8] = std::array::from_fn(|a| model.x0[conn[a] as usize]);
+            let vol = hex8::volume(&xe);
+            if vol.is_nan() || vol <= 0.0 {
+                return Err(format!(
+                    "element {} has a non-positive volume",
+                    model.elem_ids[e]
+                ));
+            }
+            let m8 = model.element_material(e).density * vol / 8.0;
+            for &n in conn {
+                mass[n as usize] += m8;
+            }
+        }
+        let inv_mass = mass
+            .iter()
+            .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+            .collect();
+
+        let mut count = vec![0u32; nn + 1];
+        for conn in &model.conn {
+            for &n in conn {
+                count[n as usize + 1] += 1;
+            }
+        }
+        for i in 0..nn {
+            count[i + 1] += count[i];
+        }
+        let corner_start = count.clone();
+        let mut fill = count;
+        let mut corners = vec![0u32; 8 * ne];
+        for (e, conn) in model.conn.iter().enumerate() {
+            for (c, &n) in conn.iter().enumerate() {
+                corners[fill[n as usize] as usize] = (8 * e + c) as u32;
+                fill[n as usize] += 1;
+            }
+        }
+
+        let params: Vec<Option<SolidParams>> = model
+            .materials
+            .iter()
+            .map(SolidParams::from_material)
+            .collect();
+        let elem_mat = (0..ne)
+            .map(|e| model.parts[model.elem_part[e] as usize].material as u32)
+            .collect();
+        let (rigid, node_rigid) = build_rigid_bodies(model, &mass)?;
+
+        let mut warnings = Vec::new();
+        let mut spc = Vec::new();
+        for s in &model.spcs {
+            if node_rigid[s.node as usize] != NOT_RIGID {
+                warnings.push(format!(
+                    "SPC on node {} ignored: it belongs to a rigid part (use CON1/CON2 of *MAT_RIGID)",
+                    model.node_ids[s.node as usize]
+                ));
+                continue;
+            }
+            let d = [s.dof[0], s.dof[1], s.dof[2]];
+            if d.iter().any(|&b| b) {
+                spc.push((s.node, d));
+            }
+        }
+        let mut node_motion = Vec::new();
+        let mut rigid_motion = Vec::new();
+        for pm in &model.prescribed {
+            match pm.target {
+                MotionTarget::Node(n) => {
+                    if node_rigid[n as usize] != NOT_RIGID {
+                        return Err(format!(
+                            "prescribed motion on node {} which belongs to a rigid part: use *BOUNDARY_PRESCRIBED_MOTION_RIGID",
+                            model.node_ids[n as usize]
+                        ));
+                    }
+                    node_motion.push(pm.clone());
+                }
+                MotionTarget::Rigid(p) => {
+                    let b = rigid.iter().position(|b| b.part == p).ok_or_else(|| {
+                        format!("prescribed rigid motion on part {} which is not a rigid part with elements", model.parts[p].id)
+                    })?;
+                    rigid_motion.push((b, pm.clone()));
+                }
+            }
+        }
+        let wall_nodes = model
+            .rigid_walls
+            .iter()
+            .map(|w| {
+                let all: Vec<u32>;
+                let nodes = match &w.nodes {
+                    Some(n) => n,
+                    None => {
+                        all = (0..nn as u32).collect();
+                        &all
+                    }
+                };
+                nodes
+                    .iter()
+                    .copied()
+                    .filter(|&n| node_rigid[n as usize] == NOT_RIGID && mass[n as usize] > 0.0)
+                    .collect()
+            })
+            .collect();
+        Ok(Self {
+            mass,
+            inv_mass,
+            corner_start,
+            corners,
+            params,
+            elem_mat,
+            rigid,
+            node_rigid,
+            spc,
+            node_motion,
+            rigid_motion,
+            wall_nodes,
+            warnings,
+        })
+    }
+}
+
+/// The stable time step of the undeformed model at rest (TSSFAC applied) and the element that
+/// controls it, or `None` if the model has no deformable element.
+pub fn estimate_time_step(model: &Model) -> Option<(f64, usize)> {
+    let mut best: Option<(f64, usize)> = None;
+    for (e, conn) in model.conn.iter().enumerate() {
+        let Some(p) = SolidParams::from_material(model.element_material(e)) else {
+            continue;
+        };
+        let xe: [Vec3; 8] = std::array::from_fn(|a| model.x0[conn[a] as usize]);
+        let vol = hex8::volume(&xe);
+        let lc = vol / hex8::max_face_area(&xe);
+        let dt = model.control.tssfac * lc / p.wave_speed;
+        if best.is_none_or(|(b, _)| dt < b) {
+            best = Some((dt, e));
+        }
+    }
+    best
+}
+
+/// Number of connected pieces of the mesh (elements joined through shared nodes).
+pub fn count_components(model: &Model) -> usize {
+    crate::topology::element_components(model).1
+}

@@ -1,0 +1,590 @@
+//! The explicit time-step loop (central differences), in the order of
+//! `shared/design/architecture.md`:
+//!
+//! ```text
+//! element pass   stress update and corner forces at x^n, stable time step   (elements)
+//! assembly       f_i = sum of corner forces + body loads                     (nodes)
+//! velocities     v^(n+1/2) = v^(n-1/2) + f/m (dt^(n-1/2) + dt^(n+1/2)) / 2     (nodes)
+//! rigid bodies   F, M summed over each body; 6-dof update; nodes placed
+//! constraints    SPC, prescribed motion, rigid walls; their reactions' work
+//! energies       at t^n, with v^n between the half steps
+//! [observer]     output at t^n
+//! positions      x^(n+1) = x^n + dt^(n+1/2) v^(n+1/2); t += dt
+//! ```
+//!
+//! Every sum over elements or nodes is done in fixed chunks whose partial results are added in
+//! chunk order, so the numbers do not depend on the number of threads.
+
+use rayon::prelude::*;
+
+use crate::element::kernel::{hex8_step, KernelControls};
+use crate::error::SolverError;
+use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
+use crate::model::{Model, MotionTarget, Vad};
+use crate::rigid::NOT_RIGID;
+use crate::setup::Setup;
+use crate::state::{Energies, RigidState, State};
+
+/// Elements per chunk of the element pass (fixed, for deterministic sums).
+const ELEM_CHUNK: usize = 256;
+/// Nodes per chunk of the nodal passes.
+const NODE_CHUNK: usize = 1024;
+
+/// Resultant force of a rigid wall at t^n (on the model).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WallForce {
+    /// Force along the wall normal (positive pushes the nodes away from the wall).
+    pub normal: f64,
+    pub force: Vec3,
+}
+
+/// Partial results of one chunk of the element pass.
+#[derive(Clone, Copy, Debug)]
+struct ElemChunkSum {
+    dt_min: f64,
+    dt_elem: u32,
+    de_internal: f64,
+    de_hourglass: f64,
+    inverted: u32,
+}
+
+impl Default for ElemChunkSum {
+    fn default() -> Self {
+        Self {
+            dt_min: f64::INFINITY,
+            dt_elem: 0,
+            de_internal: 0.0,
+            de_hourglass: 0.0,
+            inverted: u32::MAX,
+        }
+    }
+}
+
+/// What an observer is shown each step.
+pub trait Observer {
+    /// Called once per step with the state at t^n (positions x^n, velocities `v_n`, stresses).
+    fn observe(&mut self, solver: &Solver) -> std::io::Result<()>;
+}
+
+/// Why a run stopped early.
+#[derive(Debug)]
+pub enum RunError {
+    Solver(SolverError),
+    Output(std::io::Error),
+}
+
+/// The solver: model, derived setup, state and scratch.
+pub struct Solver<'m> {
+    pub model: &'m Model,
+    pub setup: Setup,
+    pub state: State,
+    /// Rigid wall resultants at t^n.
+    pub wall_forces: Vec<WallForce>,
+    ctl: KernelControls,
+    corner_f: Vec<[Vec3; 8]>,
+    f: Vec<Vec3>,
+    chunk_sums: Vec<ElemChunkSum>,
+    node_sums: Vec<[f64; 4]>,
+    finished: bool,
+}
+
+impl<'m> Solver<'m> {
+    /// Prepare a model for running: setup, initial state (x0, v0, zero stress).
+    pub fn new(model: &'m Model) -> Result<Self, SolverError> {
+        let setup = Setup::new(model).map_err(SolverError::Setup)?;
+        let ne = model.num_elements();
+        let nn = model.num_nodes();
+        let c = &model.control;
+        let ctl = KernelControls {
+            hourglass: c.hourglass,
+            qh: c.qh,
+            q1: c.q1,
+            q2: c.q2,
+        };
+        let hg = vec![[0.0; 12]; ne];
+        let rigid: Vec<RigidState> = setup
+            .rigid
+            .iter()
+            .map(|b| b.initial_state(&model.x0, &model.v0, &setup.mass))
+            .collect();
+        let mut v = model.v0.clone();
+        for (body, st) in setup.rigid.iter().zip(&rigid) {
+            for &n in &body.nodes {
+                let r = sub(model.x0[n as usize], st.x_cm);
+                v[n as usize] = add(st.v_cm, cross(st.omega, r));
+            }
+        }
+        let state = State {
+            t: 0.0,
+            step: 0,
+            dt_prev: 0.0,
+            dt: 0.0,
+            x: model.x0.clone(),
+            v_n: v.clone(),
+            v,
+            stress: vec![[0.0; 6]; ne],
+            hist: vec![Default::default(); ne],
+            hg,
+            bulk_q: vec![0.0; ne],
+            rigid,
+            energy: Energies::default(),
+            initial_energy: 0.0,
+            dt_element: 0,
+        };
+        Ok(Self {
+            model,
+            setup,
+            state,
+            wall_forces: vec![WallForce::default(); model.rigid_walls.len()],
+            ctl,
+            corner_f: vec![[[0.0; 3]; 8]; ne],
+            f: vec![[0.0; 3]; nn],
+            chunk_sums: vec![ElemChunkSum::default(); ne.div_ceil(ELEM_CHUNK)],
+            node_sums: Vec::with_capacity(nn.div_ceil(NODE_CHUNK)),
+            finished: false,
+        })
+    }
+
+    /// True once the state at the end time has been computed and observed.
+    pub fn is_finished(&self) -> bool {
+        self.finished
+    }
+
+    /// Run to the end time, showing the state to `obs` at every step.
+    pub fn run(&mut self, obs: &mut dyn Observer) -> Result<(), RunError> {
+        loop {
+            self.advance_to_half_step().map_err(RunError::Solver)?;
+            obs.observe(self).map_err(RunError::Output)?;
+            if self.finished {
+                return Ok(());
+            }
+            self.update_positions().map_err(RunError::Solver)?;
+        }
+    }
+
+    /// The first part of a step: forces at t^n, the new time step, v^(n+1/2), energies at t^n.
+    pub fn advance_to_half_step(&mut self) -> Result<(), SolverError> {
+        let (dt_crit, dt_elem) = self.compute_element_forces()?;
+        self.assemble_forces();
+        let dt_new = self.next_time_step(dt_crit, dt_elem)?;
+        let dt_mid = 0.5 * (self.state.dt_prev + dt_new);
+        self.state.dt = dt_new;
+        self.update_velocities(dt_mid);
+        self.update_rigid_bodies(dt_mid, dt_new);
+        let mut work = self.apply_constraints(dt_mid, dt_new);
+        work += self.apply_rigid_walls(dt_mid, dt_new);
+        work += self.record_kinetic_energy(dt_mid)?;
+        self.state.energy.external_work += work;
+        if self.state.step == 0 {
+            self.state.initial_energy = self.state.energy.total();
+        }
+        Ok(())
+    }
+
+    /// Element pass: stresses and corner forces at x^n; returns the smallest element time
+    /// step and its element.
+    fn compute_element_forces(&mut self) -> Result<(f64, u32), SolverError> {
+        let Self {
+            model,
+            setup,
+            state,
+            ctl,
+            corner_f,
+            chunk_sums,
+            ..
+        } = self;
+        let x = &state.x;
+        let v = &state.v;
+        let dt_prev = state.dt_prev;
+        let ctl = *ctl;
+        let conn = &model.conn;
+        let process = |c: usize,
+                       fc: &mut [[Vec3; 8]],
+                       sc: &mut [crate::math::Sym3],
+                       hc: &mut [crate::material::History],
+                       qc: &mut [f64],
+                       mut gc: Option<&mut [[f64; 12]]>,
+                       out: &mut ElemChunkSum| {
+            let e0 = c * ELEM_CHUNK;
+            let mut acc = ElemChunkSum::default();
+            for k in 0..fc.len() {
+                let e = e0 + k;
+                let Some(p) = &setup.params[setup.elem_mat[e] as usize] else {
+                    fc[k] = [[0.0; 3]; 8];
+                    continue;
+                };
+                let ids = &conn[e];
+                let xe: [Vec3; 8] = std::array::from_fn(|a| x[ids[a] as usize]);
+                let ve: [Vec3; 8] = std::array::from_fn(|a| v[ids[a] as usize]);
+                let hg = gc.as_deref_mut().map(|g| &mut g[k]);
+                match hex8_step(
+                    &xe, &ve, dt_prev, p, &ctl, &mut sc[k], &mut hc[k], &mut qc[k], hg, &mut fc[k],
+                ) {
+                    Ok(r) => {
+                        acc.de_internal += r.de_internal;
+                        acc.de_hourglass += r.de_hourglass;
+                        if r.dt_crit < acc.dt_min {
+                            acc.dt_min = r.dt_crit;
+                            acc.dt_elem = e as u32;
+                        }
+                    }
+                    Err(_) => {
+                        if acc.inverted == u32::MAX {
+                            acc.inverted = e as u32;
+                        }
+                    }
+                }
+            }
+            *out = acc;
+        };
+        let base = corner_f
+            .par_chunks_mut(ELEM_CHUNK)
+            .zip(state.stress.par_chunks_mut(ELEM_CHUNK))
+            .zip(state.hist.par_chunks_mut(ELEM_CHUNK))
+            .zip(state.bulk_q.par_chunks_mut(ELEM_CHUNK))
+            .zip(state.hg.par_chunks_mut(ELEM_CHUNK))
+            .zip(chunk_sums.par_iter_mut())
+            .enumerate();
+        base.for_each(|(c, (((((fc, sc), hc), qc), gc), out))| {
+            process(c, fc, sc, hc, qc, Some(gc), out)
+        });
+        let mut dt_min = f64::INFINITY;
+        let mut dt_elem = 0;
+        for s in chunk_sums.iter() {
+            if s.inverted != u32::MAX {
+                return Err(SolverError::InvertedElement {
+                    element: model.elem_ids[s.inverted as usize],
+                    time: state.t,
+                    step: state.step,
+                });
+            }
+            state.energy.internal += s.de_internal;
+            state.energy.hourglass += s.de_hourglass;
+            if s.dt_min < dt_min {
+                dt_min = s.dt_min;
+                dt_elem = s.dt_elem;
+            }
+        }
+        Ok((dt_min, dt_elem))
+    }
+
+    /// Assembly: f_i = sum of the corner forces of node i (in ascending corner order) plus the
+    /// body-load force m_i g(t).
+    fn assemble_forces(&mut self) {
+        let g = self.body_acceleration(self.state.t);
+        let Self {
+            setup, corner_f, f, ..
+        } = self;
+        let flat: &[Vec3] = corner_f.as_flattened();
+        f.par_iter_mut().enumerate().for_each(|(i, fi)| {
+            let (s, e) = (
+                setup.corner_start[i] as usize,
+                setup.corner_start[i + 1] as usize,
+            );
+            let mut acc = scale(g, setup.mass[i]);
+            for &k in &setup.corners[s..e] {
+                acc = add(acc, flat[k as usize]);
+            }
+            *fi = acc;
+        });
+    }
+
+    /// Base acceleration of all body loads at time t.
+    fn body_acceleration(&self, t: f64) -> Vec3 {
+        let mut g = [0.0; 3];
+        for bl in &self.model.body_loads {
+            g[bl.axis] += bl.acceleration(&self.model.curves, t);
+        }
+        g
+    }
+
+    /// dt^(n+1/2) = TSSFAC * min element time step (DTINIT caps the first), clamped so the
+    /// run ends exactly at ENDTIM.
+    fn next_time_step(&mut self, dt_crit: f64, dt_elem: u32) -> Result<f64, SolverError> {
+        let c = &self.model.control;
+        let mut dt = c.tssfac * dt_crit;
+        if self.state.step == 0 && c.dt_init > 0.0 {
+            dt = dt.min(c.dt_init);
+        }
+        if !dt.is_finite() || dt <= 0.0 {
+            return Err(SolverError::BadTimeStep {
+                dt,
+                element: self
+                    .model
+                    .elem_ids
+                    .get(dt_elem as usize)
+                    .copied()
+                    .unwrap_or(0),
+                time: self.state.t,
+                step: self.state.step,
+            });
+        }
+        self.state.dt_element = dt_elem;
+        let remaining = c.end_time - self.state.t;
+        if remaining <= 1e-9 * dt {
+            self.finished = true;
+        } else if dt > remaining {
+            dt = remaining;
+        }
+        Ok(dt)
+    }
+
+    /// v^(n+1/2) = v^(n-1/2) + f/m dt_mid for every node, and the provisional v^n.
+    fn update_velocities(&mut self, dt_mid: f64) {
+        let State {
+            v,
+            v_n,
+            dt_prev,
+            dt,
+            ..
+        } = &mut self.state;
+        // v^n = v^(n-1/2) + a dt^(n-1/2)/2: the mean of the half steps when dt is constant,
+        // and exactly v0 at the first step.
+        let w = if dt_mid > 0.0 {
+            0.5 * *dt_prev / (*dt_prev + *dt)
+        } else {
+            0.0
+        };
+        let inv_mass = &self.setup.inv_mass;
+        let f = &self.f;
+        v.par_iter_mut()
+            .zip(v_n.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (vi, vni))| {
+                let dv = scale(f[i], inv_mass[i] * dt_mid);
+                let new = add(*vi, dv);
+                *vni = add(*vi, scale(dv, 2.0 * w));
+                *vi = new;
+            });
+    }
+
+    /// Weight of v^(n+1/2) in v^n = (1 - w) v^(n-1/2) + w v^(n+1/2), w = dt^(n-1/2) / (dt^(n-1/2) + dt^(n+1/2)).
+    fn half_step_weight(&self) -> f64 {
+        let s = &self.state;
+        if s.dt_prev + s.dt > 0.0 {
+            s.dt_prev / (s.dt_prev + s.dt)
+        } else {
+            0.0
+        }
+    }
+
+    /// Change the velocity of node i to `v_new` after the free update; keeps v^n consistent
+    /// and returns the work of the implied reaction impulse, J . v^n.
+    fn constrain_velocity(&mut self, i: usize, v_new: Vec3) -> f64 {
+        let w = self.half_step_weight();
+        let s = &mut self.state;
+        let dv = sub(v_new, s.v[i]);
+        s.v[i] = v_new;
+        s.v_n[i] = add(s.v_n[i], scale(dv, w));
+        dot(scale(dv, self.setup.mass[i]), s.v_n[i])
+    }
+
+    /// Rigid bodies: sum force and moment over their nodes, advance, place the nodes.
+    fn update_rigid_bodies(&mut self, dt_mid: f64, dt_new: f64) {
+        for b in 0..self.setup.rigid.len() {
+            let body = &self.setup.rigid[b];
+            let st = &mut self.state.rigid[b];
+            let mut force = [0.0; 3];
+            let mut moment = [0.0; 3];
+            for &n in &body.nodes {
+                let fi = self.f[n as usize];
+                force = add(force, fi);
+                moment = add(moment, cross(sub(self.state.x[n as usize], st.x_cm), fi));
+            }
+            let v_old = st.v_cm;
+            let w_old = st.omega;
+            st.v_cm = add(st.v_cm, scale(force, dt_mid / body.mass));
+            body.update_angular(st, moment, dt_mid);
+            let (v_free, w_free) = (st.v_cm, st.omega);
+            body.apply_constraints(st);
+            let t_half = self.state.t + 0.5 * dt_new;
+            for (rb, pm) in &self.setup.rigid_motion {
+                if *rb != b {
+                    continue;
+                }
+                let c = &self.model.curves[pm.curve];
+                st.v_cm[pm.axis] = match pm.vad {
+                    Vad::Velocity => pm.sf * c.eval(t_half),
+                    Vad::Displacement => {
+                        let target = body.x_cm0[pm.axis] + pm.sf * c.eval(self.state.t + dt_new);
+                        (target - st.x_cm[pm.axis]) / dt_new
+                    }
+                };
+            }
+            // work of the constraint reactions: impulse . mean velocity
+            let dp = scale(sub(st.v_cm, v_free), body.mass);
+            let inertia = body.inertia(&st.rot);
+            let dl = crate::math::mat_vec(&inertia, sub(st.omega, w_free));
+            self.state.energy.external_work += dot(dp, scale(add(v_old, st.v_cm), 0.5))
+                + dot(dl, scale(add(w_old, st.omega), 0.5));
+            let (x_cm1, rot1) = body.next_placement(st, dt_new);
+            let w = self.half_step_weight();
+            for &n in &body.nodes {
+                let i = n as usize;
+                let target = body.place(x_cm1, &rot1, self.model.x0[i]);
+                let v_new = scale(sub(target, self.state.x[i]), 1.0 / dt_new);
+                let dv = sub(v_new, self.state.v[i]);
+                self.state.v[i] = v_new;
+                self.state.v_n[i] = add(self.state.v_n[i], scale(dv, w));
+            }
+        }
+    }
+
+    /// SPC and prescribed nodal motion; returns the work of their reactions.
+    fn apply_constraints(&mut self, _dt_mid: f64, dt_new: f64) -> f64 {
+        let mut work = 0.0;
+        for k in 0..self.setup.spc.len() {
+            let (n, d) = self.setup.spc[k];
+            let i = n as usize;
+            let mut vn = self.state.v[i];
+            for a in 0..3 {
+                if d[a] {
+                    vn[a] = 0.0;
+                }
+            }
+            work += self.constrain_velocity(i, vn);
+        }
+        let t = self.state.t;
+        for k in 0..self.setup.node_motion.len() {
+            let pm = &self.setup.node_motion[k];
+            let MotionTarget::Node(n) = pm.target else {
+                continue;
+            };
+            let i = n as usize;
+            let c = &self.model.curves[pm.curve];
+            let mut vn = self.state.v[i];
+            vn[pm.axis] = match pm.vad {
+                Vad::Velocity => pm.sf * c.eval(t + 0.5 * dt_new),
+                Vad::Displacement => {
+                    let target = self.model.x0[i][pm.axis] + pm.sf * c.eval(t + dt_new);
+                    (target - self.state.x[i][pm.axis]) / dt_new
+                }
+            };
+            work += self.constrain_velocity(i, vn);
+        }
+        work
+    }
+
+    /// Planar stonewalls: a node that would cross the wall during the next step lands on it
+    /// (normal velocity -d^n/dt for the gap d^n, or 0 if already behind); friction removes up to
+    /// FRIC times the normal impulse from the tangential momentum (FRIC >= 1: no sliding).
+    /// Returns the work of the wall on the model.
+    fn apply_rigid_walls(&mut self, dt_mid: f64, dt_new: f64) -> f64 {
+        let mut work = 0.0;
+        for wi in 0..self.model.rigid_walls.len() {
+            let wall = &self.model.rigid_walls[wi];
+            let d = sub(wall.head, wall.tail);
+            let nrm = scale(d, 1.0 / norm(d));
+            let mut total = [0.0; 3];
+            let mut normal = 0.0;
+            for k in 0..self.setup.wall_nodes[wi].len() {
+                let i = self.setup.wall_nodes[wi][k] as usize;
+                let x = self.state.x[i];
+                let v = self.state.v[i];
+                let gap = dot(sub(x, wall.tail), nrm);
+                let vn = dot(v, nrm);
+                if gap + dt_new * vn >= 0.0 {
+                    continue;
+                }
+                // land exactly on the wall; a node already behind it only stops
+                let vn_new = if gap >= 0.0 { -gap / dt_new } else { 0.0 };
+                let dvn = vn_new - vn; // > 0
+                let vt = sub(v, scale(nrm, vn));
+                let vt_mag = norm(vt);
+                let vt_new = if wall.fric >= 1.0 || vt_mag <= wall.fric * dvn {
+                    [0.0; 3]
+                } else {
+                    scale(vt, 1.0 - wall.fric * dvn / vt_mag)
+                };
+                let v_new = add(scale(nrm, vn_new), vt_new);
+                let m = self.setup.mass[i];
+                let impulse = scale(sub(v_new, v), m);
+                total = add(total, impulse);
+                normal += m * dvn;
+                work += self.constrain_velocity(i, v_new);
+            }
+            let inv = if dt_mid > 0.0 { 1.0 / dt_mid } else { 0.0 };
+            self.wall_forces[wi] = WallForce {
+                normal: normal * inv,
+                force: scale(total, inv),
+            };
+        }
+        work
+    }
+
+    /// Kinetic energy at t^n and the work of body loads over the step; detects non-finite
+    /// velocities. Returns the body-load work.
+    fn record_kinetic_energy(&mut self, dt_mid: f64) -> Result<f64, SolverError> {
+        let mass = &self.setup.mass;
+        let vn = &self.state.v_n;
+        vn.par_chunks(NODE_CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut s = [0.0; 4];
+                for (k, v) in chunk.iter().enumerate() {
+                    let m = mass[c * NODE_CHUNK + k];
+                    s[0] += 0.5 * m * dot(*v, *v);
+                    s[1] += m * v[0];
+                    s[2] += m * v[1];
+                    s[3] += m * v[2];
+                }
+                s
+            })
+            .collect_into_vec(&mut self.node_sums);
+        let mut s = [0.0; 4];
+        for p in &self.node_sums {
+            for k in 0..4 {
+                s[k] += p[k];
+            }
+        }
+        if !s[0].is_finite() {
+            let bad = self
+                .state
+                .v
+                .iter()
+                .position(|v| !v.iter().all(|c| c.is_finite()))
+                .unwrap_or(0);
+            return Err(SolverError::NonFinite {
+                node: self.model.node_ids[bad],
+                time: self.state.t,
+                step: self.state.step,
+            });
+        }
+        self.state.energy.kinetic = s[0];
+        let g = self.body_acceleration(self.state.t);
+        Ok(dot(g, [s[1], s[2], s[3]]) * dt_mid)
+    }
+
+    /// x^(n+1) = x^n + dt v^(n+1/2); rigid bodies commit their placement; t += dt.
+    pub fn update_positions(&mut self) -> Result<(), SolverError> {
+        let dt = self.state.dt;
+        let State { x, v, .. } = &mut self.state;
+        x.par_iter_mut().zip(v.par_iter()).for_each(|(xi, vi)| {
+            *xi = add(*xi, scale(*vi, dt));
+        });
+        for (b, body) in self.setup.rigid.iter().enumerate() {
+            let st = &mut self.state.rigid[b];
+            let (x_cm, rot) = body.next_placement(st, dt);
+            st.x_cm = x_cm;
+            st.rot = rot;
+        }
+        self.state.t += dt;
+        self.state.dt_prev = dt;
+        self.state.step += 1;
+        Ok(())
+    }
+
+    /// Momentum sum m v^n over all nodes (at t^n).
+    pub fn momentum(&self) -> Vec3 {
+        let mut p = [0.0; 3];
+        for (m, v) in self.setup.mass.iter().zip(&self.state.v_n) {
+            p = add(p, scale(*v, *m));
+        }
+        p
+    }
+
+    /// Whether node i is driven by a rigid body.
+    pub fn is_rigid_node(&self, i: usize) -> bool {
+        self.setup.node_rigid[i] != NOT_RIGID
+    }
+}

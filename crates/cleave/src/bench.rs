@@ -1,0 +1,78 @@
+//! `cleave bench`: time per element step and peak memory of reference problems.
+//!
+//! `cleave bench cube --elements N --steps S --threads T`: an elastic steel cube of about N
+//! elements (n^3), its top face moving at 1 m/s so every element deforms, with the default
+//! viscous hourglass control, bulk viscosity and the energy balance on. No output is written;
+//! the time is that of `Solver::run` alone.
+
+use std::time::Instant;
+
+use cleave_core::mesh::box_model;
+use cleave_core::model::{Material, MaterialKind};
+use cleave_core::solver::{Observer, Solver};
+use cleave_io::output::peak_rss_mb;
+
+use crate::cli::BenchArgs;
+use crate::failure::Failure;
+
+struct Quiet;
+impl Observer for Quiet {
+    fn observe(&mut self, _: &Solver) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+pub fn bench(a: &BenchArgs) -> Result<(), Failure> {
+    match a.what.as_str() {
+        "cube" => bench_cube(a),
+        other => Err(Failure::Input(format!(
+            "unknown benchmark '{other}'; available: cube"
+        ))),
+    }
+}
+
+fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
+    let n = ((a.elements as f64).cbrt().round() as usize).max(1);
+    let steel = Material {
+        id: 1,
+        density: 7850.0,
+        young: 210e9,
+        poisson: 0.3,
+        kind: MaterialKind::Elastic,
+    };
+    let mut model = box_model([n, n, n], [0.1, 0.1, 0.1], steel, 1.0);
+    for (v, x) in model.v0.iter_mut().zip(&model.x0) {
+        *v = [0.0, 0.0, 10.0 * x[2] / 0.1];
+    }
+    let pool = crate::run::thread_pool(Some(a.threads))?;
+    let mut solver = Solver::new(&model)?;
+    // run a fixed number of steps: set the end time from the stable step
+    let (dt, _) = cleave_core::setup::estimate_time_step(&model)
+        .ok_or_else(|| Failure::Other("no time step".into()))?;
+    let end = dt * a.steps as f64 * 0.999;
+    let start = Instant::now();
+    let result = pool.install(|| -> Result<u64, Failure> {
+        while solver.state.t < end {
+            solver.advance_to_half_step()?;
+            Quiet
+                .observe(&solver)
+                .map_err(|e| Failure::Other(e.to_string()))?;
+            solver.update_positions()?;
+        }
+        Ok(solver.state.step)
+    })?;
+    let secs = start.elapsed().as_secs_f64();
+    let ne = n * n * n;
+    let us = 1e6 * secs / (result as f64 * ne as f64);
+    let rss = peak_rss_mb();
+    println!(
+        "bench cube: {ne} elements, {result} steps, {} thread(s)",
+        a.threads
+    );
+    println!("  {us:.4} us per element step");
+    println!(
+        "  peak memory {rss:.1} MB ({:.0} bytes per element)",
+        rss * 1048576.0 / ne as f64
+    );
+    Ok(())
+}

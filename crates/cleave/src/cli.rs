@@ -1,0 +1,91 @@
+//! Command-line definitions (see `shared/spec/interface.md`).
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "cleave",
+    version,
+    about = "Explicit finite-element dynamics of solids with fracture by element separation"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run a keyword deck.
+    Run(RunArgs),
+    /// Read and validate a deck without running it; print a model summary.
+    Check(CheckArgs),
+    /// Write a ready deck for a bundled example.
+    Example(ExampleArgs),
+    /// Benchmarks (time per element step, peak memory).
+    Bench(BenchArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    /// The keyword deck (.k).
+    pub deck: PathBuf,
+    /// Output folder (default: DECK.out beside the deck).
+    #[arg(short = 'o', long = "output")]
+    pub out: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Override ENDTIM of the deck.
+    #[arg(long = "end-time")]
+    pub end_time: Option<f64>,
+    /// Ignore every *MAT_ADD_SEPARATION (same mesh, no split nodes).
+    #[arg(long = "no-separation")]
+    pub no_separation: bool,
+    /// No progress bar.
+    #[arg(long, short = 'q')]
+    pub quiet: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct CheckArgs {
+    /// The keyword deck (.k).
+    pub deck: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct ExampleArgs {
+    /// Example name (`cleave example --list` lists them).
+    pub name: Option<String>,
+    /// Where to write the deck (default: NAME.k in the current folder).
+    #[arg(short = 'o', long = "output")]
+    pub out: Option<PathBuf>,
+    /// List the examples.
+    #[arg(long)]
+    pub list: bool,
+    /// Override the end time.
+    #[arg(long = "end-time")]
+    pub end_time: Option<f64>,
+    /// Mesh size, where the example has several.
+    #[arg(long)]
+    pub elements: Option<usize>,
+    /// Write the deck without its separation card.
+    #[arg(long = "no-separation")]
+    pub no_separation: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// What to measure: `cube` (an elastic block).
+    pub what: String,
+    /// Number of elements (approximate for a cube: the nearest n^3).
+    #[arg(long, default_value_t = 100_000)]
+    pub elements: usize,
+    /// Time steps to run.
+    #[arg(long, default_value_t = 200)]
+    pub steps: u64,
+    /// Worker threads.
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+}

@@ -1,0 +1,53 @@
+//! The error of a command, carrying its exit code.
+
+use std::fmt;
+
+/// Why a command failed; the variant decides the exit code.
+#[derive(Debug)]
+pub enum Failure {
+    /// Bad input: deck, options, model (exit code 2).
+    Input(String),
+    /// The run failed numerically (exit code 3).
+    Numerical(String),
+    /// Anything else: I/O, internal (exit code 1).
+    Other(String),
+}
+
+impl Failure {
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Failure::Input(_) => 2,
+            Failure::Numerical(_) => 3,
+            Failure::Other(_) => 1,
+        }
+    }
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Failure::Input(m) | Failure::Numerical(m) | Failure::Other(m) => f.write_str(m),
+        }
+    }
+}
+
+impl From<cleave_io::deck::DeckError> for Failure {
+    fn from(e: cleave_io::deck::DeckError) -> Self {
+        Failure::Input(e.to_string())
+    }
+}
+
+impl From<cleave_core::error::SolverError> for Failure {
+    fn from(e: cleave_core::error::SolverError) -> Self {
+        if e.is_numerical() {
+            Failure::Numerical(e.to_string())
+        } else {
+            Failure::Input(e.to_string())
+        }
+    }
+}
+
+/// An I/O error with what was being done.
+pub fn io_failure(what: &str, path: &std::path::Path, e: std::io::Error) -> Failure {
+    Failure::Other(format!("{what} {}: {e}", path.display()))
+}

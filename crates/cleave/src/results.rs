@@ -1,0 +1,372 @@
+//! The run's output: the observer that writes glstat, nodout, elout, rwforc, the ParaView
+//! states, and at the end the plots, fragments and summary (file formats in
+//! `shared/spec/interface.md`).
+//!
+//! Intervals: each CSV uses its `*DATABASE_*` DT; where the deck gives none, glstat uses
+//! ENDTIM/200 (so the energy plot has a curve), and the other histories also ENDTIM/200 when
+//! they have something to report. ParaView states use the `*DATABASE_BINARY_D3PLOT` DT, or only
+//! the first and last state without it. Every file has a row at t = 0 and at the end time.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+use cleave_core::math::{sub, von_mises, Vec3};
+use cleave_core::model::Model;
+use cleave_core::solver::{Observer, Solver};
+use cleave_io::output::csv::{CsvWriter, Field};
+use cleave_io::output::plot::plot_lines;
+use cleave_io::output::vtk::{write_vtu, DataArray, PvdWriter};
+
+use crate::progress::Progress;
+
+type Csv = CsvWriter<BufWriter<File>>;
+
+/// When a periodic output is due.
+#[derive(Clone, Copy, Debug)]
+struct Schedule {
+    dt: f64,
+    next: f64,
+}
+
+impl Schedule {
+    fn new(dt: f64) -> Self {
+        Self { dt, next: 0.0 }
+    }
+    /// Due at t = 0, then at every multiple of dt (the first step at or after it), and last.
+    fn due(&mut self, t: f64, last: bool) -> bool {
+        let hit = last || t >= self.next * (1.0 - 1e-12);
+        if hit {
+            if self.dt > 0.0 {
+                while self.next <= t * (1.0 + 1e-12) {
+                    self.next += self.dt;
+                }
+            } else {
+                self.next = f64::INFINITY;
+            }
+        }
+        hit
+    }
+}
+
+/// One row of the energy history kept for the plot.
+#[derive(Clone, Copy, Debug)]
+pub struct EnergyRow {
+    pub t: f64,
+    pub kinetic: f64,
+    pub internal: f64,
+    pub hourglass: f64,
+    pub total: f64,
+    pub external: f64,
+    pub ratio: f64,
+}
+
+/// Writes every output of a run.
+pub struct RunOutput<'m> {
+    dir: PathBuf,
+    model: &'m Model,
+    glstat: (Csv, Schedule),
+    nodout: Option<(Csv, Schedule)>,
+    elout: Option<(Csv, Schedule)>,
+    rwforc: Option<(Csv, Schedule)>,
+    states: (PvdWriter, Schedule),
+    state_count: usize,
+    part_ids: Vec<i32>,
+    pub energy: Vec<EnergyRow>,
+    pub fragments: usize,
+    progress: Progress,
+}
+
+fn csv(dir: &Path, name: &str, header: &[&str]) -> std::io::Result<Csv> {
+    CsvWriter::create(dir.join(name), header)
+}
+
+impl<'m> RunOutput<'m> {
+    pub fn create(dir: &Path, model: &'m Model, progress: Progress) -> std::io::Result<Self> {
+        std::fs::create_dir_all(dir.join("states"))?;
+        let o = &model.output;
+        let end = model.control.end_time;
+        let or_default = |dt: f64| if dt > 0.0 { dt } else { end / 200.0 };
+        let glstat = csv(
+            dir,
+            "glstat.csv",
+            &[
+                "time",
+                "dt",
+                "kinetic_energy",
+                "internal_energy",
+                "hourglass_energy",
+                "contact_energy",
+                "fracture_energy",
+                "external_work",
+                "total_energy",
+                "energy_ratio",
+                "failed_interfaces",
+                "fragments",
+            ],
+        )?;
+        let nodout = if o.history_nodes.is_empty() {
+            None
+        } else {
+            let h = [
+                "time", "node", "x_disp", "y_disp", "z_disp", "x_vel", "y_vel", "z_vel",
+            ];
+            Some((
+                csv(dir, "nodout.csv", &h)?,
+                Schedule::new(or_default(o.nodout_dt)),
+            ))
+        };
+        let elout = if o.history_solids.is_empty() {
+            None
+        } else {
+            let h = [
+                "time",
+                "element",
+                "sxx",
+                "syy",
+                "szz",
+                "sxy",
+                "syz",
+                "szx",
+                "eff_plastic_strain",
+            ];
+            Some((
+                csv(dir, "elout.csv", &h)?,
+                Schedule::new(or_default(o.elout_dt)),
+            ))
+        };
+        let rwforc = if model.rigid_walls.is_empty() {
+            None
+        } else {
+            let h = ["time", "wall", "normal_force", "fx", "fy", "fz"];
+            Some((
+                csv(dir, "rwforc.csv", &h)?,
+                Schedule::new(or_default(o.rwforc_dt)),
+            ))
+        };
+        let part_ids = model
+            .elem_part
+            .iter()
+            .map(|&p| model.parts[p as usize].id as i32)
+            .collect();
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            model,
+            glstat: (glstat, Schedule::new(or_default(o.glstat_dt))),
+            nodout,
+            elout,
+            rwforc,
+            states: (
+                PvdWriter::new(dir.join("results.pvd")),
+                Schedule::new(o.d3plot_dt),
+            ),
+            state_count: 0,
+            part_ids,
+            energy: Vec::new(),
+            fragments: cleave_core::setup::count_components(model),
+            progress,
+        })
+    }
+
+    fn write_glstat(&mut self, s: &Solver) -> std::io::Result<()> {
+        let e = &s.state.energy;
+        let total = e.total();
+        let denom = s.state.initial_energy + e.external_work;
+        let ratio = if denom.abs() > 0.0 {
+            total / denom
+        } else {
+            1.0
+        };
+        self.energy.push(EnergyRow {
+            t: s.state.t,
+            kinetic: e.kinetic,
+            internal: e.internal,
+            hourglass: e.hourglass,
+            total,
+            external: e.external_work,
+            ratio,
+        });
+        self.glstat.0.row(&[
+            Field::F(s.state.t),
+            Field::F(s.state.dt),
+            Field::F(e.kinetic),
+            Field::F(e.internal),
+            Field::F(e.hourglass),
+            Field::F(e.contact),
+            Field::F(e.fracture),
+            Field::F(e.external_work),
+            Field::F(total),
+            Field::F(ratio),
+            Field::I(0),
+            Field::I(self.fragments as i64),
+        ])
+    }
+
+    fn write_nodout(csv: &mut Csv, m: &Model, s: &Solver) -> std::io::Result<()> {
+        for &n in &m.output.history_nodes {
+            let i = n as usize;
+            let u = sub(s.state.x[i], m.x0[i]);
+            let v = s.state.v_n[i];
+            csv.row(&[
+                Field::F(s.state.t),
+                Field::I(m.node_ids[i]),
+                Field::F(u[0]),
+                Field::F(u[1]),
+                Field::F(u[2]),
+                Field::F(v[0]),
+                Field::F(v[1]),
+                Field::F(v[2]),
+            ])?;
+        }
+        Ok(())
+    }
+
+    fn write_elout(csv: &mut Csv, m: &Model, s: &Solver) -> std::io::Result<()> {
+        for &e in &m.output.history_solids {
+            let k = e as usize;
+            let st = s.state.stress[k];
+            let mut row = vec![Field::F(s.state.t), Field::I(m.elem_ids[k])];
+            row.extend(st.iter().map(|&x| Field::F(x)));
+            row.push(Field::F(s.state.hist[k].eps_p));
+            csv.row(&row)?;
+        }
+        Ok(())
+    }
+
+    fn write_rwforc(csv: &mut Csv, m: &Model, s: &Solver) -> std::io::Result<()> {
+        for (w, f) in m.rigid_walls.iter().zip(&s.wall_forces) {
+            csv.row(&[
+                Field::F(s.state.t),
+                Field::I(w.id),
+                Field::F(f.normal),
+                Field::F(f.force[0]),
+                Field::F(f.force[1]),
+                Field::F(f.force[2]),
+            ])?;
+        }
+        Ok(())
+    }
+
+    fn write_state(&mut self, s: &Solver) -> std::io::Result<()> {
+        let m = self.model;
+        let name = format!("states/state_{:05}.vtu", self.state_count);
+        let disp: Vec<Vec3> = s
+            .state
+            .x
+            .iter()
+            .zip(&m.x0)
+            .map(|(x, x0)| sub(*x, *x0))
+            .collect();
+        let vm: Vec<f64> = s.state.stress.iter().map(von_mises).collect();
+        let eps_p: Vec<f64> = s.state.hist.iter().map(|h| h.eps_p).collect();
+        let mut w = BufWriter::new(File::create(self.dir.join(&name))?);
+        write_vtu(
+            &mut w,
+            &s.state.x,
+            &m.conn,
+            &[
+                ("displacement", DataArray::Vector(&disp)),
+                ("velocity", DataArray::Vector(&s.state.v_n)),
+            ],
+            &[
+                ("part", DataArray::Int(&self.part_ids)),
+                ("von_mises", DataArray::Scalar(&vm)),
+                ("stress", DataArray::SymTensor(&s.state.stress)),
+                ("eff_plastic_strain", DataArray::Scalar(&eps_p)),
+            ],
+        )?;
+        std::io::Write::flush(&mut w)?;
+        self.states.0.add(s.state.t, &name)?;
+        self.state_count += 1;
+        Ok(())
+    }
+
+    /// Flush every file and write the energy plot (at the end, or after a failure).
+    pub fn finish(&mut self) -> std::io::Result<()> {
+        self.progress.finish();
+        self.glstat.0.flush()?;
+        for f in [&mut self.nodout, &mut self.elout, &mut self.rwforc]
+            .into_iter()
+            .flatten()
+        {
+            f.0.flush()?;
+        }
+        self.plot_energy()
+    }
+
+    fn plot_energy(&self) -> std::io::Result<()> {
+        let pick =
+            |f: fn(&EnergyRow) -> f64| self.energy.iter().map(|r| (r.t, f(r))).collect::<Vec<_>>();
+        let series = [
+            ("kinetic", pick(|r| r.kinetic)),
+            ("internal", pick(|r| r.internal)),
+            ("hourglass", pick(|r| r.hourglass)),
+            ("external work", pick(|r| r.external)),
+            ("total", pick(|r| r.total)),
+        ];
+        let refs: Vec<(&str, &[(f64, f64)])> =
+            series.iter().map(|(n, v)| (*n, v.as_slice())).collect();
+        plot_lines(
+            &self.dir.join("energy.png"),
+            "Energy balance",
+            "time",
+            "energy",
+            &refs,
+        )
+        .map_err(|e| std::io::Error::other(e.to_string()))
+    }
+}
+
+impl Observer for RunOutput<'_> {
+    fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
+        let t = s.state.t;
+        let last = s.is_finished();
+        let m = self.model;
+        if self.glstat.1.due(t, last) {
+            self.write_glstat(s)?;
+        }
+        if let Some((csv, sch)) = &mut self.nodout {
+            if sch.due(t, last) {
+                Self::write_nodout(csv, m, s)?;
+            }
+        }
+        if let Some((csv, sch)) = &mut self.elout {
+            if sch.due(t, last) {
+                Self::write_elout(csv, m, s)?;
+            }
+        }
+        if let Some((csv, sch)) = &mut self.rwforc {
+            if sch.due(t, last) {
+                Self::write_rwforc(csv, m, s)?;
+            }
+        }
+        if self.states.1.due(t, last) {
+            self.write_state(s)?;
+        }
+        self.progress.update(s, 0);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Schedule;
+
+    #[test]
+    fn schedule_hits_first_multiples_and_last() {
+        let mut s = Schedule::new(1.0);
+        let hits: Vec<f64> = [0.0, 0.4, 0.9, 1.05, 1.5, 2.0, 2.2]
+            .iter()
+            .copied()
+            .filter(|&t| s.due(t, t == 2.2))
+            .collect();
+        assert_eq!(hits, vec![0.0, 1.05, 2.0, 2.2]);
+        let mut z = Schedule::new(0.0);
+        let hits: Vec<f64> = [0.0, 0.5, 1.0]
+            .iter()
+            .copied()
+            .filter(|&t| z.due(t, t == 1.0))
+            .collect();
+        assert_eq!(hits, vec![0.0, 1.0]);
+    }
+}

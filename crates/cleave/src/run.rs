@@ -1,0 +1,139 @@
+//! `cleave run DECK.k`: read, prepare, run, write.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use cleave_core::model::Model;
+use cleave_core::solver::{RunError, Solver};
+use cleave_io::output::{peak_rss_mb, Summary};
+
+use crate::cli::RunArgs;
+use crate::failure::{io_failure, Failure};
+use crate::progress::Progress;
+use crate::results::RunOutput;
+
+/// DECK.k -> DECK.out beside it.
+pub fn default_out_dir(deck: &Path) -> PathBuf {
+    deck.with_extension("out")
+}
+
+/// Read a deck, print its warnings, apply the command-line overrides.
+pub fn load_model(
+    deck: &Path,
+    end_time: Option<f64>,
+    no_separation: bool,
+) -> Result<Model, Failure> {
+    let d = cleave_io::deck::read_deck(deck)?;
+    for w in &d.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mut model = d.model;
+    if let Some(t) = end_time {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(Failure::Input(format!(
+                "--end-time {t}: must be a positive number"
+            )));
+        }
+        model.control.end_time = t;
+    }
+    if no_separation {
+        model.separations.clear();
+    }
+    if !model.separations.is_empty() {
+        return Err(Failure::Input(format!(
+            "{}: *MAT_ADD_SEPARATION is read but element separation is not implemented yet in this version; \
+             run with --no-separation",
+            deck.display()
+        )));
+    }
+    if !model.contacts.is_empty() {
+        return Err(Failure::Input(format!(
+            "{}: *CONTACT_AUTOMATIC_... is read but contact is not implemented yet in this version",
+            deck.display()
+        )));
+    }
+    Ok(model)
+}
+
+/// A rayon pool of `threads` workers (all cores by default).
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Failure> {
+    let n = threads.unwrap_or(0);
+    if threads == Some(0) {
+        return Err(Failure::Input("--threads 0: give at least 1".into()));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .map_err(|e| Failure::Other(format!("cannot start worker threads: {e}")))
+}
+
+pub fn run(a: &RunArgs) -> Result<(), Failure> {
+    let started = Instant::now();
+    let model = load_model(&a.deck, a.end_time, a.no_separation)?;
+    let pool = thread_pool(a.threads)?;
+    let dir = a.out.clone().unwrap_or_else(|| default_out_dir(&a.deck));
+    let mut solver = Solver::new(&model)?;
+    for w in &solver.setup.warnings {
+        eprintln!("warning: {w}");
+    }
+    let progress = Progress::new(model.control.end_time, a.quiet);
+    let mut out = RunOutput::create(&dir, &model, progress)
+        .map_err(|e| io_failure("cannot create output in", &dir, e))?;
+    let loop_start = Instant::now();
+    let result = pool.install(|| solver.run(&mut out));
+    let loop_seconds = loop_start.elapsed().as_secs_f64();
+    out.finish()
+        .map_err(|e| io_failure("cannot write output in", &dir, e))?;
+
+    let steps = solver.state.step + u64::from(solver.is_finished());
+    let ne = model.num_elements();
+    let last = out.energy.last().copied();
+    let summary = Summary {
+        elements: ne,
+        nodes: model.num_nodes(),
+        nodes_solved: solver.state.x.len(),
+        interfaces: 0,
+        failed_interfaces: 0,
+        fragments: out.fragments,
+        steps,
+        end_time: solver.state.t,
+        wall_seconds: started.elapsed().as_secs_f64(),
+        us_per_element_step: 1e6 * loop_seconds / (steps.max(1) as f64 * ne.max(1) as f64),
+        peak_rss_mb: peak_rss_mb(),
+        threads: pool.current_num_threads(),
+        energy_ratio: last.map_or(1.0, |r| r.ratio),
+        version: env!("CARGO_PKG_VERSION").to_string(),
+    };
+    let summary_path = dir.join("summary.json");
+    summary
+        .write(&summary_path)
+        .map_err(|e| io_failure("cannot write", &summary_path, e))?;
+    match result {
+        Ok(()) => {
+            if !a.quiet {
+                eprintln!(
+                    "done: {} steps to t = {:e} in {:.2} s ({:.3} us per element step, {} threads), energy ratio {:.5}; output in {}",
+                    steps,
+                    solver.state.t,
+                    loop_seconds,
+                    summary.us_per_element_step,
+                    summary.threads,
+                    summary.energy_ratio,
+                    dir.display()
+                );
+            }
+            Ok(())
+        }
+        Err(RunError::Solver(e)) => {
+            let mut f = Failure::from(e);
+            if let Failure::Numerical(m) = &mut f {
+                m.push_str(&format!(
+                    "; the output up to this point is in {}",
+                    dir.display()
+                ));
+            }
+            Err(f)
+        }
+        Err(RunError::Output(e)) => Err(io_failure("cannot write output in", &dir, e)),
+    }
+}

@@ -1,0 +1,58 @@
+//! `summary.json`: the one-object summary of a run.
+
+use serde::Serialize;
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::Path;
+
+/// The run summary written to `summary.json` (see the interface page, section "Output").
+///
+/// Written as one pretty-printed JSON object whose keys are the field names below. A non-finite
+/// float (NaN, infinity) is written as `null`, so the file is always valid JSON.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    /// Elements in the deck.
+    pub elements: usize,
+    /// Nodes in the deck.
+    pub nodes: usize,
+    /// Nodes the solver integrates, after splitting nodes of separation groups.
+    pub nodes_solved: usize,
+    /// Interfaces that may fail.
+    pub interfaces: usize,
+    /// Interfaces no longer intact (softening or free) at the end.
+    pub failed_interfaces: usize,
+    /// Fragments at the end.
+    pub fragments: usize,
+    /// Time steps taken.
+    pub steps: u64,
+    /// Simulated time reached.
+    pub end_time: f64,
+    /// Wall time of the whole run, in seconds.
+    pub wall_seconds: f64,
+    /// Wall time of the time-step loop divided by steps times elements, in microseconds.
+    pub us_per_element_step: f64,
+    /// Peak resident memory in MiB (see [`crate::output::mem::peak_rss_mb`]).
+    pub peak_rss_mb: f64,
+    /// Worker threads used.
+    pub threads: usize,
+    /// Total energy over initial energy plus external work, at the end.
+    pub energy_ratio: f64,
+    /// Version of cleave that wrote the file.
+    pub version: String,
+}
+
+impl Summary {
+    /// The summary as pretty-printed JSON text (non-finite floats as `null`).
+    pub fn to_json(&self) -> String {
+        // serde_json writes non-finite f64 as `null`; serializing this plain struct cannot fail.
+        serde_json::to_string_pretty(self).expect("a Summary always serializes")
+    }
+
+    /// Writes the summary to `path` as pretty-printed JSON followed by a newline.
+    pub fn write(&self, path: impl AsRef<Path>) -> io::Result<()> {
+        let mut w = BufWriter::new(File::create(path)?);
+        w.write_all(self.to_json().as_bytes())?;
+        w.write_all(b"\n")?;
+        w.flush()
+    }
+}

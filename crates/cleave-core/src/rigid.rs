@@ -3,15 +3,14 @@
 //! Mass, centre of mass and inertia come from the lumped nodal masses of the body's nodes, so
 //! the kinetic energy summed over nodes equals the body's. Each step:
 //! - force and moment about the centre of mass are summed over the body's nodes;
-//! - v_cm += F/M dt, angular momentum L += M dt (spatial frame), omega = I(R)^-1 L with
-//!   I(R) = R I0 R^T;
+//! - v_cm += F/M dt, angular momentum L += M dt (spatial frame), and the step's rotation
+//!   R^(n+1) = cay(omega dt) R^n by the implicit mid-point rule (see [`RigidBody::update_angular`]);
 //! - constraints (CON1/CON2 with CMO = 1) and prescribed motion fix components of v_cm and omega;
-//! - the nodes are placed exactly: x_i^(n+1) = x_cm^(n+1) + R^(n+1) (X_i - X_cm), with
-//!   R^(n+1) = exp(omega dt) R^n, and given the velocity (x^(n+1) - x^n)/dt.
+//! - the nodes are placed exactly: x_i^(n+1) = x_cm^(n+1) + R^(n+1) (X_i - X_cm), and given
+//!   the velocity (x^(n+1) - x^n)/dt.
 
-use crate::math::{
-    add, cross, inverse, mat_mul, mat_vec, rotation_from_vector, scale, sub, transpose, Mat3, Vec3,
-};
+use crate::element::kernel::hughes_winget;
+use crate::math::{add, cross, inverse, mat_mul, mat_vec, norm, scale, sub, transpose, Mat3, Vec3};
 use crate::model::{MaterialKind, Model};
 use crate::state::RigidState;
 
@@ -181,11 +180,34 @@ impl RigidBody {
         }
     }
 
-    /// Advance the angular momentum by the moment `m` over `dt_mid` and recompute omega.
-    pub fn update_angular(&self, st: &mut RigidState, moment: Vec3, dt_mid: f64) {
+    /// Advance the angular momentum by the moment `m` over `dt_mid` and find the angular
+    /// velocity omega of the step `dt` (t^n to t^(n+1)).
+    ///
+    /// Implicit mid-point rule for Euler's equations in the body frame (Pi = R^T L,
+    /// Omega = I0^-1 Pi): Omega = I0^-1 (Pi^n + Pi^(n+1)) / 2 with R^(n+1) = R^n cay(dt Omega),
+    /// i.e. in the spatial frame omega = I(R^n)^-1 (L + Q^T L) / 2, Q = cay(omega dt), solved by
+    /// fixed-point iteration. It conserves |L| and the rotational kinetic energy
+    /// L . I(R)^-1 L / 2 of a torque-free body exactly. (The explicit omega = I(R^n)^-1 L used
+    /// before is first order: a tumbling body's kinetic energy drifted in proportion to dt,
+    /// 5e-4 of the rotational energy over 1.5 turns at omega dt = 1.6e-3.)
+    pub fn update_angular(&self, st: &mut RigidState, moment: Vec3, dt_mid: f64, dt: f64) {
         st.ang_mom = add(st.ang_mom, scale(moment, dt_mid));
-        st.omega =
-            inverse(&self.inertia(&st.rot)).map_or([0.0; 3], |inv| mat_vec(&inv, st.ang_mom));
+        let Some(inv) = inverse(&self.inertia(&st.rot)) else {
+            st.omega = [0.0; 3];
+            return;
+        };
+        let l = st.ang_mom;
+        let mut omega = mat_vec(&inv, l);
+        for _ in 0..50 {
+            let q = cayley(scale(omega, dt));
+            let next = mat_vec(&inv, scale(add(l, mat_vec(&transpose(&q), l)), 0.5));
+            let change = norm(sub(next, omega));
+            omega = next;
+            if change <= 1e-15 * norm(omega) {
+                break;
+            }
+        }
+        st.omega = omega;
     }
 
     /// Position of node with reference position `x_ref` for the rigid placement (`x_cm`, `rot`).
@@ -194,9 +216,17 @@ impl RigidBody {
         add(x_cm, mat_vec(rot, sub(x_ref, self.x_cm0)))
     }
 
-    /// The placement at t^(n+1) after a step `dt` with the half-step velocities.
+    /// The placement at t^(n+1) after a step `dt` with the half-step velocities:
+    /// R^(n+1) = cay(omega dt) R^n (the Cayley transform, matching `update_angular`).
     pub fn next_placement(&self, st: &RigidState, dt: f64) -> (Vec3, Mat3) {
-        let rot = mat_mul(&rotation_from_vector(scale(st.omega, dt)), &st.rot);
+        let rot = mat_mul(&cayley(scale(st.omega, dt)), &st.rot);
         (add(st.x_cm, scale(st.v_cm, dt)), rot)
     }
+}
+
+/// Cayley transform cay(a) = (I - A/2)^-1 (I + A/2) of the rotation vector `a`: a rotation
+/// about a by 2 atan(|a|/2) (the Hughes-Winget rotation of the element kernel).
+#[inline]
+fn cayley(a: Vec3) -> Mat3 {
+    hughes_winget(scale(a, 0.5))
 }

@@ -86,6 +86,8 @@ pub struct Solver<'m> {
     chunk_sums: Vec<ElemChunkSum>,
     node_sums: Vec<[f64; 4]>,
     finished: bool,
+    /// Work of this step's impulses that falls after t^n, booked at the next step.
+    pending_work: f64,
 }
 
 impl<'m> Solver<'m> {
@@ -142,6 +144,7 @@ impl<'m> Solver<'m> {
             chunk_sums: vec![ElemChunkSum::default(); ne.div_ceil(ELEM_CHUNK)],
             node_sums: Vec::with_capacity(nn.div_ceil(NODE_CHUNK)),
             finished: false,
+            pending_work: 0.0,
         })
     }
 
@@ -170,11 +173,21 @@ impl<'m> Solver<'m> {
         let dt_mid = 0.5 * (self.state.dt_prev + dt_new);
         self.state.dt = dt_new;
         self.update_velocities(dt_mid);
+        let booked = self.state.energy.external_work;
         self.update_rigid_bodies(dt_mid, dt_new);
         let mut work = self.apply_constraints(dt_mid, dt_new);
         work += self.apply_rigid_walls(dt_mid, dt_new);
         work += self.record_kinetic_energy(dt_mid)?;
-        self.state.energy.external_work += work;
+        // The impulses of this step act over [t^(n-1/2), t^(n+1/2)] and their work (impulse .
+        // v^n, or body force . v^n dt_mid) covers that whole interval, but the ledger is at
+        // t^n: book the part up to t^n now (fraction dt^(n-1/2) / (dt^(n-1/2) + dt^(n+1/2)))
+        // and carry the rest into the next step. Booking it all at t^n put the external work
+        // half a step ahead of the kinetic and internal energies: an energy-ratio error of about
+        // dt/(2t) for a steady driver, 5% after 25 steps of a ramped pull (verification tests).
+        let step_work = self.state.energy.external_work - booked + work;
+        let w = self.half_step_weight();
+        self.state.energy.external_work = booked + self.pending_work + w * step_work;
+        self.pending_work = (1.0 - w) * step_work;
         if self.state.step == 0 {
             self.state.initial_energy = self.state.energy.total();
         }
@@ -394,7 +407,7 @@ impl<'m> Solver<'m> {
             let v_old = st.v_cm;
             let w_old = st.omega;
             st.v_cm = add(st.v_cm, scale(force, dt_mid / body.mass));
-            body.update_angular(st, moment, dt_mid);
+            body.update_angular(st, moment, dt_mid, dt_new);
             let (v_free, w_free) = (st.v_cm, st.omega);
             body.apply_constraints(st);
             let t_half = self.state.t + 0.5 * dt_new;

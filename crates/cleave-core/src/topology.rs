@@ -50,13 +50,13 @@ pub fn element_components(model: &Model) -> (Vec<u32>, usize) {
     let mut label = vec![u32::MAX; ne];
     let mut root_label = vec![u32::MAX; ne];
     let mut count = 0u32;
-    for e in 0..ne {
+    for (e, l) in label.iter_mut().enumerate() {
         let r = uf.find(e as u32) as usize;
         if root_label[r] == u32::MAX {
             root_label[r] = count;
             count += 1;
         }
-        label[e] = root_label[r];
+        *l = root_label[r];
     }
     (label, count as usize)
 }

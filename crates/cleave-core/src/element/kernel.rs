@@ -366,6 +366,7 @@ mod tests {
             },
             &mut s,
             &mut h,
+            &mut 0.0,
             None,
             &mut f,
         )
@@ -411,6 +412,7 @@ mod tests {
             &ctl(),
             &mut [0.0; 6],
             &mut History::default(),
+            &mut 0.0,
             None,
             &mut f,
         )
@@ -431,6 +433,7 @@ mod tests {
             &ctl(),
             &mut [0.0; 6],
             &mut History::default(),
+            &mut 0.0,
             None,
             &mut f,
         );

@@ -303,6 +303,7 @@ impl<'m> RunOutput<'m> {
             ("hourglass", pick(|r| r.hourglass)),
             ("external work", pick(|r| r.external)),
             ("total", pick(|r| r.total)),
+            ("initial + external work", pick(|r| r.total / r.ratio)),
         ];
         let refs: Vec<(&str, &[(f64, f64)])> =
             series.iter().map(|(n, v)| (*n, v.as_slice())).collect();

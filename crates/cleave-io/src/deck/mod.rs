@@ -1,1 +1,56 @@
-//! The LS-DYNA keyword deck reader: lexing, field decoding, and building a `Model`.
+//! The LS-DYNA keyword deck reader: lexing, field decoding, and building a `Model`; and the
+//! writer that turns a `Model` back into a deck.
+//!
+//! Reading is done in three passes: [`lex`] splits the text into keyword blocks, `cards`
+//! decodes each supported keyword's cards into a raw deck (deck ids, with their lines), and
+//! `build` resolves every reference into the dense indices of a
+//! [`Model`](cleave_core::model::Model). Card layouts are those of the LS-DYNA Keyword
+//! User's Manual; the supported subset is listed in `shared/spec/interface.md`.
+
+mod build;
+mod cards;
+mod error;
+pub mod fields;
+pub mod lex;
+mod raw;
+mod write;
+
+use std::path::Path;
+
+use cleave_core::model::Model;
+
+pub use error::DeckError;
+pub use write::write_deck;
+
+/// A deck that was read and validated.
+#[derive(Clone, Debug)]
+pub struct Deck {
+    pub model: Model,
+    /// Things read but not used (ignored options, unsupported output requests), one per line.
+    pub warnings: Vec<String>,
+}
+
+/// Reads and validates the deck at `path`. Bytes that are not UTF-8 are replaced (they then
+/// fail as "not a number" where they matter); errors name the file as given.
+pub fn read_deck(path: &Path) -> Result<Deck, DeckError> {
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path)
+        .map_err(|e| DeckError::deck(&file, format!("cannot read the deck: {e}")))?;
+    let text = String::from_utf8_lossy(&bytes);
+    parse_deck(&text, &file)
+}
+
+/// Parses and validates a deck given as text; `file` names it in messages.
+pub fn parse_deck(text: &str, file: &str) -> Result<Deck, DeckError> {
+    if text.trim().is_empty() {
+        return Err(DeckError::deck(file, "the deck is empty"));
+    }
+    let blocks = lex::lex(text, file)?;
+    if blocks.is_empty() {
+        return Err(DeckError::deck(file, "the deck has no keywords"));
+    }
+    let mut raw = cards::read_blocks(&blocks, file)?;
+    let warnings = std::mem::take(&mut raw.warnings);
+    let model = build::build(raw, file)?;
+    Ok(Deck { model, warnings })
+}

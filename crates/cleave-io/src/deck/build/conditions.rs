@@ -1,0 +1,258 @@
+//! Resolving constraints, prescribed motion, initial velocities, loads, rigid walls, contacts
+//! and history requests.
+
+use std::collections::BTreeMap;
+
+use cleave_core::math::{cross, sub, Vec3};
+use cleave_core::model::{
+    BodyLoad, ContactDef, ContactSurface, MaterialKind, Model, MotionTarget, PrescribedMotion,
+    RigidWall, Spc,
+};
+
+use super::mesh::dedup;
+use super::{Builder, Ids};
+use crate::deck::error::DeckError;
+use crate::deck::raw::{RawSurface, Src, Target};
+
+/// The translations (or rotations) a `*NODE` TC/RC code 0..7 constrains.
+fn code_dofs(code: i32) -> [bool; 3] {
+    match code {
+        1 => [true, false, false],
+        2 => [false, true, false],
+        3 => [false, false, true],
+        4 => [true, true, false],
+        5 => [false, true, true],
+        6 => [true, false, true],
+        7 => [true, true, true],
+        _ => [false, false, false],
+    }
+}
+
+impl Builder<'_> {
+    pub fn conditions(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
+        let part_nodes = part_nodes(m);
+        self.spcs(m, ids, &part_nodes)?;
+        self.motions(m, ids, &part_nodes)?;
+        self.initial_velocities(m, ids, &part_nodes)?;
+        let raw = self.raw;
+        for b in &raw.body_loads {
+            let curve = match b.lcid {
+                None => None,
+                Some(id) => Some(self.find(&ids.curves, id, &b.src, "LCID", "curve")?),
+            };
+            m.body_loads.push(BodyLoad {
+                axis: b.axis,
+                curve,
+                sf: b.sf,
+            });
+        }
+        for (k, w) in raw.walls.iter().enumerate() {
+            let nodes = match w.nsid {
+                None => None,
+                Some(id) => {
+                    let s = self.find(&ids.node_sets, id, &w.src, "NSID", "node set")?;
+                    Some(m.node_sets[s].nodes.clone())
+                }
+            };
+            m.rigid_walls.push(RigidWall {
+                id: k as i64 + 1,
+                nodes,
+                tail: w.tail,
+                head: w.head,
+                fric: w.fric,
+            });
+        }
+        for (k, c) in raw.contacts.iter().enumerate() {
+            let slave = self.surface(&c.slave, &c.src, ids)?;
+            let master = match &c.master {
+                None => None,
+                Some(s) => Some(self.surface(s, &c.src, ids)?),
+            };
+            m.contacts.push(ContactDef {
+                id: k as i64 + 1,
+                single_surface: c.single_surface,
+                slave,
+                master,
+                fs: c.fs,
+                fd: c.fd,
+                dc: c.dc,
+            });
+        }
+        let mut hn = Vec::with_capacity(raw.history_nodes.len());
+        for (id, src) in &raw.history_nodes {
+            hn.push(self.find(&ids.nodes, *id, src, "ID", "node")?);
+        }
+        let mut he = Vec::with_capacity(raw.history_solids.len());
+        for (id, src) in &raw.history_solids {
+            he.push(self.find(&ids.elems, *id, src, "ID", "element")?);
+        }
+        m.output = raw.output.clone();
+        m.output.history_nodes = dedup(hn);
+        m.output.history_solids = dedup(he);
+        Ok(())
+    }
+
+    /// The nodes a target covers (parts: the nodes of their elements).
+    fn target_nodes(
+        &self,
+        t: Target,
+        src: &Src,
+        field: &str,
+        m: &Model,
+        ids: &Ids,
+        part_nodes: &[Vec<u32>],
+    ) -> Result<Vec<u32>, DeckError> {
+        Ok(match t {
+            Target::All => (0..m.num_nodes() as u32).collect(),
+            Target::Node(id) => vec![self.find(&ids.nodes, id, src, field, "node")?],
+            Target::NodeSet(id) => {
+                let s = self.find(&ids.node_sets, id, src, field, "node set")?;
+                m.node_sets[s].nodes.clone()
+            }
+            Target::Part(id) => part_nodes[self.find(&ids.parts, id, src, field, "part")?].clone(),
+            Target::PartSet(id) => {
+                let s = self.find(&ids.part_sets, id, src, field, "part set")?;
+                let mut v: Vec<u32> = m.part_sets[s]
+                    .parts
+                    .iter()
+                    .flat_map(|&p| part_nodes[p].iter().copied())
+                    .collect();
+                v.sort_unstable();
+                v.dedup();
+                v
+            }
+        })
+    }
+
+    /// `*NODE` TC/RC and `*BOUNDARY_SPC_*`, merged per node by OR, sorted by node index.
+    fn spcs(&self, m: &mut Model, ids: &Ids, part_nodes: &[Vec<u32>]) -> Result<(), DeckError> {
+        let mut map: BTreeMap<u32, [bool; 6]> = BTreeMap::new();
+        let mut add = |node: u32, dof: [bool; 6]| {
+            let e = map.entry(node).or_insert([false; 6]);
+            for (a, b) in e.iter_mut().zip(dof) {
+                *a |= b;
+            }
+        };
+        for (i, n) in self.raw.nodes.iter().enumerate() {
+            if n.tc != 0 || n.rc != 0 {
+                let (t, r) = (code_dofs(n.tc), code_dofs(n.rc));
+                add(i as u32, [t[0], t[1], t[2], r[0], r[1], r[2]]);
+            }
+        }
+        for s in &self.raw.spcs {
+            let field = if matches!(s.target, Target::Node(_)) {
+                "NID"
+            } else {
+                "NSID"
+            };
+            for node in self.target_nodes(s.target, &s.src, field, m, ids, part_nodes)? {
+                add(node, s.dof);
+            }
+        }
+        m.spcs = map
+            .into_iter()
+            .filter(|(_, d)| d.iter().any(|&b| b))
+            .map(|(node, dof)| Spc { node, dof })
+            .collect();
+        Ok(())
+    }
+
+    /// `*BOUNDARY_PRESCRIBED_MOTION_*`, sets expanded to one entry per node.
+    fn motions(&self, m: &mut Model, ids: &Ids, part_nodes: &[Vec<u32>]) -> Result<(), DeckError> {
+        for p in &self.raw.motions {
+            let curve = self.find(&ids.curves, p.lcid, &p.src, "LCID", "curve")?;
+            let mk = |target| PrescribedMotion {
+                target,
+                axis: p.axis,
+                vad: p.vad,
+                curve,
+                sf: p.sf,
+            };
+            match p.target {
+                Target::Part(id) => {
+                    let part = self.find(&ids.parts, id, &p.src, "PID", "part")?;
+                    let mat = &m.materials[m.parts[part].material];
+                    if !matches!(mat.kind, MaterialKind::Rigid { .. }) {
+                        return Err(self
+                            .err(
+                                &p.src,
+                                format!(
+                                    "part {id} is not rigid (its material {} is not *MAT_RIGID)",
+                                    mat.id
+                                ),
+                            )
+                            .with_field("PID"));
+                    }
+                    m.prescribed.push(mk(MotionTarget::Rigid(part)));
+                }
+                t => {
+                    let field = if matches!(t, Target::Node(_)) {
+                        "NID"
+                    } else {
+                        "NSID"
+                    };
+                    for node in self.target_nodes(t, &p.src, field, m, ids, part_nodes)? {
+                        m.prescribed.push(mk(MotionTarget::Node(node)));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `*INITIAL_VELOCITY_*` in deck order (a later card overrides an earlier one per node):
+    /// v = v_t + omega n x (x - c).
+    fn initial_velocities(
+        &self,
+        m: &mut Model,
+        ids: &Ids,
+        part_nodes: &[Vec<u32>],
+    ) -> Result<(), DeckError> {
+        for iv in &self.raw.init_vel {
+            let field = if matches!(iv.target, Target::Node(_)) {
+                "NID"
+            } else {
+                "ID"
+            };
+            for node in self.target_nodes(iv.target, &iv.src, field, m, ids, part_nodes)? {
+                let i = node as usize;
+                let w: Vec3 = iv.axis.map(|a| a * iv.omega);
+                let rot = cross(w, sub(m.x0[i], iv.centre));
+                m.v0[i] = [iv.v[0] + rot[0], iv.v[1] + rot[1], iv.v[2] + rot[2]];
+            }
+        }
+        Ok(())
+    }
+
+    fn surface(&self, s: &RawSurface, src: &Src, ids: &Ids) -> Result<ContactSurface, DeckError> {
+        let Some(id) = s.id else {
+            return Ok(ContactSurface::All);
+        };
+        Ok(match s.typ {
+            0 => ContactSurface::SegmentSet(self.find(
+                &ids.segment_sets,
+                id,
+                src,
+                s.field,
+                "segment set",
+            )?),
+            2 => {
+                ContactSurface::PartSet(self.find(&ids.part_sets, id, src, s.field, "part set")?)
+            }
+            _ => ContactSurface::Part(self.find(&ids.parts, id, src, s.field, "part")?),
+        })
+    }
+}
+
+/// The sorted nodes of each part's elements.
+fn part_nodes(m: &Model) -> Vec<Vec<u32>> {
+    let mut out = vec![Vec::new(); m.parts.len()];
+    for (c, &p) in m.conn.iter().zip(&m.elem_part) {
+        out[p as usize].extend_from_slice(c);
+    }
+    for v in &mut out {
+        v.sort_unstable();
+        v.dedup();
+    }
+    out
+}

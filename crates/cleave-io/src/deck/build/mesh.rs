@@ -1,0 +1,190 @@
+//! Resolving nodes, elements, parts, sections, materials, separation groups, curves and sets.
+
+use cleave_core::element::hex8::corner_jacobians;
+use cleave_core::math::Vec3;
+use cleave_core::model::{
+    Material, MaterialKind, Model, NodeSet, Part, PartSet, Section, SegmentSet, SeparationDef,
+};
+
+use super::{Builder, Ids};
+use crate::deck::error::DeckError;
+
+impl Builder<'_> {
+    /// Fills the mesh, the property tables and the sets; returns the id maps.
+    pub fn mesh(&self, m: &mut Model) -> Result<Ids, DeckError> {
+        let raw = self.raw;
+        let mut ids = Ids {
+            nodes: self.index(&raw.nodes, "node", |n| (n.id, &n.src))?,
+            sections: self.index(&raw.sections, "section", |s| (s.id, &s.src))?,
+            materials: self.index(&raw.materials, "material", |s| (s.id, &s.src))?,
+            curves: self.index(&raw.curves, "curve", |c| (c.curve.id, &c.src))?,
+            parts: self.index(&raw.parts, "part", |p| (p.id, &p.src))?,
+            elems: self.index(&raw.elems, "element", |e| (e.id, &e.src))?,
+            ..Ids::default()
+        };
+        m.node_ids = raw.nodes.iter().map(|n| n.id).collect();
+        m.x0 = raw.nodes.iter().map(|n| n.x).collect();
+        m.v0 = vec![[0.0; 3]; raw.nodes.len()];
+        m.curves = raw.curves.iter().map(|c| c.curve.clone()).collect();
+        m.sections = raw
+            .sections
+            .iter()
+            .map(|s| Section {
+                id: s.id,
+                elform: s.elform,
+            })
+            .collect();
+        m.materials = raw
+            .materials
+            .iter()
+            .map(|s| Material {
+                id: s.id,
+                density: s.density,
+                young: s.young,
+                poisson: s.poisson,
+                kind: s.kind.clone(),
+            })
+            .collect();
+        self.separations(m, &ids)?;
+        for p in &raw.parts {
+            m.parts.push(Part {
+                id: p.id,
+                title: p.title.clone(),
+                section: self.find(&ids.sections, p.secid, &p.src, "SECID", "section")?,
+                material: self.find(&ids.materials, p.mid, &p.src, "MID", "material")?,
+            });
+        }
+        self.elements(m, &ids)?;
+        self.sets(m, &mut ids)?;
+        Ok(ids)
+    }
+
+    fn separations(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
+        for s in &self.raw.separations {
+            let material = self.find(&ids.materials, s.mid, &s.src, "MID", "material")?;
+            if matches!(m.materials[material].kind, MaterialKind::Rigid { .. }) {
+                return Err(self
+                    .err(
+                        &s.src,
+                        format!("material {} is rigid and cannot separate", s.mid),
+                    )
+                    .with_field("MID"));
+            }
+            if m.separations.iter().any(|d| d.material == material) {
+                return Err(self
+                    .err(
+                        &s.src,
+                        format!("material {} already has a *MAT_ADD_SEPARATION", s.mid),
+                    )
+                    .with_field("MID"));
+            }
+            m.separations.push(SeparationDef {
+                material,
+                model: s.model,
+                sigmax: s.sigmax,
+                beta: s.beta,
+                gc: s.gc,
+                bond: s.bond,
+            });
+        }
+        Ok(())
+    }
+
+    /// Connectivity and part of each element; every corner Jacobian must be positive.
+    fn elements(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
+        let n = self.raw.elems.len();
+        m.elem_ids = Vec::with_capacity(n);
+        m.elem_part = Vec::with_capacity(n);
+        m.conn = Vec::with_capacity(n);
+        for e in &self.raw.elems {
+            let part = self.find(&ids.parts, e.pid, &e.src, "PID", "part")?;
+            let mut conn = [0u32; 8];
+            let nsrc = crate::deck::raw::Src {
+                keyword: e.src.keyword.clone(),
+                line: e.node_line,
+            };
+            for (k, (c, &nid)) in conn.iter_mut().zip(&e.nodes).enumerate() {
+                *c = self.find(&ids.nodes, nid, &nsrc, &format!("N{}", k + 1), "node")?;
+            }
+            let x: [Vec3; 8] = conn.map(|i| m.x0[i as usize]);
+            let jac = corner_jacobians(&x);
+            if let Some((k, j)) = jac
+                .iter()
+                .enumerate()
+                .find(|(_, j)| j.is_nan() || **j <= 0.0)
+            {
+                return Err(self.err(
+                    &e.src,
+                    format!(
+                        "element {} has a non-positive Jacobian ({j:.3e}) at corner {} (node {}): check the node order and coordinates",
+                        e.id,
+                        k + 1,
+                        e.nodes[k]
+                    ),
+                ));
+            }
+            m.elem_ids.push(e.id);
+            m.elem_part.push(part as u32);
+            m.conn.push(conn);
+        }
+        Ok(())
+    }
+
+    /// Node, part and segment sets; members resolved, repeated members dropped.
+    fn sets(&self, m: &mut Model, ids: &mut Ids) -> Result<(), DeckError> {
+        let raw = self.raw;
+        ids.node_sets = self.index(&raw.node_sets, "node set", |s| (s.id, &s.src))?;
+        ids.part_sets = self.index(&raw.part_sets, "part set", |s| (s.id, &s.src))?;
+        ids.segment_sets = self.index(&raw.segment_sets, "segment set", |s| (s.id, &s.src))?;
+        for s in &raw.node_sets {
+            let mut nodes = Vec::with_capacity(s.members.len());
+            for &(nid, line) in &s.members {
+                let src = crate::deck::raw::Src {
+                    keyword: s.src.keyword.clone(),
+                    line,
+                };
+                nodes.push(self.find(&ids.nodes, nid, &src, "NID", "node")?);
+            }
+            m.node_sets.push(NodeSet {
+                id: s.id,
+                nodes: dedup(nodes),
+            });
+        }
+        for s in &raw.part_sets {
+            let mut parts = Vec::with_capacity(s.members.len());
+            for &(pid, line) in &s.members {
+                let src = crate::deck::raw::Src {
+                    keyword: s.src.keyword.clone(),
+                    line,
+                };
+                parts.push(self.find(&ids.parts, pid, &src, "PID", "part")?);
+            }
+            m.part_sets.push(PartSet {
+                id: s.id,
+                parts: dedup(parts),
+            });
+        }
+        for s in &raw.segment_sets {
+            let mut segments = Vec::with_capacity(s.members.len());
+            for &(seg, line) in &s.members {
+                let src = crate::deck::raw::Src {
+                    keyword: s.src.keyword.clone(),
+                    line,
+                };
+                let mut out = [0u32; 4];
+                for (k, (o, nid)) in out.iter_mut().zip(seg).enumerate() {
+                    *o = self.find(&ids.nodes, nid, &src, &format!("N{}", k + 1), "node")?;
+                }
+                segments.push(out);
+            }
+            m.segment_sets.push(SegmentSet { id: s.id, segments });
+        }
+        Ok(())
+    }
+}
+
+/// Drops repeated entries, keeping the first occurrence's position.
+pub fn dedup<T: Copy + Eq + std::hash::Hash>(v: Vec<T>) -> Vec<T> {
+    let mut seen = std::collections::HashSet::with_capacity(v.len());
+    v.into_iter().filter(|x| seen.insert(*x)).collect()
+}

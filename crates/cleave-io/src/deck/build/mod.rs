@@ -1,0 +1,109 @@
+//! Second pass: resolving the deck ids of a [`RawDeck`] into the dense indices of a
+//! [`Model`], checking every reference, duplicate id and element geometry.
+//!
+//! Indices follow the order of appearance in the deck (nodes, elements, parts, materials,
+//! sections, curves and sets alike).
+
+mod conditions;
+mod mesh;
+
+use std::collections::HashMap;
+
+use cleave_core::model::Model;
+
+use super::error::DeckError;
+use super::raw::{RawDeck, Src};
+
+/// Builds and validates the model.
+pub fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
+    if raw.elems.is_empty() {
+        return Err(DeckError::deck(
+            file,
+            "the deck defines no elements (*ELEMENT_SOLID): nothing to run",
+        ));
+    }
+    let mut model = Model {
+        title: raw.title.clone(),
+        control: raw.control.clone(),
+        ..Model::default()
+    };
+    let b = Builder { file, raw: &raw };
+    let ids = b.mesh(&mut model)?;
+    b.conditions(&mut model, &ids)?;
+    if raw.termination.is_none() {
+        return Err(DeckError::deck(
+            file,
+            "no *CONTROL_TERMINATION with a positive ENDTIM: the run has no end time",
+        ));
+    }
+    Ok(model)
+}
+
+/// Deck id to index maps of everything that can be referenced.
+#[derive(Default)]
+pub struct Ids {
+    pub nodes: HashMap<i64, u32>,
+    pub elems: HashMap<i64, u32>,
+    pub parts: HashMap<i64, usize>,
+    pub sections: HashMap<i64, usize>,
+    pub materials: HashMap<i64, usize>,
+    pub curves: HashMap<i64, usize>,
+    pub node_sets: HashMap<i64, usize>,
+    pub part_sets: HashMap<i64, usize>,
+    pub segment_sets: HashMap<i64, usize>,
+}
+
+pub struct Builder<'a> {
+    pub file: &'a str,
+    pub raw: &'a RawDeck,
+}
+
+impl Builder<'_> {
+    /// An error at an item's line.
+    pub fn err(&self, src: &Src, message: impl Into<String>) -> DeckError {
+        DeckError::at(self.file, src.line, Some(&src.keyword), message)
+    }
+
+    /// The id to index map of `items`; a repeated id is an error naming both lines.
+    pub fn index<T, I: TryFrom<usize>>(
+        &self,
+        items: &[T],
+        what: &str,
+        key: impl Fn(&T) -> (i64, &Src),
+    ) -> Result<HashMap<i64, I>, DeckError> {
+        let mut map: HashMap<i64, I> = HashMap::with_capacity(items.len());
+        for (i, item) in items.iter().enumerate() {
+            let (id, src) = key(item);
+            let Ok(idx) = I::try_from(i) else {
+                return Err(self.err(src, format!("too many {what}s")));
+            };
+            if map.insert(id, idx).is_some() {
+                let first = items
+                    .iter()
+                    .map(&key)
+                    .find(|(k, _)| *k == id)
+                    .map_or(0, |(_, s)| s.line);
+                return Err(self.err(
+                    src,
+                    format!("{what} {id} is defined twice (first at line {first})"),
+                ));
+            }
+        }
+        Ok(map)
+    }
+
+    /// Looks up a reference; an undefined id is an error naming the id, the field and the line.
+    pub fn find<I: Copy>(
+        &self,
+        map: &HashMap<i64, I>,
+        id: i64,
+        src: &Src,
+        field: &str,
+        what: &str,
+    ) -> Result<I, DeckError> {
+        map.get(&id).copied().ok_or_else(|| {
+            self.err(src, format!("{what} {id} is not defined"))
+                .with_field(field)
+        })
+    }
+}

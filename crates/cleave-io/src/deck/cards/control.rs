@@ -1,0 +1,182 @@
+//! `*CONTROL_...` and `*DATABASE_...` keywords (LS-DYNA Keyword Manual, Vol. I).
+
+use cleave_core::model::Hourglass;
+
+use super::Reader;
+use crate::deck::error::DeckError;
+use crate::deck::fields::{Card, W10};
+use crate::deck::raw::RawDeck;
+
+/// Records a warning if field `i` is set (non-blank, non-zero): it is read but not used.
+pub fn warn_ignored(c: &Card<'_>, i: usize, name: &str, what: &str, deck: &mut RawDeck) {
+    let s = c.raw(i);
+    let zero = crate::deck::fields::parse_f64(s).is_ok_and(|v| v == 0.0);
+    if !s.is_empty() && !zero {
+        deck.warnings.push(format!(
+            "{}:{}: {}: field {name} = {s} ignored ({what})",
+            c.file, c.line, c.keyword
+        ));
+    }
+}
+
+/// A non-negative real (blank: 0).
+fn non_negative(c: &Card<'_>, i: usize, name: &str) -> Result<f64, DeckError> {
+    let v = c.f64_or(i, name, 0.0)?;
+    if v < 0.0 {
+        return Err(c.field_err(name, format!("{v} must not be negative")));
+    }
+    Ok(v)
+}
+
+/// Dispatches the `*CONTROL_` and `*DATABASE_` keywords.
+pub fn control_or_database(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    match r.keyword {
+        "*CONTROL_TERMINATION" => termination(r, deck),
+        "*CONTROL_TIMESTEP" => timestep(r, deck),
+        "*CONTROL_HOURGLASS" => hourglass(r, deck),
+        "*CONTROL_BULK_VISCOSITY" => bulk_viscosity(r, deck),
+        "*CONTROL_CONTACT" => contact(r, deck),
+        "*DATABASE_GLSTAT"
+        | "*DATABASE_NODOUT"
+        | "*DATABASE_ELOUT"
+        | "*DATABASE_RWFORC"
+        | "*DATABASE_RCFORC"
+        | "*DATABASE_BINARY_D3PLOT" => interval(r, deck),
+        "*DATABASE_HISTORY_NODE" | "*DATABASE_HISTORY_SOLID" => history(r, deck),
+        k if k.starts_with("*DATABASE_") => {
+            deck.warnings.push(format!(
+                "{}:{}: {k}: output request not supported, ignored",
+                r.file,
+                r.line_of_keyword()
+            ));
+            r.ignore_rest();
+            Ok(())
+        }
+        k => Err(DeckError::at(
+            r.file,
+            r.line_of_keyword(),
+            Some(k),
+            "keyword not supported (see the supported keyword list in the README)",
+        )),
+    }
+}
+
+/// `*CONTROL_TERMINATION`: ENDTIM ENDCYC DTMIN ENDENG ENDMAS NOSOL. ENDTIM must be positive.
+fn termination(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.card_or_defaults(W10)?;
+    deck.control.end_time = c.positive(0, "ENDTIM")?;
+    deck.termination = Some(r.src(c.line));
+    for (i, name) in [(1, "ENDCYC"), (2, "DTMIN"), (3, "ENDENG"), (4, "ENDMAS")] {
+        warn_ignored(&c, i, name, "only ENDTIM ends a run", deck);
+    }
+    Ok(())
+}
+
+/// `*CONTROL_TIMESTEP`: DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST; an optional second
+/// card is ignored. TSSFAC blank or 0 means 0.9.
+fn timestep(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.card_or_defaults(W10)?;
+    deck.control.dt_init = non_negative(&c, 0, "DTINIT")?;
+    let tssfac = c.f64_nz(1, "TSSFAC", 0.9)?;
+    if tssfac <= 0.0 || tssfac > 1.0 {
+        return Err(c.field_err("TSSFAC", format!("{tssfac} must lie in (0, 1]")));
+    }
+    deck.control.tssfac = tssfac;
+    warn_ignored(&c, 4, "DT2MS", "mass scaling is not supported", deck);
+    warn_ignored(
+        &c,
+        5,
+        "LCTM",
+        "a time step limit curve is not supported",
+        deck,
+    );
+    r.ignore(1);
+    Ok(())
+}
+
+/// `*CONTROL_HOURGLASS`: IHQ QH. IHQ 0, 1, 2, 3 (blank: 1) are the viscous form, 4 and 5 the
+/// stiffness form; QH blank or 0 means 0.1.
+fn hourglass(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.card_or_defaults(W10)?;
+    deck.control.hourglass = match c.i64_or(0, "IHQ", 1)? {
+        0..=3 => Hourglass::Viscous,
+        4 | 5 => Hourglass::Stiffness,
+        v => {
+            return Err(c.field_err(
+                "IHQ",
+                format!("{v} not supported (1, 2, 3: viscous; 4, 5: stiffness)"),
+            ))
+        }
+    };
+    let qh = c.f64_nz(1, "QH", 0.1)?;
+    if qh < 0.0 {
+        return Err(c.field_err("QH", format!("{qh} must not be negative")));
+    }
+    deck.control.qh = qh;
+    Ok(())
+}
+
+/// `*CONTROL_BULK_VISCOSITY`: Q1 Q2 TYPE. Q1 blank or 0 means 1.5, Q2 blank or 0 means 0.06.
+fn bulk_viscosity(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.card_or_defaults(W10)?;
+    deck.control.q1 = c.f64_nz(0, "Q1", 1.5)?;
+    deck.control.q2 = c.f64_nz(1, "Q2", 0.06)?;
+    for (v, name) in [(deck.control.q1, "Q1"), (deck.control.q2, "Q2")] {
+        if v < 0.0 {
+            return Err(c.field_err(name, format!("{v} must not be negative")));
+        }
+    }
+    Ok(())
+}
+
+/// `*CONTROL_CONTACT`: SLSFAC RWPNAL ISLCHK SHLTHK PENOPT THKCHG ORIEN ENMASS; SLSFAC blank
+/// or 0 means 0.1. The optional further cards are ignored.
+fn contact(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.card_or_defaults(W10)?;
+    let v = c.f64_nz(0, "SLSFAC", 0.1)?;
+    if v < 0.0 {
+        return Err(c.field_err("SLSFAC", format!("{v} must not be negative")));
+    }
+    deck.control.slsfac = v;
+    r.ignore_rest();
+    Ok(())
+}
+
+/// `*DATABASE_{GLSTAT,NODOUT,ELOUT,RWFORC,RCFORC}`: DT BINARY LCUR IOOPT;
+/// `*DATABASE_BINARY_D3PLOT`: DT LCDT BEAM NPLTC PSETID (optional card 2 ignored).
+fn interval(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.card_or_defaults(W10)?;
+    let dt = non_negative(&c, 0, "DT")?;
+    let o = &mut deck.output;
+    match r.keyword {
+        "*DATABASE_GLSTAT" => o.glstat_dt = dt,
+        "*DATABASE_NODOUT" => o.nodout_dt = dt,
+        "*DATABASE_ELOUT" => o.elout_dt = dt,
+        "*DATABASE_RWFORC" => o.rwforc_dt = dt,
+        "*DATABASE_RCFORC" => o.rcforc_dt = dt,
+        _ => {
+            o.d3plot_dt = dt;
+            r.ignore(1);
+        }
+    }
+    Ok(())
+}
+
+/// `*DATABASE_HISTORY_NODE` / `_SOLID`: ids, 8 per card in 10-character fields (0 skipped).
+fn history(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let solid = r.keyword == "*DATABASE_HISTORY_SOLID";
+    while let Some(c) = r.next_nonblank(W10)? {
+        for i in 0..8 {
+            let name = format!("ID{}", i + 1);
+            if let Some(id) = c.ref_id(i, &name)? {
+                let src = r.src(c.line);
+                if solid {
+                    deck.history_solids.push((id, src));
+                } else {
+                    deck.history_nodes.push((id, src));
+                }
+            }
+        }
+    }
+    Ok(())
+}

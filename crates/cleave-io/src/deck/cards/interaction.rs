@@ -1,0 +1,145 @@
+//! `*RIGIDWALL_PLANAR` and `*CONTACT_AUTOMATIC_{SINGLE_SURFACE,SURFACE_TO_SURFACE}`
+//! (LS-DYNA Keyword Manual, Vol. I).
+
+use super::control::warn_ignored;
+use super::Reader;
+use crate::deck::error::DeckError;
+use crate::deck::fields::{Card, W10};
+use crate::deck::raw::{RawContact, RawDeck, RawSurface, RawWall};
+
+/// Errors if field `i` holds a non-zero id (a feature that is not supported).
+fn must_be_blank(c: &Card<'_>, i: usize, name: &str, what: &str) -> Result<(), DeckError> {
+    if c.f64_or(i, name, 0.0)? != 0.0 {
+        return Err(c.field_err(name, format!("{what} not supported; leave it blank")));
+    }
+    Ok(())
+}
+
+/// `*RIGIDWALL_PLANAR`: card 1 `NSID NSIDEX BOXID OFFSET BIRTH DEATH RWKSF` (NSID 0: every
+/// node); card 2 `XT YT ZT XH YH ZH FRIC WVEL`. The wall is a fixed stonewall whose normal
+/// points from tail to head.
+pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.required(W10, "NSID NSIDEX BOXID OFFSET BIRTH DEATH RWKSF")?;
+    let nsid = c.ref_id(0, "NSID")?;
+    must_be_blank(&c, 1, "NSIDEX", "an exclusion node set is")?;
+    must_be_blank(&c, 2, "BOXID", "a box is")?;
+    warn_ignored(
+        &c,
+        3,
+        "OFFSET",
+        "nodes are captured at the wall plane",
+        deck,
+    );
+    must_be_blank(&c, 4, "BIRTH", "a birth time is")?;
+    let death = c.f64_or(5, "DEATH", 0.0)?;
+    if death != 0.0 && death < 1.0e20 {
+        return Err(c.field_err("DEATH", "a death time is not supported; leave it blank"));
+    }
+    warn_ignored(&c, 6, "RWKSF", "the wall is a kinematic constraint", deck);
+    let c2 = r.required(W10, "XT YT ZT XH YH ZH FRIC WVEL")?;
+    let tail = [
+        c2.f64_or(0, "XT", 0.0)?,
+        c2.f64_or(1, "YT", 0.0)?,
+        c2.f64_or(2, "ZT", 0.0)?,
+    ];
+    let head = [
+        c2.f64_or(3, "XH", 0.0)?,
+        c2.f64_or(4, "YH", 0.0)?,
+        c2.f64_or(5, "ZH", 0.0)?,
+    ];
+    if tail == head {
+        return Err(c2.field_err(
+            "XH",
+            "the head (XH, YH, ZH) equals the tail (XT, YT, ZT): the wall has no normal",
+        ));
+    }
+    let fric = c2.f64_or(6, "FRIC", 0.0)?;
+    if fric < 0.0 {
+        return Err(c2.field_err("FRIC", format!("{fric} must not be negative")));
+    }
+    warn_ignored(&c2, 7, "WVEL", "wall failure is not modelled", deck);
+    deck.walls.push(RawWall {
+        src: r.src(c.line),
+        nsid,
+        tail,
+        head,
+        fric,
+    });
+    Ok(())
+}
+
+fn surface(
+    c: &Card<'_>,
+    id_field: usize,
+    typ_field: usize,
+    names: [&'static str; 2],
+) -> Result<RawSurface, DeckError> {
+    let id = c.ref_id(id_field, names[0])?;
+    let typ = c.i64_or(typ_field, names[1], 0)?;
+    if !matches!(typ, 0 | 2 | 3) {
+        return Err(c.field_err(
+            names[1],
+            format!("{typ} not supported (0 segment set, 2 part set, 3 part)"),
+        ));
+    }
+    Ok(RawSurface {
+        id,
+        typ: typ as i32,
+        field: names[0],
+    })
+}
+
+/// `*CONTACT_AUTOMATIC_SINGLE_SURFACE` / `_SURFACE_TO_SURFACE`: card 1 `SSID MSID SSTYP MSTYP
+/// SBOXID MBOXID SPR MPR` (types 0 segment set, 2 part set, 3 part; id 0: everything);
+/// optional card 2 `FS FD DC VC VDC PENCHK BT DT` (blank: 0); further optional cards ignored.
+pub fn contact(
+    r: &mut Reader<'_>,
+    deck: &mut RawDeck,
+    single_surface: bool,
+) -> Result<(), DeckError> {
+    let c = r.required(W10, "SSID MSID SSTYP MSTYP SBOXID MBOXID SPR MPR")?;
+    let slave = surface(&c, 0, 2, ["SSID", "SSTYP"])?;
+    let master = if single_surface {
+        warn_ignored(
+            &c,
+            1,
+            "MSID",
+            "a single-surface contact has no master side",
+            deck,
+        );
+        None
+    } else {
+        Some(surface(&c, 1, 3, ["MSID", "MSTYP"])?)
+    };
+    must_be_blank(&c, 4, "SBOXID", "a box is")?;
+    must_be_blank(&c, 5, "MBOXID", "a box is")?;
+    let (mut fs, mut fd, mut dc) = (0.0, 0.0, 0.0);
+    if let Some(c2) = r.next(W10)? {
+        fs = c2.f64_or(0, "FS", 0.0)?;
+        fd = c2.f64_or(1, "FD", 0.0)?;
+        dc = c2.f64_or(2, "DC", 0.0)?;
+        for (v, name) in [(fs, "FS"), (fd, "FD"), (dc, "DC")] {
+            if v < 0.0 {
+                return Err(c2.field_err(name, format!("{v} must not be negative")));
+            }
+        }
+        warn_ignored(&c2, 3, "VC", "viscous friction is not modelled", deck);
+        warn_ignored(&c2, 4, "VDC", "contact damping is not modelled", deck);
+        warn_ignored(&c2, 6, "BT", "contact is active for the whole run", deck);
+        let dt = c2.f64_or(7, "DT", 0.0)?;
+        if dt != 0.0 && dt < 1.0e20 {
+            warn_ignored(&c2, 7, "DT", "contact is active for the whole run", deck);
+        }
+    }
+    r.ignore_rest();
+    deck.contacts.push(RawContact {
+        src: r.src(c.line),
+        single_surface,
+        slave,
+        master,
+        fs,
+        fd,
+        dc,
+    });
+    Ok(())
+}

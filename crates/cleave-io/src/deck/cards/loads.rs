@@ -1,0 +1,223 @@
+//! Initial and boundary conditions and body loads (LS-DYNA Keyword Manual, Vol. I):
+//! `*INITIAL_VELOCITY_GENERATION`, `*INITIAL_VELOCITY_NODE`, `*BOUNDARY_SPC_{NODE,SET}`,
+//! `*BOUNDARY_PRESCRIBED_MOTION_{NODE,SET,RIGID}`, `*LOAD_BODY_{X,Y,Z}`.
+
+use cleave_core::model::Vad;
+
+use super::control::warn_ignored;
+use super::Reader;
+use crate::deck::error::DeckError;
+use crate::deck::fields::{Card, W10};
+use crate::deck::raw::{RawBodyLoad, RawDeck, RawInitVel, RawMotion, RawSpc, Target};
+
+/// A coordinate-system field (CID, ICID) must be blank or 0: only global axes are supported.
+fn global_only(c: &Card<'_>, i: usize, name: &str) -> Result<(), DeckError> {
+    match c.ref_id(i, name)? {
+        None => Ok(()),
+        Some(id) => Err(c.field_err(
+            name,
+            format!("coordinate system {id}: local coordinate systems are not supported; leave it blank"),
+        )),
+    }
+}
+
+/// `*INITIAL_VELOCITY_GENERATION`, pairs of cards:
+/// card 1 `ID STYP OMEGA VX VY VZ IVATN ICID` (STYP 1 part set, 2 part, 3 node set; ID 0: all
+/// nodes); card 2 `XC YC ZC NX NY NZ PHASE IRIGID`. The velocity of a node at x is
+/// (VX, VY, VZ) + OMEGA n x (x - c), n the unit vector along (NX, NY, NZ).
+pub fn velocity_generation(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    while let Some(c) = r.next_nonblank(W10)? {
+        let id = c.ref_id(0, "ID")?;
+        let styp = match c.opt_i64(1, "STYP")? {
+            Some(v @ 1..=3) => v,
+            Some(v) => {
+                return Err(c.field_err(
+                    "STYP",
+                    format!("{v} is not one of 1 (part set), 2 (part), 3 (node set)"),
+                ))
+            }
+            None => return Err(c.field_err("STYP", "missing (1 part set, 2 part, 3 node set)")),
+        };
+        let target = match (id, styp) {
+            (None, _) => Target::All,
+            (Some(i), 1) => Target::PartSet(i),
+            (Some(i), 2) => Target::Part(i),
+            (Some(i), _) => Target::NodeSet(i),
+        };
+        let omega = c.f64_or(2, "OMEGA", 0.0)?;
+        let v = [
+            c.f64_or(3, "VX", 0.0)?,
+            c.f64_or(4, "VY", 0.0)?,
+            c.f64_or(5, "VZ", 0.0)?,
+        ];
+        warn_ignored(
+            &c,
+            6,
+            "IVATN",
+            "slave nodes of rigid bodies are treated as any node",
+            deck,
+        );
+        global_only(&c, 7, "ICID")?;
+        let c2 = r.required(W10, "XC YC ZC NX NY NZ PHASE IRIGID")?;
+        let centre = [
+            c2.f64_or(0, "XC", 0.0)?,
+            c2.f64_or(1, "YC", 0.0)?,
+            c2.f64_or(2, "ZC", 0.0)?,
+        ];
+        let axis = [
+            c2.f64_or(3, "NX", 0.0)?,
+            c2.f64_or(4, "NY", 0.0)?,
+            c2.f64_or(5, "NZ", 0.0)?,
+        ];
+        let len = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+        if omega != 0.0 && (len == 0.0 || !len.is_finite()) {
+            return Err(c2.field_err(
+                "NX",
+                "OMEGA is not zero but the rotation axis (NX, NY, NZ) is zero",
+            ));
+        }
+        let axis = if len > 0.0 && len.is_finite() {
+            [axis[0] / len, axis[1] / len, axis[2] / len]
+        } else {
+            [0.0; 3]
+        };
+        warn_ignored(&c2, 6, "PHASE", "velocities are set at time 0", deck);
+        warn_ignored(
+            &c2,
+            7,
+            "IRIGID",
+            "rigid parts take the nodal velocities",
+            deck,
+        );
+        deck.init_vel.push(RawInitVel {
+            src: r.src(c.line),
+            target,
+            omega,
+            v,
+            centre,
+            axis,
+        });
+    }
+    Ok(())
+}
+
+/// `*INITIAL_VELOCITY_NODE`: one card per node, `NID VX VY VZ VXR VYR VZR` (rotations ignored:
+/// solid nodes have none).
+pub fn velocity_node(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    while let Some(c) = r.next_nonblank(W10)? {
+        let nid = c.id(0, "NID")?;
+        let v = [
+            c.f64_or(1, "VX", 0.0)?,
+            c.f64_or(2, "VY", 0.0)?,
+            c.f64_or(3, "VZ", 0.0)?,
+        ];
+        for (i, name) in [(4, "VXR"), (5, "VYR"), (6, "VZR")] {
+            warn_ignored(&c, i, name, "solid nodes have no rotations", deck);
+        }
+        deck.init_vel.push(RawInitVel {
+            src: r.src(c.line),
+            target: Target::Node(nid),
+            omega: 0.0,
+            v,
+            centre: [0.0; 3],
+            axis: [0.0; 3],
+        });
+    }
+    Ok(())
+}
+
+/// `*BOUNDARY_SPC_NODE` / `_SET`: one card each, `NID|NSID CID DOFX DOFY DOFZ DOFRX DOFRY
+/// DOFRZ` (each DOF 0 free, 1 fixed; CID must be blank).
+pub fn spc(r: &mut Reader<'_>, deck: &mut RawDeck, set: bool) -> Result<(), DeckError> {
+    while let Some(c) = r.next_nonblank(W10)? {
+        let id = c.id(0, if set { "NSID" } else { "NID" })?;
+        global_only(&c, 1, "CID")?;
+        let mut dof = [false; 6];
+        for (k, name) in ["DOFX", "DOFY", "DOFZ", "DOFRX", "DOFRY", "DOFRZ"]
+            .iter()
+            .enumerate()
+        {
+            dof[k] = c.code(2 + k, name, 0, 0, 1)? == 1;
+        }
+        deck.spcs.push(RawSpc {
+            src: r.src(c.line),
+            target: if set {
+                Target::NodeSet(id)
+            } else {
+                Target::Node(id)
+            },
+            dof,
+        });
+    }
+    Ok(())
+}
+
+/// `*BOUNDARY_PRESCRIBED_MOTION_{NODE,SET,RIGID}`: one card each,
+/// `ID DOF VAD LCID SF VID DEATH BIRTH`. ID is a node, node set or (rigid) part id; DOF 1, 2,
+/// 3 (x, y, z); VAD 0 velocity, 2 displacement; SF blank or 0 means 1. DEATH and BIRTH must be
+/// left at their defaults.
+pub fn prescribed(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let kw = r.keyword;
+    while let Some(c) = r.next_nonblank(W10)? {
+        let (name, mk): (&str, fn(i64) -> Target) = if kw.ends_with("_SET") {
+            ("NSID", Target::NodeSet)
+        } else if kw.ends_with("_RIGID") {
+            ("PID", Target::Part)
+        } else {
+            ("NID", Target::Node)
+        };
+        let id = c.id(0, name)?;
+        let axis = match c.opt_i64(1, "DOF")? {
+            Some(v @ 1..=3) => v as usize - 1,
+            Some(v) => {
+                return Err(c.field_err("DOF", format!("{v}: only translational DOF 1-3 supported")))
+            }
+            None => return Err(c.field_err("DOF", "missing (1, 2 or 3)")),
+        };
+        let vad = match c.i64_or(2, "VAD", 0)? {
+            0 => Vad::Velocity,
+            2 => Vad::Displacement,
+            v => {
+                return Err(c.field_err(
+                    "VAD",
+                    format!("{v} not supported (0: velocity, 2: displacement)"),
+                ))
+            }
+        };
+        let lcid = c.id(3, "LCID")?;
+        let sf = c.f64_nz(4, "SF", 1.0)?;
+        let death = c.f64_or(6, "DEATH", 0.0)?;
+        if death != 0.0 && death < 1.0e20 {
+            return Err(c.field_err("DEATH", "a death time is not supported; leave it blank"));
+        }
+        if c.f64_or(7, "BIRTH", 0.0)? != 0.0 {
+            return Err(c.field_err("BIRTH", "a birth time is not supported; leave it blank"));
+        }
+        deck.motions.push(RawMotion {
+            src: r.src(c.line),
+            target: mk(id),
+            axis,
+            vad,
+            lcid,
+            sf,
+        });
+    }
+    Ok(())
+}
+
+/// `*LOAD_BODY_{X,Y,Z}`: `LCID SF LCIDDR XC YC ZC CID`. LCID 0: a constant 1; SF blank or 0
+/// means 1.
+pub fn body(r: &mut Reader<'_>, deck: &mut RawDeck, axis: usize) -> Result<(), DeckError> {
+    let c = r.required(W10, "LCID SF")?;
+    let lcid = c.ref_id(0, "LCID")?;
+    let sf = c.f64_nz(1, "SF", 1.0)?;
+    warn_ignored(&c, 2, "LCIDDR", "dynamic relaxation is not supported", deck);
+    global_only(&c, 6, "CID")?;
+    deck.body_loads.push(RawBodyLoad {
+        src: r.src(c.line),
+        axis,
+        lcid,
+        sf,
+    });
+    Ok(())
+}

@@ -1,0 +1,149 @@
+//! `*NODE`, `*ELEMENT_SOLID`, `*PART` and `*SECTION_SOLID` (LS-DYNA Keyword Manual, Vol. I).
+
+use super::Reader;
+use crate::deck::error::DeckError;
+use crate::deck::fields::{blank_beyond, W10};
+use crate::deck::raw::{RawDeck, RawElem, RawNode, RawPart, RawSection};
+
+/// `*NODE` field widths: NID X Y Z TC RC.
+const NODE: &[usize] = &[8, 16, 16, 16, 8, 8];
+/// `*ELEMENT_SOLID` field widths: 10 fields of 8 characters.
+const ELEM: &[usize] = &[8; 10];
+
+/// `*NODE`: one card per node, NID X Y Z TC RC (8+16+16+16+8+8). TC and RC are constraint
+/// codes 0..7 (0 none, 1 x, 2 y, 3 z, 4 x+y, 5 y+z, 6 z+x, 7 all).
+pub fn node(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    while let Some(c) = r.next_nonblank(NODE)? {
+        deck.nodes.push(RawNode {
+            src: r.src(c.line),
+            id: c.id(0, "NID")?,
+            x: [
+                c.f64_or(1, "X", 0.0)?,
+                c.f64_or(2, "Y", 0.0)?,
+                c.f64_or(3, "Z", 0.0)?,
+            ],
+            tc: c.code(4, "TC", 0, 0, 7)?,
+            rc: c.code(5, "RC", 0, 0, 7)?,
+        });
+    }
+    Ok(())
+}
+
+/// `*ELEMENT_SOLID`, 8-character fields, each element in either form:
+/// one card `EID PID N1..N8`, or two cards `EID PID` / `N1..N10` (N9, N10 blank: only 8-node
+/// hexahedra). Fixed format: a first card blank beyond column 16 is the two-card form; free
+/// format: 2 values is the two-card form, 10 values the one-card form.
+pub fn element_solid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    while let Some(c1) = r.next_nonblank(ELEM)? {
+        let two_card = if c1.free {
+            match c1.count() {
+                2 => true,
+                10 => false,
+                n => {
+                    return Err(c1.err(format!(
+                        "expected 2 values (EID, PID; nodes on the next card) or 10 (EID, PID, N1..N8), found {n}"
+                    )))
+                }
+            }
+        } else {
+            blank_beyond(r.current_text(), 16)
+        };
+        let eid = c1.id(0, "EID")?;
+        let pid = c1.id(1, "PID")?;
+        let (nc, first) = if two_card {
+            (r.required(ELEM, "N1..N8 of element")?, 0)
+        } else {
+            (c1.clone(), 2)
+        };
+        let mut nodes = [0; 8];
+        for (k, n) in nodes.iter_mut().enumerate() {
+            *n = nc.id(first + k, &format!("N{}", k + 1))?;
+        }
+        if two_card {
+            for k in 8..10 {
+                if nc.ref_id(k, &format!("N{}", k + 1))?.is_some() {
+                    return Err(nc.field_err(
+                        &format!("N{}", k + 1),
+                        "only 8-node hexahedra are supported",
+                    ));
+                }
+            }
+        }
+        deck.elems.push(RawElem {
+            src: r.src(c1.line),
+            id: eid,
+            pid,
+            nodes,
+            node_line: nc.line,
+        });
+    }
+    Ok(())
+}
+
+/// `*PART`: for each part, a title line (80 characters) then
+/// `PID SECID MID EOSID HGID GRAV ADPOPT TMID`. SECID and MID are required; EOSID, HGID and
+/// TMID must be blank (those keywords are not supported).
+pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    while !r.at_end() {
+        let title = r.title()?;
+        let c = r.required(W10, "PID SECID MID")?;
+        let id = c.id(0, "PID")?;
+        let secid = c
+            .ref_id(1, "SECID")?
+            .ok_or_else(|| c.field_err("SECID", format!("part {id} has no section")))?;
+        let mid = c
+            .ref_id(2, "MID")?
+            .ok_or_else(|| c.field_err("MID", format!("part {id} has no material")))?;
+        for (i, name, what) in [
+            (3, "EOSID", "equations of state"),
+            (4, "HGID", "*HOURGLASS (use *CONTROL_HOURGLASS)"),
+            (7, "TMID", "thermal materials"),
+        ] {
+            if c.ref_id(i, name)?.is_some() {
+                return Err(c.field_err(name, format!("{what} not supported; leave it blank")));
+            }
+        }
+        deck.parts.push(RawPart {
+            src: r.src(c.line),
+            id,
+            title,
+            secid,
+            mid,
+        });
+    }
+    Ok(())
+}
+
+/// `*SECTION_SOLID` (`_TITLE`: a title line before each section):
+/// `SECID ELFORM AET ...`. ELFORM blank, 0 or 1: the one-point hexahedron; anything else is
+/// an error.
+pub fn section_solid(
+    r: &mut Reader<'_>,
+    deck: &mut RawDeck,
+    titled: bool,
+) -> Result<(), DeckError> {
+    let mut first = true;
+    while !r.at_end() {
+        if titled && !first {
+            r.title()?;
+        }
+        first = false;
+        let c = r.required(W10, "SECID ELFORM")?;
+        let id = c.id(0, "SECID")?;
+        let elform = c.i64_or(1, "ELFORM", 1)?;
+        if elform != 0 && elform != 1 {
+            return Err(c.field_err(
+                "ELFORM",
+                format!(
+                    "{elform} not supported: only 1 (one-point hexahedron with hourglass control)"
+                ),
+            ));
+        }
+        deck.sections.push(RawSection {
+            src: r.src(c.line),
+            id,
+            elform: 1,
+        });
+    }
+    Ok(())
+}

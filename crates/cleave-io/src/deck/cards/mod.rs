@@ -1,0 +1,240 @@
+//! Decoding each supported keyword's cards into a [`RawDeck`] (first pass: no references are
+//! resolved here, so the order of keywords in the deck does not matter).
+//!
+//! Card layouts follow the LS-DYNA Keyword User's Manual (Vol. I); each decoder's doc comment
+//! gives its layout.
+
+mod control;
+mod curve;
+mod interaction;
+mod loads;
+mod material;
+mod mesh;
+mod sets;
+
+use std::rc::Rc;
+
+use super::error::DeckError;
+use super::fields::Card;
+use super::lex::{Block, Line};
+use super::raw::{RawDeck, Src};
+
+/// Decodes every block. Unsupported keywords are errors; `*TITLE`, `*COMMENT` and unknown
+/// `*DATABASE_...` keywords are accepted (the latter with a warning, their data skipped).
+pub fn read_blocks(blocks: &[Block<'_>], file: &str) -> Result<RawDeck, DeckError> {
+    let mut deck = RawDeck::default();
+    for block in blocks {
+        let kw = block.keyword.as_str();
+        let (base, titled) = match kw.strip_suffix("_TITLE") {
+            Some(b)
+                if b.starts_with("*MAT_")
+                    || b.starts_with("*SECTION_")
+                    || b.starts_with("*SET_")
+                    || b == "*DEFINE_CURVE" =>
+            {
+                (b, true)
+            }
+            _ => (kw, false),
+        };
+        let mut r = Reader::new(file, block);
+        if titled {
+            r.title()?;
+        }
+        match base {
+            "*KEYWORD" | "*COMMENT" => continue,
+            "*TITLE" if r.at_end() => deck.title.clear(),
+            "*TITLE" => deck.title = r.title()?,
+            "*NODE" => mesh::node(&mut r, &mut deck)?,
+            "*ELEMENT_SOLID" => mesh::element_solid(&mut r, &mut deck)?,
+            "*PART" => mesh::part(&mut r, &mut deck)?,
+            "*SECTION_SOLID" => mesh::section_solid(&mut r, &mut deck, titled)?,
+            "*MAT_ELASTIC" | "*MAT_001" => material::elastic(&mut r, &mut deck, titled)?,
+            "*MAT_PLASTIC_KINEMATIC" | "*MAT_003" => {
+                material::plastic_kinematic(&mut r, &mut deck)?
+            }
+            "*MAT_RIGID" | "*MAT_020" => material::rigid(&mut r, &mut deck)?,
+            "*MAT_ADD_SEPARATION" => material::separation(&mut r, &mut deck)?,
+            "*SET_NODE_LIST" => sets::node_list(&mut r, &mut deck)?,
+            "*SET_PART_LIST" => sets::part_list(&mut r, &mut deck)?,
+            "*SET_SEGMENT" => sets::segment(&mut r, &mut deck)?,
+            "*DEFINE_CURVE" => curve::define_curve(&mut r, &mut deck)?,
+            "*INITIAL_VELOCITY_GENERATION" => loads::velocity_generation(&mut r, &mut deck)?,
+            "*INITIAL_VELOCITY_NODE" => loads::velocity_node(&mut r, &mut deck)?,
+            "*BOUNDARY_SPC_NODE" => loads::spc(&mut r, &mut deck, false)?,
+            "*BOUNDARY_SPC_SET" => loads::spc(&mut r, &mut deck, true)?,
+            "*BOUNDARY_PRESCRIBED_MOTION_NODE"
+            | "*BOUNDARY_PRESCRIBED_MOTION_SET"
+            | "*BOUNDARY_PRESCRIBED_MOTION_RIGID" => loads::prescribed(&mut r, &mut deck)?,
+            "*LOAD_BODY_X" => loads::body(&mut r, &mut deck, 0)?,
+            "*LOAD_BODY_Y" => loads::body(&mut r, &mut deck, 1)?,
+            "*LOAD_BODY_Z" => loads::body(&mut r, &mut deck, 2)?,
+            "*RIGIDWALL_PLANAR" => interaction::rigidwall_planar(&mut r, &mut deck)?,
+            "*CONTACT_AUTOMATIC_SINGLE_SURFACE" => interaction::contact(&mut r, &mut deck, true)?,
+            "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE" => {
+                interaction::contact(&mut r, &mut deck, false)?
+            }
+            k if k.starts_with("*CONTROL_") || k.starts_with("*DATABASE_") => {
+                control::control_or_database(&mut r, &mut deck)?
+            }
+            _ => {
+                return Err(DeckError::at(
+                    file,
+                    block.line,
+                    Some(kw),
+                    "keyword not supported (see the supported keyword list in the README)",
+                ))
+            }
+        }
+        r.finish()?;
+    }
+    Ok(deck)
+}
+
+/// A cursor over a block's data lines.
+pub struct Reader<'a> {
+    pub file: &'a str,
+    pub keyword: &'a str,
+    kw_rc: Rc<str>,
+    block_line: usize,
+    lines: &'a [Line<'a>],
+    pos: usize,
+}
+
+impl<'a> Reader<'a> {
+    fn new(file: &'a str, block: &'a Block<'a>) -> Self {
+        Self {
+            file,
+            keyword: &block.keyword,
+            kw_rc: Rc::from(block.keyword.as_str()),
+            block_line: block.line,
+            lines: &block.lines,
+            pos: 0,
+        }
+    }
+
+    /// Provenance of an item read at `line`.
+    pub fn src(&self, line: usize) -> Src {
+        Src {
+            keyword: self.kw_rc.clone(),
+            line,
+        }
+    }
+
+    /// Line of the keyword itself.
+    pub fn line_of_keyword(&self) -> usize {
+        self.block_line
+    }
+
+    /// Text of the line most recently returned as a card.
+    pub fn current_text(&self) -> &'a str {
+        self.pos
+            .checked_sub(1)
+            .and_then(|i| self.lines.get(i))
+            .map_or("", |l| l.text)
+    }
+
+    /// Whether every line has been consumed.
+    pub fn at_end(&self) -> bool {
+        self.pos >= self.lines.len()
+    }
+
+    /// Skips blank lines.
+    pub fn skip_blank(&mut self) {
+        while self.lines.get(self.pos).is_some_and(|l| l.is_blank()) {
+            self.pos += 1;
+        }
+    }
+
+    /// The next line as a card (a blank line is a card of defaults); `None` at the end.
+    pub fn next(&mut self, widths: &[usize]) -> Result<Option<Card<'a>>, DeckError> {
+        match self.lines.get(self.pos) {
+            None => Ok(None),
+            Some(&l) => {
+                self.pos += 1;
+                Card::new(self.file, self.keyword, l, widths).map(Some)
+            }
+        }
+    }
+
+    /// The next non-blank line as a card; `None` at the end (for repeated cards).
+    pub fn next_nonblank(&mut self, widths: &[usize]) -> Result<Option<Card<'a>>, DeckError> {
+        self.skip_blank();
+        self.next(widths)
+    }
+
+    /// The next line as a card, which must exist; `what` names its fields for the message.
+    pub fn required(&mut self, widths: &[usize], what: &str) -> Result<Card<'a>, DeckError> {
+        let line = self.lines.last().map_or(self.block_line, |l| l.no);
+        self.next(widths)?.ok_or_else(|| {
+            DeckError::at(
+                self.file,
+                line,
+                Some(self.keyword),
+                format!("missing card ({what})"),
+            )
+        })
+    }
+
+    /// The next line as a card, or a card of defaults (at the keyword's line) if there is
+    /// none: for keywords whose only card may be omitted.
+    pub fn card_or_defaults(&mut self, widths: &[usize]) -> Result<Card<'a>, DeckError> {
+        match self.next(widths)? {
+            Some(c) => Ok(c),
+            None => Ok(Card::new(
+                self.file,
+                self.keyword,
+                Line {
+                    no: self.block_line,
+                    text: "",
+                },
+                widths,
+            )?),
+        }
+    }
+
+    /// The next line as a title (free text, at most 80 characters, never split at commas).
+    pub fn title(&mut self) -> Result<String, DeckError> {
+        let line = self.lines.last().map_or(self.block_line, |l| l.no);
+        match self.lines.get(self.pos) {
+            None => Err(DeckError::at(
+                self.file,
+                line,
+                Some(self.keyword),
+                "missing title line",
+            )),
+            Some(l) => {
+                self.pos += 1;
+                Ok(l.text
+                    .chars()
+                    .take(80)
+                    .collect::<String>()
+                    .trim()
+                    .to_string())
+            }
+        }
+    }
+
+    /// Ignores up to `n` further lines (optional cards this reader does not use).
+    pub fn ignore(&mut self, n: usize) {
+        self.pos = (self.pos + n).min(self.lines.len());
+    }
+
+    /// Ignores every remaining line.
+    pub fn ignore_rest(&mut self) {
+        self.pos = self.lines.len();
+    }
+
+    /// Errors if a non-blank line remains.
+    fn finish(&mut self) -> Result<(), DeckError> {
+        self.skip_blank();
+        match self.lines.get(self.pos) {
+            None => Ok(()),
+            Some(l) => Err(DeckError::at(
+                self.file,
+                l.no,
+                Some(self.keyword),
+                "unexpected data line (this keyword has no further cards)",
+            )),
+        }
+    }
+}

@@ -1,0 +1,69 @@
+//! `*SET_NODE_LIST`, `*SET_PART_LIST`, `*SET_SEGMENT` (LS-DYNA Keyword Manual, Vol. I).
+//! Card 1 is `SID DA1 DA2 DA3 DA4 SOLVER` (only SID is used); `_TITLE` puts a title line first.
+
+use super::Reader;
+use crate::deck::error::DeckError;
+use crate::deck::fields::W10;
+use crate::deck::raw::{RawDeck, RawSet};
+
+fn sid(r: &mut Reader<'_>) -> Result<(i64, usize), DeckError> {
+    let c = r.required(W10, "SID DA1 DA2 DA3 DA4")?;
+    Ok((c.id(0, "SID")?, c.line))
+}
+
+/// Members 8 per card in 10-character fields; blank and 0 entries are skipped.
+fn members(r: &mut Reader<'_>, name: &str) -> Result<Vec<(i64, usize)>, DeckError> {
+    let mut out = Vec::new();
+    while let Some(c) = r.next_nonblank(W10)? {
+        for i in 0..8 {
+            if let Some(id) = c.ref_id(i, &format!("{name}{}", i + 1))? {
+                out.push((id, c.line));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// `*SET_NODE_LIST`: card 1, then node ids NID1..NID8 per card.
+pub fn node_list(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let (id, line) = sid(r)?;
+    let members = members(r, "NID")?;
+    deck.node_sets.push(RawSet {
+        src: r.src(line),
+        id,
+        members,
+    });
+    Ok(())
+}
+
+/// `*SET_PART_LIST`: card 1, then part ids PID1..PID8 per card.
+pub fn part_list(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let (id, line) = sid(r)?;
+    let members = members(r, "PID")?;
+    deck.part_sets.push(RawSet {
+        src: r.src(line),
+        id,
+        members,
+    });
+    Ok(())
+}
+
+/// `*SET_SEGMENT`: card 1, then one segment per card, `N1 N2 N3 N4 A1 A2 A3 A4`
+/// (N4 blank or 0: a triangle, stored with N3 repeated; A1..A4 ignored).
+pub fn segment(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let (id, line) = sid(r)?;
+    let mut members = Vec::new();
+    while let Some(c) = r.next_nonblank(W10)? {
+        let n1 = c.id(0, "N1")?;
+        let n2 = c.id(1, "N2")?;
+        let n3 = c.id(2, "N3")?;
+        let n4 = c.ref_id(3, "N4")?.unwrap_or(n3);
+        members.push(([n1, n2, n3, n4], c.line));
+    }
+    deck.segment_sets.push(RawSet {
+        src: r.src(line),
+        id,
+        members,
+    });
+    Ok(())
+}

@@ -1,0 +1,192 @@
+//! The deck as read, before references are resolved: deck ids, not indices, each item with
+//! the line (and keyword) it came from so that the builder can name them in messages.
+
+use std::rc::Rc;
+
+use cleave_core::curve::Curve;
+use cleave_core::math::Vec3;
+use cleave_core::model::{Control, MaterialKind, OutputRequests, Vad};
+
+/// Where an item was read: keyword as written and 1-based line.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Src {
+    pub keyword: Rc<str>,
+    pub line: usize,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawNode {
+    pub src: Src,
+    pub id: i64,
+    pub x: Vec3,
+    /// Translational and rotational constraint codes TC, RC (0..7).
+    pub tc: i32,
+    pub rc: i32,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawElem {
+    pub src: Src,
+    pub id: i64,
+    pub pid: i64,
+    pub nodes: [i64; 8],
+    /// Line of the card holding N1..N8 (the second card in the two-card form).
+    pub node_line: usize,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawPart {
+    pub src: Src,
+    pub id: i64,
+    pub title: String,
+    pub secid: i64,
+    pub mid: i64,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawSection {
+    pub src: Src,
+    pub id: i64,
+    pub elform: i32,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawMaterial {
+    pub src: Src,
+    pub id: i64,
+    pub density: f64,
+    pub young: f64,
+    pub poisson: f64,
+    pub kind: MaterialKind,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawSeparation {
+    pub src: Src,
+    pub mid: i64,
+    pub model: i32,
+    pub sigmax: f64,
+    pub beta: f64,
+    pub gc: f64,
+    pub bond: i32,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawCurve {
+    pub src: Src,
+    /// Scaled and offset, abscissae checked increasing.
+    pub curve: Curve,
+}
+
+/// A set: its id and its members (deck ids, or 4 node ids per segment), each with its line.
+#[derive(Clone, Debug)]
+pub struct RawSet<T> {
+    pub src: Src,
+    pub id: i64,
+    pub members: Vec<(T, usize)>,
+}
+
+/// What a boundary condition or initial velocity applies to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    Node(i64),
+    NodeSet(i64),
+    Part(i64),
+    PartSet(i64),
+    /// Every node of the model.
+    All,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawSpc {
+    pub src: Src,
+    pub target: Target,
+    pub dof: [bool; 6],
+}
+
+#[derive(Clone, Debug)]
+pub struct RawMotion {
+    pub src: Src,
+    /// `Node`, `NodeSet` or `Part` (rigid).
+    pub target: Target,
+    pub axis: usize,
+    pub vad: Vad,
+    pub lcid: i64,
+    pub sf: f64,
+}
+
+/// `*INITIAL_VELOCITY_NODE` (omega 0) or `*INITIAL_VELOCITY_GENERATION`.
+#[derive(Clone, Debug)]
+pub struct RawInitVel {
+    pub src: Src,
+    pub target: Target,
+    pub omega: f64,
+    pub v: Vec3,
+    pub centre: Vec3,
+    pub axis: Vec3,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawBodyLoad {
+    pub src: Src,
+    pub axis: usize,
+    pub lcid: Option<i64>,
+    pub sf: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawWall {
+    pub src: Src,
+    pub nsid: Option<i64>,
+    pub tail: Vec3,
+    pub head: Vec3,
+    pub fric: f64,
+}
+
+/// A contact side: SSID/MSID with SSTYP/MSTYP (0 segment set, 2 part set, 3 part).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RawSurface {
+    pub id: Option<i64>,
+    pub typ: i32,
+    pub field: &'static str,
+}
+
+#[derive(Clone, Debug)]
+pub struct RawContact {
+    pub src: Src,
+    pub single_surface: bool,
+    pub slave: RawSurface,
+    pub master: Option<RawSurface>,
+    pub fs: f64,
+    pub fd: f64,
+    pub dc: f64,
+}
+
+/// Everything read from the deck.
+#[derive(Clone, Debug, Default)]
+pub struct RawDeck {
+    pub title: String,
+    pub nodes: Vec<RawNode>,
+    pub elems: Vec<RawElem>,
+    pub parts: Vec<RawPart>,
+    pub sections: Vec<RawSection>,
+    pub materials: Vec<RawMaterial>,
+    pub separations: Vec<RawSeparation>,
+    pub curves: Vec<RawCurve>,
+    pub node_sets: Vec<RawSet<i64>>,
+    pub part_sets: Vec<RawSet<i64>>,
+    pub segment_sets: Vec<RawSet<[i64; 4]>>,
+    pub spcs: Vec<RawSpc>,
+    pub motions: Vec<RawMotion>,
+    pub init_vel: Vec<RawInitVel>,
+    pub body_loads: Vec<RawBodyLoad>,
+    pub walls: Vec<RawWall>,
+    pub contacts: Vec<RawContact>,
+    pub control: Control,
+    /// Where ENDTIM was set, if anywhere.
+    pub termination: Option<Src>,
+    pub output: OutputRequests,
+    pub history_nodes: Vec<(i64, Src)>,
+    pub history_solids: Vec<(i64, Src)>,
+    pub warnings: Vec<String>,
+}

@@ -1,0 +1,537 @@
+//! Writing a [`Model`] as a complete fixed-width LS-DYNA keyword deck (the inverse of the
+//! reader): sets are written as they are, constraints and prescribed motion per node,
+//! nonzero initial velocities as `*INITIAL_VELOCITY_NODE`, and each rigid wall that acts on
+//! a node list without a matching node set gets a `*SET_NODE_LIST` of its own.
+//!
+//! Every real is formatted to the highest precision its field width allows (exactly, when
+//! its shortest round-trip form fits); an integer too wide for its field makes that one card
+//! comma-separated instead.
+
+use std::fmt::Write as _;
+
+use cleave_core::model::{ContactSurface, Hourglass, MaterialKind, Model, MotionTarget, Vad};
+
+/// One field of a card.
+#[derive(Clone, Copy, Debug)]
+enum F {
+    I(i64),
+    R(f64),
+}
+
+/// The `$#` line naming the fields, aligned with them.
+fn names(out: &mut String, names: &[&str], widths: &[usize]) {
+    let mut line = String::from("$#");
+    for (k, (n, &w)) in names.iter().zip(widths).enumerate() {
+        let w = if k == 0 { w.saturating_sub(2) } else { w };
+        let _ = write!(line, "{n:>w$}");
+    }
+    out.push_str(line.trim_end());
+    out.push('\n');
+}
+
+/// Formats `v` in at most `w` characters with as much precision as fits.
+pub fn fmt_f64(v: f64, w: usize) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return "0.0".to_string();
+    }
+    let exact = [format!("{v:?}"), format!("{v:e}")];
+    if let Some(s) = exact
+        .into_iter()
+        .filter(|s| s.len() <= w)
+        .min_by_key(String::len)
+    {
+        return s;
+    }
+    // the more accurate of the scientific and fixed forms with the most digits that fit
+    let mut best: Option<(f64, String)> = None;
+    for s in [widest(v, w, true), widest(v, w, false)]
+        .into_iter()
+        .flatten()
+    {
+        let s = trim_zeros(&s);
+        let err = s.parse::<f64>().map_or(f64::INFINITY, |x| (x - v).abs());
+        let better = match &best {
+            None => true,
+            Some((e, b)) => err < *e || (err == *e && s.len() < b.len()),
+        };
+        if better {
+            best = Some((err, s));
+        }
+    }
+    best.map_or_else(|| format!("{v:.0e}"), |(_, s)| s)
+}
+
+/// `v` in scientific (`sci`) or fixed notation with as many decimals as fit in `w`.
+fn widest(v: f64, w: usize, sci: bool) -> Option<String> {
+    let fmt = |p: usize| {
+        if sci {
+            format!("{v:.p$e}")
+        } else {
+            format!("{v:.p$}")
+        }
+    };
+    let base = fmt(0).len();
+    if base > w {
+        return None;
+    }
+    // one column for the decimal point; rounding may lengthen the result by one
+    let mut p = (w - base).saturating_sub(1).min(17);
+    loop {
+        let s = fmt(p);
+        if s.len() <= w {
+            return Some(s);
+        }
+        p = p.checked_sub(1)?;
+    }
+}
+
+/// Drops trailing zeros of the mantissa (keeping one digit after the point): same value.
+fn trim_zeros(s: &str) -> String {
+    let (mant, exp) = s.find('e').map_or((s, ""), |i| s.split_at(i));
+    if !mant.contains('.') {
+        return s.to_string();
+    }
+    let t = mant.trim_end_matches('0');
+    let t = if t.ends_with('.') {
+        &mant[..t.len() + 1]
+    } else {
+        t
+    };
+    format!("{t}{exp}")
+}
+
+/// Writes a card: fixed width if every field fits, comma-separated otherwise.
+fn card(out: &mut String, fields: &[F], widths: &[usize]) {
+    let text: Vec<String> = fields
+        .iter()
+        .zip(widths)
+        .map(|(f, &w)| match *f {
+            F::I(i) => i.to_string(),
+            // wide fields keep a blank column so that neighbouring numbers stay readable
+            F::R(r) => fmt_f64(r, if w >= 16 { w - 1 } else { w }),
+        })
+        .collect();
+    if text.iter().zip(widths).all(|(s, &w)| s.len() <= w) {
+        let mut line = String::new();
+        for (s, &w) in text.iter().zip(widths) {
+            let _ = write!(line, "{s:>w$}");
+        }
+        out.push_str(line.trim_end());
+    } else {
+        out.push_str(&text.join(","));
+    }
+    out.push('\n');
+}
+
+const W10: [usize; 8] = [10; 8];
+
+/// A keyword with one card of 10-character fields.
+fn simple(out: &mut String, kw: &str, n: &[&str], fields: &[F]) {
+    out.push_str(kw);
+    out.push('\n');
+    names(out, n, &W10);
+    card(out, fields, &W10);
+}
+
+/// Ids 8 per card in 10-character fields.
+fn id_cards(out: &mut String, ids: impl IntoIterator<Item = i64>) {
+    let ids: Vec<F> = ids.into_iter().map(F::I).collect();
+    for chunk in ids.chunks(8) {
+        card(out, chunk, &W10);
+    }
+}
+
+/// A title line: at most 80 characters, never read as a comment or keyword.
+fn title_line(t: &str) -> String {
+    t.trim_start_matches(['$', '*', ' '])
+        .chars()
+        .filter(|c| !c.is_control())
+        .take(80)
+        .collect()
+}
+
+/// The complete deck for `model`.
+pub fn write_deck(model: &Model) -> String {
+    let mut o = String::new();
+    o.push_str("$ LS-DYNA keyword deck written by cleave\n");
+    let _ = writeln!(
+        o,
+        "$ {} nodes, {} solid elements, {} parts",
+        model.num_nodes(),
+        model.num_elements(),
+        model.parts.len()
+    );
+    o.push_str("*KEYWORD\n");
+    let title = title_line(&model.title);
+    if !title.trim().is_empty() {
+        let _ = writeln!(o, "*TITLE\n{title}");
+    }
+    controls(&mut o, model);
+    properties(&mut o, model);
+    mesh(&mut o, model);
+    let wall_sets = sets(&mut o, model);
+    curves(&mut o, model);
+    conditions(&mut o, model);
+    interactions(&mut o, model, &wall_sets);
+    o.push_str("*END\n");
+    o
+}
+
+fn controls(o: &mut String, m: &Model) {
+    let c = &m.control;
+    simple(o, "*CONTROL_TERMINATION", &["endtim"], &[F::R(c.end_time)]);
+    simple(
+        o,
+        "*CONTROL_TIMESTEP",
+        &["dtinit", "tssfac"],
+        &[F::R(c.dt_init), F::R(c.tssfac)],
+    );
+    let ihq = match c.hourglass {
+        Hourglass::Viscous => 1,
+        Hourglass::Stiffness => 4,
+    };
+    simple(
+        o,
+        "*CONTROL_HOURGLASS",
+        &["ihq", "qh"],
+        &[F::I(ihq), F::R(c.qh)],
+    );
+    simple(
+        o,
+        "*CONTROL_BULK_VISCOSITY",
+        &["q1", "q2"],
+        &[F::R(c.q1), F::R(c.q2)],
+    );
+    simple(o, "*CONTROL_CONTACT", &["slsfac"], &[F::R(c.slsfac)]);
+    let r = &m.output;
+    for (kw, dt) in [
+        ("*DATABASE_GLSTAT", r.glstat_dt),
+        ("*DATABASE_NODOUT", r.nodout_dt),
+        ("*DATABASE_ELOUT", r.elout_dt),
+        ("*DATABASE_RWFORC", r.rwforc_dt),
+        ("*DATABASE_RCFORC", r.rcforc_dt),
+        ("*DATABASE_BINARY_D3PLOT", r.d3plot_dt),
+    ] {
+        if dt > 0.0 {
+            simple(o, kw, &["dt"], &[F::R(dt)]);
+        }
+    }
+    if !r.history_nodes.is_empty() {
+        o.push_str("*DATABASE_HISTORY_NODE\n");
+        id_cards(o, r.history_nodes.iter().map(|&n| m.node_ids[n as usize]));
+    }
+    if !r.history_solids.is_empty() {
+        o.push_str("*DATABASE_HISTORY_SOLID\n");
+        id_cards(o, r.history_solids.iter().map(|&e| m.elem_ids[e as usize]));
+    }
+}
+
+fn properties(o: &mut String, m: &Model) {
+    if !m.parts.is_empty() {
+        o.push_str("*PART\n");
+        for p in &m.parts {
+            o.push_str("$# title\n");
+            let _ = writeln!(o, "{}", title_line(&p.title));
+            names(o, &["pid", "secid", "mid"], &W10);
+            let (s, mat) = (m.sections[p.section].id, m.materials[p.material].id);
+            card(o, &[F::I(p.id), F::I(s), F::I(mat)], &W10);
+        }
+    }
+    if !m.sections.is_empty() {
+        o.push_str("*SECTION_SOLID\n");
+        names(o, &["secid", "elform"], &W10);
+        for s in &m.sections {
+            card(o, &[F::I(s.id), F::I(s.elform as i64)], &W10);
+        }
+    }
+    for mat in &m.materials {
+        let common = [
+            F::I(mat.id),
+            F::R(mat.density),
+            F::R(mat.young),
+            F::R(mat.poisson),
+        ];
+        match mat.kind {
+            MaterialKind::Elastic => simple(o, "*MAT_ELASTIC", &["mid", "ro", "e", "pr"], &common),
+            MaterialKind::PlasticKinematic { sigy, etan, beta } => {
+                let f = [
+                    common[0],
+                    common[1],
+                    common[2],
+                    common[3],
+                    F::R(sigy),
+                    F::R(etan),
+                    F::R(beta),
+                ];
+                simple(
+                    o,
+                    "*MAT_PLASTIC_KINEMATIC",
+                    &["mid", "ro", "e", "pr", "sigy", "etan", "beta"],
+                    &f,
+                );
+            }
+            MaterialKind::Rigid { cmo, con1, con2 } => {
+                simple(o, "*MAT_RIGID", &["mid", "ro", "e", "pr"], &common);
+                names(o, &["cmo", "con1", "con2"], &W10);
+                card(
+                    o,
+                    &[F::I(cmo as i64), F::I(con1 as i64), F::I(con2 as i64)],
+                    &W10,
+                );
+            }
+        }
+    }
+    if !m.separations.is_empty() {
+        o.push_str("*MAT_ADD_SEPARATION\n");
+        names(o, &["mid", "model", "sigmax", "beta", "gc", "bond"], &W10);
+        for s in &m.separations {
+            let f = [
+                F::I(m.materials[s.material].id),
+                F::I(s.model as i64),
+                F::R(s.sigmax),
+                F::R(s.beta),
+                F::R(s.gc),
+                F::I(s.bond as i64),
+            ];
+            card(o, &f, &W10);
+        }
+    }
+}
+
+fn mesh(o: &mut String, m: &Model) {
+    const NODE: [usize; 6] = [8, 16, 16, 16, 8, 8];
+    o.push_str("*NODE\n");
+    names(o, &["nid", "x", "y", "z", "tc", "rc"], &NODE);
+    for (id, x) in m.node_ids.iter().zip(&m.x0) {
+        card(o, &[F::I(*id), F::R(x[0]), F::R(x[1]), F::R(x[2])], &NODE);
+    }
+    const ELEM: [usize; 10] = [8; 10];
+    o.push_str("*ELEMENT_SOLID\n");
+    names(
+        o,
+        &["eid", "pid", "n1", "n2", "n3", "n4", "n5", "n6", "n7", "n8"],
+        &ELEM,
+    );
+    for ((id, c), &p) in m.elem_ids.iter().zip(&m.conn).zip(&m.elem_part) {
+        let mut f = vec![F::I(*id), F::I(m.parts.get(p as usize).map_or(0, |p| p.id))];
+        f.extend(c.iter().map(|&n| F::I(m.node_ids[n as usize])));
+        card(o, &f, &ELEM);
+    }
+}
+
+/// Writes the sets; returns the node set id of each rigid wall (0: all nodes).
+fn sets(o: &mut String, m: &Model) -> Vec<i64> {
+    let nid = |n: &u32| m.node_ids[*n as usize];
+    let write_nodes = |o: &mut String, id: i64, nodes: &[u32]| {
+        o.push_str("*SET_NODE_LIST\n");
+        names(o, &["sid"], &W10);
+        card(o, &[F::I(id)], &W10);
+        id_cards(o, nodes.iter().map(nid));
+    };
+    for s in &m.node_sets {
+        write_nodes(o, s.id, &s.nodes);
+    }
+    let mut next = m.node_sets.iter().map(|s| s.id).max().unwrap_or(0) + 1;
+    let mut extra: Vec<(i64, &Vec<u32>)> = Vec::new();
+    let mut wall_sets = Vec::new();
+    for w in &m.rigid_walls {
+        let id = match &w.nodes {
+            None => 0,
+            Some(nodes) => {
+                let known = m
+                    .node_sets
+                    .iter()
+                    .map(|s| (s.id, &s.nodes))
+                    .chain(extra.iter().copied());
+                match known.clone().find(|(_, n)| *n == nodes) {
+                    Some((id, _)) => id,
+                    None => {
+                        write_nodes(o, next, nodes);
+                        extra.push((next, nodes));
+                        next += 1;
+                        next - 1
+                    }
+                }
+            }
+        };
+        wall_sets.push(id);
+    }
+    for s in &m.part_sets {
+        o.push_str("*SET_PART_LIST\n");
+        names(o, &["sid"], &W10);
+        card(o, &[F::I(s.id)], &W10);
+        id_cards(o, s.parts.iter().map(|&p| m.parts[p].id));
+    }
+    for s in &m.segment_sets {
+        o.push_str("*SET_SEGMENT\n");
+        names(o, &["sid"], &W10);
+        card(o, &[F::I(s.id)], &W10);
+        names(o, &["n1", "n2", "n3", "n4"], &W10);
+        for seg in &s.segments {
+            card(o, &seg.map(|n| F::I(nid(&n))), &W10);
+        }
+    }
+    wall_sets
+}
+
+fn curves(o: &mut String, m: &Model) {
+    for c in &m.curves {
+        simple(
+            o,
+            "*DEFINE_CURVE",
+            &["lcid", "sidr", "sfa", "sfo", "offa", "offo"],
+            &[F::I(c.id)],
+        );
+        names(o, &["a1", "o1"], &[20, 20]);
+        for (t, y) in c.t.iter().zip(&c.y) {
+            card(o, &[F::R(*t), F::R(*y)], &[20, 20]);
+        }
+    }
+}
+
+fn conditions(o: &mut String, m: &Model) {
+    let nid = |n: u32| m.node_ids[n as usize];
+    if !m.spcs.is_empty() {
+        o.push_str("*BOUNDARY_SPC_NODE\n");
+        names(
+            o,
+            &[
+                "nid", "cid", "dofx", "dofy", "dofz", "dofrx", "dofry", "dofrz",
+            ],
+            &W10,
+        );
+        for s in &m.spcs {
+            let mut f = vec![F::I(nid(s.node)), F::I(0)];
+            f.extend(s.dof.iter().map(|&d| F::I(d as i64)));
+            card(o, &f, &W10);
+        }
+    }
+    let mut last_kw = "";
+    for p in &m.prescribed {
+        let (kw, id) = match p.target {
+            MotionTarget::Node(n) => ("*BOUNDARY_PRESCRIBED_MOTION_NODE", nid(n)),
+            MotionTarget::Rigid(part) => ("*BOUNDARY_PRESCRIBED_MOTION_RIGID", m.parts[part].id),
+        };
+        if kw != last_kw {
+            o.push_str(kw);
+            o.push('\n');
+            names(o, &["id", "dof", "vad", "lcid", "sf"], &W10);
+            last_kw = kw;
+        }
+        let vad = match p.vad {
+            Vad::Velocity => 0,
+            Vad::Displacement => 2,
+        };
+        let f = [
+            F::I(id),
+            F::I(p.axis as i64 + 1),
+            F::I(vad),
+            F::I(m.curves[p.curve].id),
+            F::R(p.sf),
+        ];
+        card(o, &f, &W10);
+    }
+    if m.v0.iter().any(|v| v.iter().any(|&x| x != 0.0)) {
+        o.push_str("*INITIAL_VELOCITY_NODE\n");
+        names(o, &["nid", "vx", "vy", "vz"], &W10);
+        for (i, v) in m.v0.iter().enumerate() {
+            if v.iter().any(|&x| x != 0.0) {
+                card(
+                    o,
+                    &[F::I(m.node_ids[i]), F::R(v[0]), F::R(v[1]), F::R(v[2])],
+                    &W10,
+                );
+            }
+        }
+    }
+    for b in &m.body_loads {
+        let kw = ["*LOAD_BODY_X", "*LOAD_BODY_Y", "*LOAD_BODY_Z"][b.axis.min(2)];
+        let lcid = b.curve.map_or(0, |c| m.curves[c].id);
+        simple(o, kw, &["lcid", "sf"], &[F::I(lcid), F::R(b.sf)]);
+    }
+}
+
+fn surface(m: &Model, s: Option<&ContactSurface>) -> (F, F) {
+    match s {
+        None | Some(ContactSurface::All) => (F::I(0), F::I(2)),
+        Some(ContactSurface::SegmentSet(i)) => (F::I(m.segment_sets[*i].id), F::I(0)),
+        Some(ContactSurface::PartSet(i)) => (F::I(m.part_sets[*i].id), F::I(2)),
+        Some(ContactSurface::Part(i)) => (F::I(m.parts[*i].id), F::I(3)),
+    }
+}
+
+fn interactions(o: &mut String, m: &Model, wall_sets: &[i64]) {
+    for (w, &nsid) in m.rigid_walls.iter().zip(wall_sets) {
+        simple(o, "*RIGIDWALL_PLANAR", &["nsid"], &[F::I(nsid)]);
+        names(o, &["xt", "yt", "zt", "xh", "yh", "zh", "fric"], &W10);
+        let f = [
+            w.tail[0], w.tail[1], w.tail[2], w.head[0], w.head[1], w.head[2], w.fric,
+        ]
+        .map(F::R);
+        card(o, &f, &W10);
+    }
+    for c in &m.contacts {
+        let kw = if c.single_surface {
+            "*CONTACT_AUTOMATIC_SINGLE_SURFACE"
+        } else {
+            "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE"
+        };
+        let (sid, styp) = surface(m, Some(&c.slave));
+        let (mid, mtyp) = if c.single_surface {
+            (F::I(0), F::I(2))
+        } else {
+            surface(m, c.master.as_ref())
+        };
+        simple(
+            o,
+            kw,
+            &["ssid", "msid", "sstyp", "mstyp"],
+            &[sid, mid, styp, mtyp],
+        );
+        names(o, &["fs", "fd", "dc"], &W10);
+        card(o, &[F::R(c.fs), F::R(c.fd), F::R(c.dc)], &W10);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reals_fit_and_keep_precision() {
+        for &v in &[
+            0.0,
+            1.0,
+            -1.0,
+            0.1,
+            1.0 / 3.0,
+            -2.0 / 3.0 * 1e-7,
+            2.1e11,
+            -1.234_567_890_123e-30,
+            9.87654321e250,
+            123_456_789.123,
+            -0.000_123_456_789,
+        ] {
+            for w in [10usize, 16, 20] {
+                let s = fmt_f64(v, w);
+                assert!(s.len() <= w, "{v} in {w}: {s}");
+                let back: f64 = s.parse().unwrap();
+                let rel = if v == 0.0 {
+                    back.abs()
+                } else {
+                    ((back - v) / v).abs()
+                };
+                let tol = match w {
+                    10 => 1e-3,
+                    16 => 1e-10,
+                    _ => 1e-13,
+                };
+                assert!(rel <= tol, "{v} in {w}: {s} ({rel})");
+            }
+        }
+        assert_eq!(fmt_f64(2.1e11, 10), "2.1e11");
+        assert_eq!(fmt_f64(0.3, 10), "0.3");
+        assert_eq!(fmt_f64(0.1 + 1e-17, 15), "0.1");
+        assert_eq!(fmt_f64(-1.0 / 3.0, 15), "-0.333333333333");
+    }
+}

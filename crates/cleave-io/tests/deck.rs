@@ -1,0 +1,1283 @@
+//! Tests of the keyword deck reader and writer (`cleave_io::deck`).
+
+use cleave_core::mesh::BoxMesh;
+use cleave_core::model::*;
+use cleave_io::deck::{parse_deck, write_deck, DeckError};
+
+/// A small deck using every supported keyword, in free format. Two elements along x: element
+/// 1 (part 1, elastic with separation) and element 2 (part 2, rigid).
+const BASE: &str = "\
+$ test deck
+*KEYWORD 100m
+*TITLE
+two bricks
+*CONTROL_TERMINATION
+1.0e-3
+*CONTROL_TIMESTEP
+0.0, 0.8
+*CONTROL_HOURGLASS
+4, 0.05
+*CONTROL_BULK_VISCOSITY
+1.2, 0.05
+*CONTROL_CONTACT
+0.2
+*DATABASE_GLSTAT
+1.0d-5
+*DATABASE_NODOUT
+2.0D-5
+*DATABASE_BINARY_D3PLOT
+1e-4
+*DATABASE_HISTORY_NODE
+1, 12
+*DATABASE_HISTORY_SOLID
+2
+*PART
+block
+1, 1, 1
+*PART
+plate
+2, 1, 2
+*SECTION_SOLID
+1, 1
+*MAT_ELASTIC
+1, 7800., 2.0e11, 0.3
+*MAT_RIGID
+2, 7800., 2.0e11, 0.3
+1, 4, 7
+*MAT_ADD_SEPARATION
+1, 2, 1.0e8, 0.5
+*NODE
+1, 0., 0., 0.
+2, 1., 0., 0.
+3, 2., 0., 0.
+4, 0., 1., 0., 3
+5, 1., 1., 0.
+6, 2., 1., 0.
+7, 0., 0., 1.
+8, 1., 0., 1.
+9, 2., 0., 1.
+10, 0., 1., 1.
+11, 1., 1., 1.
+12, 2., 1., 1., 0, 7
+*ELEMENT_SOLID
+1, 1, 1, 2, 5, 4, 7, 8, 11, 10
+2, 2
+2, 3, 6, 5, 8, 9, 12, 11
+*SET_NODE_LIST
+1
+1, 4, 7, 10, 0, 1
+*SET_PART_LIST
+5
+1, 2
+*SET_SEGMENT
+3
+1, 4, 10, 7
+1, 2, 8
+*DEFINE_CURVE
+1, 0, 0., 2.0
+0., 0.
+1.0e-3, 1.
+*DEFINE_CURVE
+2
+0., 1.
+*BOUNDARY_SPC_SET
+1, 0, 1
+*BOUNDARY_SPC_NODE
+1, 0, 0, 1, 1
+*BOUNDARY_PRESCRIBED_MOTION_RIGID
+2, 1, 0, 1, 0.5
+*BOUNDARY_PRESCRIBED_MOTION_SET
+1, 3, 2, 2
+*INITIAL_VELOCITY_GENERATION
+1, 2, 10., 1.
+0., 0., 0., 0., 0., 2.
+*LOAD_BODY_Z
+0, 9.81
+*RIGIDWALL_PLANAR
+0
+0., 0., -0.1, 0., 0., 1., 0.5
+*RIGIDWALL_PLANAR
+1
+-1., 0., 0., 0., 0., 0.
+*CONTACT_AUTOMATIC_SINGLE_SURFACE
+5, 0, 2
+0.3, 0.2
+*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE
+1, 2, 3, 3
+*END
+anything here is ignored
+";
+
+/// The same deck in fixed format: every comma-separated card right-aligned in the widths
+/// the LS-DYNA manual gives for it.
+fn to_fixed(free: &str) -> String {
+    let mut out = String::new();
+    let mut kw = String::new();
+    let mut card_no = 0;
+    for line in free.lines() {
+        if line.starts_with('*') || line.starts_with('$') {
+            if line.starts_with('*') {
+                kw = line.to_string();
+                card_no = 0;
+            }
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        }
+        card_no += 1;
+        if !line.contains(',') && kw != "*NODE" && kw != "*ELEMENT_SOLID" && kw != "*DEFINE_CURVE" {
+            // a single value (or a title): one 10-character field, titles left as they are
+            let is_title = line.replace(['d', 'D'], "e").parse::<f64>().is_err();
+            if is_title {
+                out.push_str(line);
+            } else {
+                out.push_str(&format!("{:>10}", line.trim()));
+            }
+            out.push('\n');
+            continue;
+        }
+        let widths: Vec<usize> = match kw.as_str() {
+            "*NODE" => vec![8, 16, 16, 16, 8, 8],
+            "*ELEMENT_SOLID" => vec![8; 10],
+            "*DEFINE_CURVE" if card_no > 1 => vec![20, 20],
+            _ => vec![10; 8],
+        };
+        for (f, w) in line.split(',').zip(widths) {
+            out.push_str(&format!("{:>w$}", f.trim()));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+fn parse(text: &str) -> Model {
+    match parse_deck(text, "t.k") {
+        Ok(d) => d.model,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn err(text: &str) -> DeckError {
+    match parse_deck(text, "t.k") {
+        Ok(_) => panic!("expected an error"),
+        Err(e) => e,
+    }
+}
+
+/// 1-based number of the first line containing `s`.
+/// (A line equal to `s` is preferred; a multi-line `s` gives the line where it starts.)
+fn line_of(text: &str, s: &str) -> usize {
+    if s.contains('\n') {
+        return text[..text.find(s).expect(s)].lines().count() + 1;
+    }
+    let exact = text.lines().position(|l| l.trim() == s.trim());
+    exact
+        .or_else(|| text.lines().position(|l| l.contains(s)))
+        .expect(s)
+        + 1
+}
+
+/// BASE with the first occurrence of `old` replaced by `new`.
+fn with(old: &str, new: &str) -> String {
+    assert!(BASE.contains(old), "{old}");
+    BASE.replacen(old, new, 1)
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1e-300)
+}
+
+#[test]
+fn base_deck_is_read_completely() {
+    let m = parse(BASE);
+    assert_eq!(m.title, "two bricks");
+    assert_eq!(m.num_nodes(), 12);
+    assert_eq!(m.elem_ids, vec![1, 2]);
+    assert_eq!(m.conn[0], [0, 1, 4, 3, 6, 7, 10, 9]);
+    assert_eq!(m.conn[1], [1, 2, 5, 4, 7, 8, 11, 10]);
+    assert_eq!(m.elem_part, vec![0, 1]);
+    assert_eq!(m.parts[1].title, "plate");
+    assert_eq!(
+        m.materials[1].kind,
+        MaterialKind::Rigid {
+            cmo: 1,
+            con1: 4,
+            con2: 7
+        }
+    );
+    assert_eq!(m.separations.len(), 1);
+    let s = &m.separations[0];
+    assert_eq!(
+        (s.material, s.model, s.sigmax, s.beta, s.gc, s.bond),
+        (0, 2, 1e8, 0.5, 0.0, 1)
+    );
+    let c = &m.control;
+    assert_eq!(
+        (c.end_time, c.tssfac, c.hourglass, c.qh),
+        (1e-3, 0.8, Hourglass::Stiffness, 0.05)
+    );
+    assert_eq!((c.q1, c.q2, c.slsfac), (1.2, 0.05, 0.2));
+    assert_eq!(
+        (m.output.glstat_dt, m.output.nodout_dt, m.output.d3plot_dt),
+        (1e-5, 2e-5, 1e-4)
+    );
+    assert_eq!(m.output.history_nodes, vec![0, 11]);
+    assert_eq!(m.output.history_solids, vec![1]);
+    assert_eq!(m.node_sets[0].nodes, vec![0, 3, 6, 9]);
+    assert_eq!(m.part_sets[0].parts, vec![0, 1]);
+    assert_eq!(m.segment_sets[0].segments, vec![[0, 3, 9, 6], [0, 1, 7, 7]]);
+    // curve 1: SFO 2 doubles the ordinates
+    assert_eq!(m.curves[0].y, vec![0.0, 2.0]);
+    // SPCs merged per node: node 1 from the set (x) and the node card (y, z); node 4 from
+    // the set and TC = 3; node 12 from RC = 7
+    let spc = |i: u32| m.spcs.iter().find(|s| s.node == i).map(|s| s.dof);
+    assert_eq!(spc(0), Some([true, true, true, false, false, false]));
+    assert_eq!(spc(3), Some([true, false, true, false, false, false]));
+    assert_eq!(spc(11), Some([false, false, false, true, true, true]));
+    assert!(m.spcs.windows(2).all(|w| w[0].node < w[1].node));
+    assert_eq!(m.prescribed.len(), 1 + 4);
+    assert_eq!(m.prescribed[0].target, MotionTarget::Rigid(1));
+    assert_eq!((m.prescribed[0].axis, m.prescribed[0].sf), (0, 0.5));
+    assert_eq!(m.prescribed[1].target, MotionTarget::Node(0));
+    assert_eq!(
+        (
+            m.prescribed[1].axis,
+            m.prescribed[1].vad,
+            m.prescribed[1].curve,
+            m.prescribed[1].sf
+        ),
+        (2, Vad::Displacement, 1, 1.0)
+    );
+    assert_eq!(
+        m.body_loads,
+        vec![BodyLoad {
+            axis: 2,
+            curve: None,
+            sf: 9.81
+        }]
+    );
+    assert_eq!(m.rigid_walls.len(), 2);
+    assert_eq!(m.rigid_walls[0].nodes, None);
+    assert_eq!(m.rigid_walls[1].nodes, Some(vec![0, 3, 6, 9]));
+    assert_eq!((m.rigid_walls[1].id, m.rigid_walls[1].fric), (2, 0.0));
+    assert_eq!(m.contacts[0].slave, ContactSurface::PartSet(0));
+    assert_eq!(
+        (m.contacts[0].fs, m.contacts[0].fd, m.contacts[0].dc),
+        (0.3, 0.2, 0.0)
+    );
+    assert_eq!(m.contacts[1].master, Some(ContactSurface::Part(1)));
+    assert!(!m.contacts[1].single_surface);
+}
+
+#[test]
+fn fixed_and_free_format_agree() {
+    let fixed = to_fixed(BASE);
+    assert!(!fixed.lines().any(|l| l.contains(',')));
+    assert_eq!(format!("{:?}", parse(&fixed)), format!("{:?}", parse(BASE)));
+}
+
+#[test]
+fn crlf_lowercase_and_trailing_blanks_are_accepted() {
+    let t = BASE
+        .to_lowercase()
+        .replace("two bricks", "Two Bricks")
+        .replace('\n', "  \r\n");
+    let m = parse(&t);
+    assert_eq!(m.title, "Two Bricks");
+    assert_eq!(
+        format!("{:?}", m),
+        format!("{:?}", {
+            let mut b = parse(BASE);
+            b.title = "Two Bricks".into();
+            b
+        })
+    );
+}
+
+#[test]
+fn one_card_and_two_card_elements_agree() {
+    let two = with(
+        "1, 1, 1, 2, 5, 4, 7, 8, 11, 10\n",
+        "1, 1\n1, 2, 5, 4, 7, 8, 11, 10\n",
+    );
+    let one = with("2, 2\n2, 3, 6, 5", "2, 2, 2, 3, 6, 5");
+    let a = format!("{:?}", parse(BASE));
+    assert_eq!(format!("{:?}", parse(&two)), a);
+    assert_eq!(format!("{:?}", parse(&one)), a);
+    assert_eq!(format!("{:?}", parse(&to_fixed(&two))), a);
+    assert_eq!(format!("{:?}", parse(&to_fixed(&one))), a);
+}
+
+#[test]
+fn defaults_are_applied() {
+    let t = BASE
+        .replace("*CONTROL_TIMESTEP\n0.0, 0.8\n", "")
+        .replace("*CONTROL_HOURGLASS\n4, 0.05\n", "*CONTROL_HOURGLASS\n\n")
+        .replace(
+            "*CONTROL_BULK_VISCOSITY\n1.2, 0.05\n",
+            "*CONTROL_BULK_VISCOSITY\n0, \n",
+        )
+        .replace("*CONTROL_CONTACT\n0.2\n", "")
+        .replace("1, 2, 1.0e8, 0.5", "1, 1, 1.0e8")
+        .replace("2, 1, 0, 1, 0.5", "2, 1, 0, 1");
+    let m = parse(&t);
+    let c = &m.control;
+    assert_eq!(
+        (c.dt_init, c.tssfac, c.hourglass, c.qh),
+        (0.0, 0.9, Hourglass::Viscous, 0.1)
+    );
+    assert_eq!((c.q1, c.q2, c.slsfac), (1.5, 0.06, 0.1));
+    assert_eq!((m.separations[0].beta, m.separations[0].bond), (1.0, 1));
+    assert_eq!(m.prescribed[0].sf, 1.0);
+    let m = parse(&t.replace("1, 1, 1.0e8", "1, 1, 1.0e8, , , 0"));
+    assert_eq!(m.separations[0].bond, 0);
+}
+
+#[test]
+fn curve_scaling_and_offsets() {
+    let t = with(
+        "1, 0, 0., 2.0\n0., 0.\n1.0e-3, 1.\n",
+        "1, 0, 1000., 2.0, 1., -1.\n0., 0.\n1.0e-3, 1.\n2.0e-3, 5.\n",
+    );
+    let c = &parse(&t).curves[0];
+    assert_eq!(c.t, vec![1.0, 2.0, 3.0]);
+    assert_eq!(c.y, vec![-1.0, 1.0, 9.0]);
+}
+
+#[test]
+fn initial_velocity_generation_rotates() {
+    let m = parse(BASE);
+    // part 1: nodes of element 1; v = (1,0,0) + 10 z x r
+    for &i in &m.conn[0] {
+        let x = m.x0[i as usize];
+        let v = m.v0[i as usize];
+        assert!(close(v[0], 1.0 - 10.0 * x[1]), "{v:?} at {x:?}");
+        assert!(close(v[1], 10.0 * x[0]));
+        assert_eq!(v[2], 0.0);
+    }
+    // node 3 (x=2, y=0) is only in part 2
+    assert_eq!(m.v0[2], [0.0; 3]);
+    // a later *INITIAL_VELOCITY_NODE overrides; rotation about an axis through (1, 1, 0)
+    let t = with(
+        "0., 0., 0., 0., 0., 2.\n",
+        "1., 1., 0., 0., 0., 2.\n*INITIAL_VELOCITY_NODE\n5, 0., 0., 3.\n",
+    );
+    let m = parse(&t);
+    assert_eq!(m.v0[4], [0.0, 0.0, 3.0]);
+    // node 1 at (0,0,0): r = (-1,-1,0), w x r = 10 (1, -1, 0)
+    assert!(close(m.v0[0][0], 1.0 + 10.0) && close(m.v0[0][1], -10.0));
+}
+
+#[test]
+fn warnings_for_title_free_unknown_database() {
+    let t = with(
+        "*DATABASE_GLSTAT",
+        "*DATABASE_MATSUM\n1e-5\n*DATABASE_GLSTAT",
+    );
+    let d = parse_deck(&t, "t.k").unwrap();
+    assert_eq!(d.warnings.len(), 1, "{:?}", d.warnings);
+    assert!(d.warnings[0].contains("*DATABASE_MATSUM"));
+}
+
+// ---------------------------------------------------------------------------------------
+// errors
+
+/// Checks an error's line, keyword and field, and that its message contains `msg`.
+fn check(e: &DeckError, line: Option<usize>, kw: Option<&str>, field: Option<&str>, msg: &str) {
+    assert_eq!(e.file, "t.k");
+    assert_eq!(e.line, line, "{e}");
+    assert_eq!(e.keyword.as_deref(), kw, "{e}");
+    assert_eq!(e.field.as_deref(), field, "{e}");
+    assert!(e.message.contains(msg), "{e}");
+    assert!(e.to_string().contains(msg));
+}
+
+#[test]
+fn non_numeric_field() {
+    let t = with("5, 1., 1., 0.", "5, 1., abc, 0.");
+    let e = err(&t);
+    check(
+        &e,
+        Some(line_of(&t, "abc")),
+        Some("*NODE"),
+        Some("Y"),
+        "'abc' is not a number",
+    );
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "t.k:{}: *NODE: field Y: 'abc' is not a number",
+            line_of(&t, "abc")
+        )
+    );
+    // the same in fixed format
+    let f = to_fixed(&t);
+    let e = err(&f);
+    check(
+        &e,
+        Some(line_of(&f, "abc")),
+        Some("*NODE"),
+        Some("Y"),
+        "'abc' is not a number",
+    );
+    for bad in ["nan", "inf", "1e999", "1.0.0"] {
+        let t = with("5, 1., 1., 0.", &format!("5, 1., {bad}, 0."));
+        assert_eq!(err(&t).field.as_deref(), Some("Y"), "{bad}");
+    }
+}
+
+#[test]
+fn missing_required_and_fractional_ids() {
+    let t = with("2, 1, 2\n", " , 1, 2\n");
+    check(
+        &err(&t),
+        Some(line_of(&t, " , 1, 2")),
+        Some("*PART"),
+        Some("PID"),
+        "missing",
+    );
+    let t = with("2, 1, 2\n", "2, 1.5, 2\n");
+    check(
+        &err(&t),
+        Some(line_of(&t, "2, 1.5, 2")),
+        Some("*PART"),
+        Some("SECID"),
+        "'1.5' is not an integer",
+    );
+    let t = with("2, 1, 2\n", "2, 1, \n");
+    check(
+        &err(&t),
+        Some(line_of(&t, "2, 1, ")),
+        Some("*PART"),
+        Some("MID"),
+        "no material",
+    );
+    let t = with("2, 1, 2\n", "2, , 2\n");
+    check(
+        &err(&t),
+        Some(line_of(&t, "2, , 2")),
+        Some("*PART"),
+        Some("SECID"),
+        "no section",
+    );
+}
+
+#[test]
+fn undefined_references() {
+    let cases: &[(&str, &str, &str, &str, &str)] = &[
+        (
+            "2, 3, 6, 5, 8, 9, 12, 11",
+            "2, 3, 99, 5, 8, 9, 12, 11",
+            "*ELEMENT_SOLID",
+            "N3",
+            "node 99 is not defined",
+        ),
+        (
+            "2, 2\n",
+            "2, 7\n",
+            "*ELEMENT_SOLID",
+            "PID",
+            "part 7 is not defined",
+        ),
+        (
+            "2, 1, 2\n",
+            "2, 1, 9\n",
+            "*PART",
+            "MID",
+            "material 9 is not defined",
+        ),
+        (
+            "2, 1, 2\n",
+            "2, 4, 2\n",
+            "*PART",
+            "SECID",
+            "section 4 is not defined",
+        ),
+        (
+            "1, 0, 1\n",
+            "8, 0, 1\n",
+            "*BOUNDARY_SPC_SET",
+            "NSID",
+            "node set 8 is not defined",
+        ),
+        (
+            "2, 1, 0, 1, 0.5",
+            "2, 1, 0, 6, 0.5",
+            "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
+            "LCID",
+            "curve 6 is not defined",
+        ),
+        (
+            "1, 12\n",
+            "1, 13\n",
+            "*DATABASE_HISTORY_NODE",
+            "ID",
+            "node 13 is not defined",
+        ),
+        (
+            "1, 2, 1.0e8, 0.5",
+            "3, 2, 1.0e8, 0.5",
+            "*MAT_ADD_SEPARATION",
+            "MID",
+            "material 3 is not defined",
+        ),
+        (
+            "5, 0, 2\n",
+            "6, 0, 2\n",
+            "*CONTACT_AUTOMATIC_SINGLE_SURFACE",
+            "SSID",
+            "part set 6 is not defined",
+        ),
+        (
+            "1, 2, 3, 3\n",
+            "1, 3, 3, 3\n",
+            "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE",
+            "MSID",
+            "part 3 is not defined",
+        ),
+        (
+            "1, 4, 7, 10, 0, 1",
+            "1, 4, 7, 10, 0, 31",
+            "*SET_NODE_LIST",
+            "NID",
+            "node 31 is not defined",
+        ),
+        (
+            "1, 2, 10., 1.",
+            "9, 2, 10., 1.",
+            "*INITIAL_VELOCITY_GENERATION",
+            "ID",
+            "part 9 is not defined",
+        ),
+        (
+            "0, 9.81",
+            "3, 9.81",
+            "*LOAD_BODY_Z",
+            "LCID",
+            "curve 3 is not defined",
+        ),
+    ];
+    for &(old, new, kw, field, msg) in cases {
+        let t = with(old, new);
+        check(
+            &err(&t),
+            Some(line_of(&t, new.trim_end())),
+            Some(kw),
+            Some(field),
+            msg,
+        );
+    }
+}
+
+#[test]
+fn duplicate_ids_name_both_lines() {
+    // (old, new, first definition, second definition, message); a definition is a marker
+    // (see `line_of`) and a line offset from it
+    type At = (&'static str, usize);
+    let cases: &[(&str, &str, At, At, &str)] = &[
+        (
+            "12, 2., 1., 1., 0, 7\n",
+            "12, 2., 1., 1., 0, 7\n7, 5., 5., 5.\n",
+            ("7, 0., 0., 1.", 0),
+            ("7, 5., 5., 5.", 0),
+            "node 7",
+        ),
+        (
+            "2, 2\n",
+            "1, 2\n",
+            ("*ELEMENT_SOLID", 1),
+            ("*ELEMENT_SOLID", 2),
+            "element 1",
+        ),
+        (
+            "2, 1, 2\n",
+            "1, 1, 2\n",
+            ("*PART", 2),
+            ("1, 1, 2", 0),
+            "part 1",
+        ),
+        (
+            "2, 7800., 2.0e11, 0.3\n",
+            "1, 7800., 2.0e11, 0.3\n",
+            ("*MAT_ELASTIC", 1),
+            ("*MAT_RIGID", 1),
+            "material 1",
+        ),
+        (
+            "*DEFINE_CURVE\n2\n",
+            "*DEFINE_CURVE\n1\n",
+            ("*DEFINE_CURVE", 1),
+            ("*DEFINE_CURVE\n1\n", 1),
+            "curve 1",
+        ),
+        (
+            "*SET_PART_LIST\n5\n",
+            "*SET_SEGMENT\n3\n*SET_PART_LIST\n5\n",
+            ("*SET_SEGMENT", 1),
+            ("*SET_SEGMENT\n3\n1, 4", 1),
+            "segment set 3",
+        ),
+        (
+            "*SET_PART_LIST\n5\n",
+            "*SET_NODE_LIST\n1\n*SET_PART_LIST\n5\n",
+            ("*SET_NODE_LIST", 1),
+            ("*SET_NODE_LIST\n1\n*SET_PART", 1),
+            "node set 1",
+        ),
+        (
+            "*SET_SEGMENT\n3\n",
+            "*SET_PART_LIST\n5\n*SET_SEGMENT\n3\n",
+            ("*SET_PART_LIST", 1),
+            ("*SET_PART_LIST\n5\n*SET_SEG", 1),
+            "part set 5",
+        ),
+        (
+            "1, 1\n*MAT_ELASTIC",
+            "1, 1\n1, 1\n*MAT_ELASTIC",
+            ("*SECTION_SOLID", 1),
+            ("*SECTION_SOLID", 2),
+            "section 1",
+        ),
+    ];
+    for &(old, new, first, second, msg) in cases {
+        let t = with(old, new);
+        let e = err(&t);
+        let (l1, l2) = (
+            line_of(&t, first.0) + first.1,
+            line_of(&t, second.0) + second.1,
+        );
+        assert_eq!(e.line, Some(l2), "{e}");
+        let want = format!("{msg} is defined twice (first at line {l1})");
+        assert!(e.message.contains(&want), "{e} / {want}");
+    }
+}
+
+#[test]
+fn inverted_element_is_rejected() {
+    let t = with(
+        "1, 1, 1, 2, 5, 4, 7, 8, 11, 10",
+        "1, 1, 2, 1, 5, 4, 7, 8, 11, 10",
+    );
+    check(
+        &err(&t),
+        Some(line_of(&t, "1, 1, 2, 1, 5")),
+        Some("*ELEMENT_SOLID"),
+        None,
+        "element 1 has a non-positive Jacobian",
+    );
+    // a degenerate (collapsed) hexahedron has a zero corner Jacobian
+    let t = with(
+        "1, 1, 1, 2, 5, 4, 7, 8, 11, 10",
+        "1, 1, 1, 2, 5, 4, 7, 8, 11, 11",
+    );
+    check(
+        &err(&t),
+        Some(line_of(&t, "1, 1, 1, 2, 5, 4, 7, 8, 11, 11")),
+        Some("*ELEMENT_SOLID"),
+        None,
+        "non-positive Jacobian",
+    );
+}
+
+#[test]
+fn material_values_are_checked() {
+    let cases: &[(&str, &str, &str)] = &[
+        ("1, 7800., 2.0e11, 0.3", "1, 0., 2.0e11, 0.3", "RO"),
+        ("1, 7800., 2.0e11, 0.3", "1, 7800., -2.0e11, 0.3", "E"),
+        ("1, 7800., 2.0e11, 0.3", "1, 7800., 2.0e11, 0.5", "PR"),
+        ("1, 7800., 2.0e11, 0.3", "1, 7800., 2.0e11, -1.0", "PR"),
+        ("2, 7800., 2.0e11, 0.3", "2, -1., 2.0e11, 0.3", "RO"),
+    ];
+    for &(old, new, field) in cases {
+        let t = with(old, new);
+        let e = err(&t);
+        check(
+            &e,
+            Some(line_of(&t, new)),
+            e.keyword.as_deref(),
+            Some(field),
+            "",
+        );
+    }
+    // rigid: E and PR not checked
+    parse(&with("2, 7800., 2.0e11, 0.3", "2, 7800., 0., 0.7"));
+    // plastic kinematic
+    let pk = |card: &str| {
+        BASE.replacen(
+            "*MAT_ELASTIC\n1, 7800., 2.0e11, 0.3",
+            &format!("*MAT_PLASTIC_KINEMATIC\n{card}"),
+            1,
+        )
+    };
+    let m = parse(&pk("1, 7800., 2.0e11, 0.3, 2.5e8, 1.0e9, 1."));
+    assert_eq!(
+        m.materials[0].kind,
+        MaterialKind::PlasticKinematic {
+            sigy: 2.5e8,
+            etan: 1e9,
+            beta: 1.0
+        }
+    );
+    assert_eq!(
+        err(&pk("1, 7800., 2.0e11, 0.3, 0., 1.0e9"))
+            .field
+            .as_deref(),
+        Some("SIGY")
+    );
+    assert_eq!(
+        err(&pk("1, 7800., 2.0e11, 0.3, 1e8, 3.0e11"))
+            .field
+            .as_deref(),
+        Some("ETAN")
+    );
+}
+
+#[test]
+fn unsupported_options_are_errors() {
+    let cases: &[(&str, &str, &str, &str)] = &[
+        (
+            "2, 1, 0, 1, 0.5",
+            "2, 5, 0, 1, 0.5",
+            "DOF",
+            "only translational DOF 1-3 supported",
+        ),
+        ("2, 1, 0, 1, 0.5", "2, 1, 1, 1, 0.5", "VAD", "not supported"),
+        ("4, 0.05", "6, 0.05", "IHQ", "not supported"),
+        (
+            "*SECTION_SOLID\n1, 1",
+            "*SECTION_SOLID\n1, 2",
+            "ELFORM",
+            "only 1",
+        ),
+        (
+            "0., 0., 0., 0., 0., 2.",
+            "0., 0., 0., 0., 0., 0.",
+            "NX",
+            "axis",
+        ),
+        ("1, 2, 1.0e8, 0.5", "1, 3, 1.0e8, 0.5", "GC", "missing"),
+        ("1, 2, 1.0e8, 0.5", "1, 4, 1.0e8, 0.5", "MODEL", "4"),
+        (
+            "-1., 0., 0., 0., 0., 0.",
+            "0., 0., 0., 0., 0., 0.",
+            "XH",
+            "head",
+        ),
+        (
+            "1, 4, 10, 7\n",
+            "1, 4, 10, 7\n1, 2, 5, 4, 7, 8, 11, 10, 12\n",
+            "",
+            "too many fields",
+        ),
+    ];
+    for &(old, new, field, msg) in cases {
+        let t = with(old, new);
+        let e = err(&t);
+        let last = new.lines().last().unwrap();
+        assert_eq!(e.line, Some(line_of(&t, last)), "{e}");
+        if !field.is_empty() {
+            assert_eq!(e.field.as_deref(), Some(field), "{e}");
+        }
+        assert!(e.message.contains(msg), "{e}");
+    }
+    // _RIGID on a deformable part
+    let t = with("2, 1, 0, 1, 0.5", "1, 1, 0, 1, 0.5");
+    check(
+        &err(&t),
+        Some(line_of(&t, "1, 1, 0, 1, 0.5")),
+        Some("*BOUNDARY_PRESCRIBED_MOTION_RIGID"),
+        Some("PID"),
+        "part 1 is not rigid",
+    );
+}
+
+#[test]
+fn unsorted_curve() {
+    let t = with("1.0e-3, 1.\n", "1.0e-3, 1.\n1.0e-3, 2.\n");
+    let e = err(&t);
+    check(
+        &e,
+        Some(line_of(&t, "1.0e-3, 2.")),
+        Some("*DEFINE_CURVE"),
+        Some("A"),
+        "curve 1",
+    );
+    assert!(e.message.contains("strictly increasing"));
+    let t = with("*DEFINE_CURVE\n2\n0., 1.\n", "*DEFINE_CURVE\n2\n");
+    check(
+        &err(&t),
+        Some(line_of(&t, "*DEFINE_CURVE\n2\n") + 1),
+        Some("*DEFINE_CURVE"),
+        None,
+        "curve 2 has no points",
+    );
+}
+
+#[test]
+fn unsupported_keyword() {
+    let t = with("*MAT_ELASTIC", "*MAT_JOHNSON_COOK\n1, 2\n*MAT_ELASTIC");
+    let e = err(&t);
+    check(
+        &e,
+        Some(line_of(&t, "*MAT_JOHNSON_COOK")),
+        Some("*MAT_JOHNSON_COOK"),
+        None,
+        "not supported",
+    );
+    let t = with("*CONTROL_CONTACT", "*CONTROL_ENERGY\n2\n*CONTROL_CONTACT");
+    check(
+        &err(&t),
+        Some(line_of(&t, "*CONTROL_ENERGY")),
+        Some("*CONTROL_ENERGY"),
+        None,
+        "not supported",
+    );
+}
+
+#[test]
+fn whole_deck_errors() {
+    check(&err(""), None, None, None, "empty");
+    check(&err("  \n$ only a comment\n"), None, None, None, "");
+    check(&err("*KEYWORD\n"), None, None, None, "no elements");
+    check(&err("*KEYWORD\n*END\n"), None, None, None, "");
+    check(
+        &err("1, 2, 3\n*KEYWORD\n"),
+        Some(1),
+        None,
+        None,
+        "before the first keyword",
+    );
+    let t = BASE
+        .replacen(
+            "*ELEMENT_SOLID\n1, 1, 1, 2, 5, 4, 7, 8, 11, 10\n2, 2\n2, 3, 6, 5, 8, 9, 12, 11\n",
+            "",
+            1,
+        )
+        .replace("2\n*PART", "*PART")
+        .replace("*DATABASE_HISTORY_SOLID\n", "");
+    check(&err(&t), None, None, None, "no elements");
+    let t = with("*CONTROL_TERMINATION\n1.0e-3\n", "");
+    check(&err(&t), None, None, None, "ENDTIM");
+    let t = with(
+        "*CONTROL_TERMINATION\n1.0e-3\n",
+        "*CONTROL_TERMINATION\n0.\n",
+    );
+    check(
+        &err(&t),
+        Some(line_of(&t, "*CONTROL_TERMINATION") + 1),
+        Some("*CONTROL_TERMINATION"),
+        Some("ENDTIM"),
+        "positive",
+    );
+}
+
+#[test]
+fn binary_and_non_utf8_input_is_an_error_not_a_panic() {
+    let dir = std::env::temp_dir().join(format!("cleave-deck-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("bin.k");
+    let mut bytes = BASE.as_bytes().to_vec();
+    let at = BASE.find("5, 1., 1., 0.").unwrap() + 3;
+    bytes[at] = 0xff;
+    std::fs::write(&p, &bytes).unwrap();
+    let e = cleave_io::deck::read_deck(&p).unwrap_err();
+    assert_eq!(e.line, Some(line_of(BASE, "5, 1., 1., 0.")));
+    assert_eq!(e.field.as_deref(), Some("X"));
+    std::fs::write(&p, [0u8, 159, 146, 150, 0xff, 0xfe, b'\n', b'*', 0x80]).unwrap();
+    assert!(cleave_io::deck::read_deck(&p).is_err());
+    assert!(cleave_io::deck::read_deck(&dir.join("missing.k")).is_err());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+// ---------------------------------------------------------------------------------------
+// robustness
+
+/// xorshift64*: a small deterministic generator.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+}
+
+#[test]
+fn random_input_never_panics() {
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let alphabet = b"*$,.-+eEdD0123456789 \n\r\tKEYWORDNODEELMNT_SOLIDPARTabc\xff\x00";
+    for _ in 0..300 {
+        let n = rng.below(400);
+        let bytes: Vec<u8> = (0..n)
+            .map(|_| {
+                if rng.below(4) == 0 {
+                    rng.next() as u8
+                } else {
+                    alphabet[rng.below(alphabet.len())]
+                }
+            })
+            .collect();
+        let text = String::from_utf8_lossy(&bytes);
+        let _ = parse_deck(&text, "r.k");
+        let _ = parse_deck(&format!("*KEYWORD\n{text}"), "r.k");
+    }
+}
+
+#[test]
+fn mutated_decks_never_panic() {
+    let mut rng = Rng(42);
+    let fixed = to_fixed(BASE);
+    for base in [BASE.to_string(), fixed] {
+        let lines: Vec<&str> = base.lines().collect();
+        for _ in 0..300 {
+            let mut ls: Vec<String> = lines.iter().map(|s| s.to_string()).collect();
+            for _ in 0..1 + rng.below(3) {
+                let i = rng.below(ls.len());
+                match rng.below(5) {
+                    0 => {
+                        let cut = rng.below(ls[i].len() + 1);
+                        let mut s = ls[i].clone();
+                        while !s.is_char_boundary(cut.min(s.len())) {
+                            s.pop();
+                        }
+                        s.truncate(cut.min(s.len()));
+                        ls[i] = s;
+                    }
+                    1 => {
+                        ls.remove(i);
+                    }
+                    2 => {
+                        let mut b: Vec<char> = ls[i].chars().collect();
+                        if b.len() > 1 {
+                            let (a, c) = (rng.below(b.len()), rng.below(b.len()));
+                            b.swap(a, c);
+                        }
+                        ls[i] = b.into_iter().collect();
+                    }
+                    3 => {
+                        let j = rng.below(ls.len());
+                        let l = ls[j].clone();
+                        ls.insert(i, l);
+                    }
+                    _ => {
+                        let mut b: Vec<char> = ls[i].chars().collect();
+                        if !b.is_empty() {
+                            let a = rng.below(b.len());
+                            b[a] = ['9', '-', ',', '.', 'x', ' ', '*', '0'][rng.below(8)];
+                        }
+                        ls[i] = b.into_iter().collect();
+                    }
+                }
+            }
+            let _ = parse_deck(&ls.join("\n"), "m.k");
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// writer
+
+fn rel_eq(a: f64, b: f64) -> bool {
+    a == b || (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+}
+
+fn round_trip_model() -> Model {
+    let mesh = BoxMesh::new([3, 2, 2], [0.3, 0.07, 1.0 / 3.0]);
+    let n = mesh.x.len();
+    let ne = mesh.conn.len();
+    let mut v0 = vec![[0.0; 3]; n];
+    v0[5] = [1.5, -2.25e-3, 0.125]; // 10-character fields: ~7 digits
+    Model {
+        title: "round trip".into(),
+        node_ids: (0..n as i64).map(|i| 100 + 3 * i).collect(),
+        x0: mesh
+            .x
+            .iter()
+            .map(|p| [p[0] - 0.1, p[1] * 1.0e-3, p[2] + 2.0])
+            .collect(),
+        v0,
+        elem_ids: (0..ne as i64).map(|i| 7 + i).collect(),
+        elem_part: (0..ne).map(|e| u32::from(e >= ne - 2)).collect(),
+        conn: mesh.conn,
+        parts: vec![
+            Part {
+                id: 10,
+                title: "body".into(),
+                section: 0,
+                material: 1,
+            },
+            Part {
+                id: 20,
+                title: "".into(),
+                section: 0,
+                material: 0,
+            },
+        ],
+        sections: vec![Section { id: 3, elform: 1 }],
+        materials: vec![
+            Material {
+                id: 5,
+                density: 7850.0,
+                young: 2.1e11,
+                poisson: 0.3,
+                kind: MaterialKind::Rigid {
+                    cmo: 1,
+                    con1: 7,
+                    con2: 7,
+                },
+            },
+            Material {
+                id: 6,
+                density: 2.7e3,
+                young: 7.0e10,
+                poisson: 0.33,
+                kind: MaterialKind::PlasticKinematic {
+                    sigy: 2.75e8,
+                    etan: 6.0e8,
+                    beta: 0.5,
+                },
+            },
+        ],
+        curves: vec![cleave_core::curve::Curve {
+            id: 9,
+            t: vec![0.0, 1.0e-4, 1.0 / 3.0],
+            y: vec![0.0, -12.345678901234, 2.0 / 3.0],
+        }],
+        node_sets: vec![NodeSet {
+            id: 4,
+            nodes: vec![0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10],
+        }],
+        part_sets: vec![PartSet {
+            id: 2,
+            parts: vec![1, 0],
+        }],
+        segment_sets: vec![SegmentSet {
+            id: 8,
+            segments: vec![[0, 1, 5, 4], [1, 2, 6, 6]],
+        }],
+        spcs: vec![
+            Spc {
+                node: 0,
+                dof: [true, false, true, false, false, false],
+            },
+            Spc {
+                node: 3,
+                dof: [false, true, false, false, false, true],
+            },
+        ],
+        prescribed: vec![
+            PrescribedMotion {
+                target: MotionTarget::Node(2),
+                axis: 1,
+                vad: Vad::Displacement,
+                curve: 0,
+                sf: 2.5,
+            },
+            PrescribedMotion {
+                target: MotionTarget::Rigid(1),
+                axis: 2,
+                vad: Vad::Velocity,
+                curve: 0,
+                sf: -1.0,
+            },
+            PrescribedMotion {
+                target: MotionTarget::Node(4),
+                axis: 0,
+                vad: Vad::Velocity,
+                curve: 0,
+                sf: 1.0,
+            },
+        ],
+        body_loads: vec![
+            BodyLoad {
+                axis: 2,
+                curve: None,
+                sf: 9.81,
+            },
+            BodyLoad {
+                axis: 0,
+                curve: Some(0),
+                sf: 0.5,
+            },
+        ],
+        rigid_walls: vec![
+            RigidWall {
+                id: 1,
+                nodes: None,
+                tail: [0.0, 0.0, -0.5],
+                head: [0.0, 0.0, 1.0],
+                fric: 1.0,
+            },
+            RigidWall {
+                id: 2,
+                nodes: Some(vec![0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10]),
+                tail: [0.0; 3],
+                head: [1.0, 0.0, 0.0],
+                fric: 0.0,
+            },
+            RigidWall {
+                id: 3,
+                nodes: Some(vec![3, 1]),
+                tail: [0.0; 3],
+                head: [0.0, 1.0, 0.0],
+                fric: 0.25,
+            },
+        ],
+        contacts: vec![
+            ContactDef {
+                id: 1,
+                single_surface: true,
+                slave: ContactSurface::All,
+                master: None,
+                fs: 0.3,
+                fd: 0.2,
+                dc: 1.0e-3,
+            },
+            ContactDef {
+                id: 2,
+                single_surface: false,
+                slave: ContactSurface::PartSet(0),
+                master: Some(ContactSurface::Part(1)),
+                fs: 0.0,
+                fd: 0.0,
+                dc: 0.0,
+            },
+            ContactDef {
+                id: 3,
+                single_surface: false,
+                slave: ContactSurface::SegmentSet(0),
+                master: Some(ContactSurface::All),
+                fs: 0.1,
+                fd: 0.1,
+                dc: 0.0,
+            },
+        ],
+        separations: vec![SeparationDef {
+            material: 1,
+            model: 3,
+            sigmax: 3.0e8,
+            beta: 0.7,
+            gc: 1.2e4,
+            bond: 0,
+        }],
+        control: Control {
+            end_time: 2.5e-4,
+            dt_init: 1.0e-8,
+            tssfac: 0.67,
+            hourglass: Hourglass::Stiffness,
+            qh: 0.05,
+            q1: 1.0,
+            q2: 0.1,
+            slsfac: 0.15,
+        },
+        output: OutputRequests {
+            glstat_dt: 1.0e-6,
+            nodout_dt: 2.0e-6,
+            elout_dt: 3.0e-6,
+            rwforc_dt: 4.0e-6,
+            rcforc_dt: 5.0e-6,
+            d3plot_dt: 1.0e-5,
+            history_nodes: vec![3, 0],
+            history_solids: vec![1],
+        },
+    }
+}
+
+#[test]
+fn write_then_read_round_trips() {
+    let m = round_trip_model();
+    let text = write_deck(&m);
+    let back = match parse_deck(&text, "w.k") {
+        Ok(d) => {
+            assert!(d.warnings.is_empty(), "{:?}", d.warnings);
+            d.model
+        }
+        Err(e) => panic!("{e}\n{text}"),
+    };
+    // the wall with nodes [3, 1] needs a set of its own
+    assert_eq!(back.node_sets.len(), 2);
+    assert_eq!(back.node_sets[1].nodes, vec![3, 1]);
+    let mut back = back;
+    back.node_sets.truncate(1);
+    // floats to 1e-9, everything else exactly: compare the Debug text with floats rounded
+    assert_eq!(m.x0.len(), back.x0.len());
+    for (a, b) in m.x0.iter().flatten().zip(back.x0.iter().flatten()) {
+        assert!(rel_eq(*a, *b), "{a} {b}");
+    }
+    for (a, b) in m.v0.iter().flatten().zip(back.v0.iter().flatten()) {
+        assert!(rel_eq(*a, *b), "{a} {b}");
+    }
+    for (a, b) in m.curves[0]
+        .t
+        .iter()
+        .chain(&m.curves[0].y)
+        .zip(back.curves[0].t.iter().chain(&back.curves[0].y))
+    {
+        assert!(rel_eq(*a, *b), "{a} {b}");
+    }
+    let strip = |mut m: Model| {
+        m.x0.clear();
+        m.v0.clear();
+        m.curves.iter_mut().for_each(|c| {
+            c.t.clear();
+            c.y.clear();
+        });
+        format!("{m:?}")
+    };
+    assert_eq!(strip(back), strip(m));
+    // and the fixed-format deck has no commas
+    assert!(
+        !text.lines().any(|l| !l.starts_with('$') && l.contains(',')),
+        "{text}"
+    );
+}
+
+#[test]
+fn writer_falls_back_to_free_format_for_wide_ids() {
+    let mut m = round_trip_model();
+    m.node_ids[0] = 1_234_567_890;
+    let text = write_deck(&m);
+    assert!(text.lines().any(|l| l.starts_with("1234567890,")));
+    let back = parse_deck(&text, "w.k").unwrap().model;
+    assert_eq!(back.node_ids[0], 1_234_567_890);
+}
+
+#[test]
+fn text_beyond_the_card_is_an_error() {
+    let f = to_fixed(BASE);
+    let node = format!("{:>8}{:>16}{:>16}{:>16}", 5, "1.", "1.", "0.");
+    assert!(f.contains(&node));
+    let t = f.replacen(&node, &format!("{node}{:>8}{:>8}{:>8}", 0, 0, 9), 1);
+    let e = err(&t);
+    assert_eq!(e.line, Some(line_of(&t, &node)));
+    assert!(e.message.contains("beyond column 72"), "{e}");
+}
+
+#[test]
+#[ignore]
+fn large_deck_timing() {
+    let mesh = BoxMesh::new([60, 60, 30], [1.0, 1.0, 0.5]);
+    let mut m = round_trip_model();
+    m.x0 = mesh.x;
+    m.v0 = vec![[0.0; 3]; m.x0.len()];
+    m.node_ids = (1..=m.x0.len() as i64).collect();
+    m.elem_ids = (1..=mesh.conn.len() as i64).collect();
+    m.elem_part = vec![0; mesh.conn.len()];
+    m.conn = mesh.conn;
+    let t0 = std::time::Instant::now();
+    let text = write_deck(&m);
+    let t1 = std::time::Instant::now();
+    let d = parse_deck(&text, "big.k").unwrap();
+    let t2 = std::time::Instant::now();
+    println!(
+        "{} elements, {} MB: write {:?}, read {:?}",
+        d.model.num_elements(),
+        text.len() / 1_000_000,
+        t1 - t0,
+        t2 - t1
+    );
+}

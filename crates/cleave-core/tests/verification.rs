@@ -151,7 +151,9 @@ fn mean_velocity(s: &Solver, nodes: impl Iterator<Item = usize>) -> Vec3 {
 /// elements by dispersion and by the linear bulk viscosity (Q2 = 0.06), but its mid-point moves
 /// at c; 2% of the arrival time is 3 elements of travel, and the plateau stress ringing behind
 /// the front decays to well under 1% at the averaging window (20 to 120 elements behind the
-/// front at x = 0.16 m, before the reflection from the free end returns).
+/// front at x = 0.16 m, before the reflection from the free end returns). Lateral stresses
+/// (E eps_yy with nu = 0) stay below 0.1% of rho c v: the only lateral load is the
+/// bulk-viscosity pressure at the front, which spreads the bar by ~1e-5 strain.
 #[test]
 fn elastic_wave_speed_and_impedance() {
     let (n, len, v) = (200, 0.2, 1.0);
@@ -291,10 +293,10 @@ fn free_axial_vibration_conserves_energy_and_has_rod_period() {
 /// L/h = 5, and is only printed). Run for 1.7 ms, more than 5 periods.
 ///
 /// The one-point element cannot bend within itself: that field is one of its hourglass modes,
-/// resisted by the viscous hourglass force, which dissipates. The dissipation falls as
-/// 1/n^2 with n elements through the thickness *and* across it (Poisson's anticlastic
-/// curvature is also an in-element hourglass pattern): measured hourglass/internal ratios
-/// 7.8% for 4 x 4, 11% for 2 x 6, 5.7% for 4 x 6, 3.8% for 6 x 6 over 5.8 periods. Hence 6 x 6.
+/// resisted by the viscous hourglass force, which dissipates. The dissipation falls with the
+/// number of elements through the thickness *and* across it (Poisson's anticlastic curvature
+/// is also an in-element hourglass pattern): measured hourglass/internal ratios over this run
+/// 7.4% for 20 x 4 x 4, 9.8% for 30 x 2 x 6, 4.3% for 30 x 4 x 6, 3.7% for 30 x 6 x 6.
 ///
 /// Pins: total energy within 0.5% of the initial at every step (as in the axial test; the
 /// viscous hourglass work is part of the total, so even its dissipation is accounted for), and
@@ -449,8 +451,9 @@ fn spinning_body_is_stress_free_up_to_centrifugal_stress() {
 /// constraints on its three faces through the origin has its x = L face driven by a
 /// prescribed displacement: strain ln(L/L0) 0 -> 6e-3 in 2 ms, then back to 0 in 2 ms.
 /// The loading time is over 1000 times the transit time L/c = 1.7 us, and the only free
-/// motion (lateral contraction, at ~0.02 m/s) has inertial stresses ~ rho c v_lat ~ 1 MPa at
-/// most, 0.25% of SIGY, so the test is quasi-static.
+/// motion is the lateral contraction (nu eps' L to 0.5 eps' L = 0.015 m/s): its inertial
+/// stresses are at most rho c dv_lat = 1.4 MPa, 0.35% of SIGY, when the load reverses and the
+/// lateral velocity jumps by 0.03 m/s. So the test is quasi-static.
 ///
 /// Expected (bilinear uniaxial stress with the logarithmic strain, which is what the
 /// integrated rate of deformation D is in uniaxial stretching; e.g. LS-DYNA theory manual,
@@ -461,9 +464,10 @@ fn spinning_body_is_stress_free_up_to_centrifugal_stress() {
 ///
 /// Pins, for BETA = 0 and 1: the fitted elastic slope and the unloading slope (E), the fitted
 /// plastic slope (ETAN), the yield stress (intersection of the two fitted lines, SIGY) and the
-/// reverse-yield stress, each within 1%; lateral stresses below 0.5% of SIGY. The radial return
-/// is exact for this linear hardening, so the only errors are the inertial ones above and
-/// the yield point falling inside a step (a step changes the stress by < 1 MPa, 0.25%).
+/// reverse-yield stress, each within 1%; lateral and shear stresses below 0.5% of SIGY (the
+/// inertial bound above). The radial return is exact for this linear hardening, so the only
+/// errors are the inertial ones and the yield point falling inside a step (a step changes the
+/// stress by < 1 MPa, 0.25%).
 #[test]
 fn uniaxial_elastic_plastic_stress_strain_curve() {
     let (l0, sigy, etan) = (0.01, 400e6, 20e9);
@@ -545,14 +549,18 @@ fn uniaxial_elastic_plastic_stress_strain_curve() {
         let (a_p, et_fit) = fit_line(&plastic_pts);
         // intersection of sigma = E eps with sigma = a_p + Et eps
         let sigy_fit = e_fit * a_p / (e_fit - et_fit);
-        let &&(_, eps_top, sig_top, ep_top) = load.last().unwrap();
+        let &&(_, eps_top, sig_load, _) = load.last().unwrap();
         let expect_top = sigy + etan * (eps_top - eps_y);
-        // unloading: elastic until eps_p grows again
-        let unload: Vec<_> = rec.iter().filter(|r| r.0 > t1 + 1e-9).collect();
-        let k_rev = unload
-            .iter()
-            .position(|r| r.3 > ep_top * (1.0 + 1e-12) + 1e-15)
+        // unloading: elastic until eps_p grows again (the first records after t1 may still
+        // include the end of the loading step)
+        let unload: Vec<_> = rec.iter().filter(|r| r.0 > t1).collect();
+        let k0 = (1..unload.len())
+            .find(|&k| unload[k].3 == unload[k - 1].3)
+            .expect("elastic unloading");
+        let k_rev = (k0..unload.len())
+            .find(|&k| unload[k].3 > unload[k - 1].3)
             .expect("reverse yield");
+        let sig_top = unload[k0 - 1].2;
         let sig_rev = unload[k_rev - 1].2;
         let unload_pts: Vec<_> = unload[..k_rev]
             .iter()
@@ -566,7 +574,7 @@ fn uniaxial_elastic_plastic_stress_strain_curve() {
             -sig_top
         };
         eprintln!(
-            "plastic beta {beta}: E fit {e_fit:.5e} (rel {:.1e}); ETAN fit {et_fit:.5e} (rel {:.1e}); SIGY fit {sigy_fit:.5e} (rel {:.1e}); sigma at eps {eps_top:.4e}: {sig_top:.5e} vs {expect_top:.5e}; unloading slope {e_unload:.5e} (rel {:.1e}); reverse yield at {sig_rev:.5e} vs {expect_rev:.5e} (rel to SIGY {:.1e}); max |lateral, shear| {lateral:.2e} Pa",
+            "plastic beta {beta}: E fit {e_fit:.5e} (rel {:.1e}); ETAN fit {et_fit:.5e} (rel {:.1e}); SIGY fit {sigy_fit:.5e} (rel {:.1e}); sigma at eps {eps_top:.4e}: {sig_load:.5e} vs {expect_top:.5e}; peak {sig_top:.5e}; unloading slope {e_unload:.5e} (rel {:.1e}); reverse yield at {sig_rev:.5e} vs {expect_rev:.5e} (rel to SIGY {:.1e}); max |lateral, shear| {lateral:.2e} Pa",
             rel(e_fit, YOUNG),
             rel(et_fit, etan),
             rel(sigy_fit, sigy),
@@ -576,7 +584,7 @@ fn uniaxial_elastic_plastic_stress_strain_curve() {
         assert!(rel(e_fit, YOUNG) < 0.01);
         assert!(rel(et_fit, etan) < 0.01);
         assert!(rel(sigy_fit, sigy) < 0.01);
-        assert!(rel(sig_top, expect_top) < 0.01);
+        assert!(rel(sig_load, expect_top) < 0.01);
         assert!(rel(e_unload, YOUNG) < 0.01);
         assert!((sig_rev - expect_rev).abs() < 0.01 * sigy);
         assert!(lateral < 0.005 * sigy);
@@ -621,13 +629,18 @@ fn rigid_block_model(end_time: f64, helper: Material) -> (Model, std::ops::Range
 
 /// Rigid body under prescribed velocity: a rigid block (3 x 2 x 1 elements) with
 /// `*BOUNDARY_PRESCRIBED_MOTION_RIGID`, VAD = 0, v_x = 2.5 m/s from a constant curve, for
-/// 5 ms. Expected: every node moves by exactly v t along x and not at all along y, z. The
-/// placement x^(n+1) = x^n + v dt accumulates one rounding per step, so the tolerance is
-/// round-off: 1e-12 relative to the travelled distance (~1e-16 x 2000 steps would be 2e-13).
+/// 5 ms (3264 steps). Expected: every node moves by exactly v t along x and not at all along
+/// y, z, and its velocity v^n is v (after t = 0, where it is the initial rest).
+///
+/// Tolerances are round-off. Positions accumulate one rounding of x ~ 0.07 m per step:
+/// 3264 x 1e-17 m = 4e-14 m, i.e. 3e-12 of the 12.5 mm travelled; tolerance 1e-10. Nodal
+/// velocities are chords (x^(n+1) - x^n)/dt of such positions, rounded to ~1e-17 m / 1.5 us =
+/// 7e-12 m/s, i.e. 3e-12 of v; tolerance 1e-10.
 #[test]
 fn rigid_body_follows_prescribed_velocity() {
     let v = 2.5;
-    let (mut m, nodes) = rigid_block_model(5e-3, elastic(0.3));
+    let t_end = 5e-3;
+    let (mut m, nodes) = rigid_block_model(t_end, elastic(0.3));
     m.curves.push(unit_curve(1));
     m.prescribed.push(PrescribedMotion {
         target: MotionTarget::Rigid(1),
@@ -636,20 +649,24 @@ fn rigid_body_follows_prescribed_velocity() {
         curve: 0,
         sf: v,
     });
-    let mut err = 0.0f64;
+    let (mut u_err, mut v_err) = (0.0f64, 0.0f64);
     let s = run(&m, |s| {
         let t = s.state.t;
         for i in nodes.clone() {
             let d = sub(s.state.x[i], m.x0[i]);
-            let e = norm(sub(d, [v * t, 0.0, 0.0]));
-            err = err.max(e / (v * 5e-3));
-            // v^n of the nodes is the prescribed one too
-            err = err.max(norm(sub(s.state.v_n[i], [v, 0.0, 0.0])) / v);
+            u_err = u_err.max(norm(sub(d, [v * t, 0.0, 0.0])) / (v * t_end));
+            if s.state.step > 0 {
+                v_err = v_err.max(norm(sub(s.state.v_n[i], [v, 0.0, 0.0])) / v);
+            }
         }
     });
-    eprintln!("rigid prescribed: {} steps, t {:.3e}; max |u - v t| / (v t_end) and |v_n - v|/v: {err:.2e}", s.state.step, s.state.t);
-    assert!((s.state.t - 5e-3).abs() < 1e-15);
-    assert!(err < 1e-12);
+    eprintln!(
+        "rigid prescribed: {} steps, t {:.6e}; max |u - v t| / (v t_end) {u_err:.2e}; max |v_n - v| / v {v_err:.2e}",
+        s.state.step, s.state.t
+    );
+    assert!((s.state.t - t_end).abs() < 1e-15);
+    assert!(u_err < 1e-10);
+    assert!(v_err < 1e-10);
 }
 
 /// Free rigid body: a rigid block (60 x 30 x 10 mm, so three distinct principal moments)
@@ -660,14 +677,16 @@ fn rigid_body_follows_prescribed_velocity() {
 /// - linear momentum (sum m v^n) constant to round-off (1e-12 relative): no force acts and the
 ///   nodal placement x_cm + R (X - X_cm) has sum m (X - X_cm) = 0;
 /// - kinetic energy (sum 1/2 m |v^n|^2 over the nodes) within 1e-6 of the initial: the body's
-///   angular momentum is exactly conserved and omega = I(R)^-1 L; the nodal v^n are means of
-///   chord velocities, which differ from omega x r by O((omega dt)^2) = 1e-7 here
-///   (|omega| dt = 2.3e-4 with dt = 1e-5 s);
-/// - rigidity: every node's distance to every other within 1e-9 relative (the rotation is
-///   composed from exact exponentials, round-off 1e-16 per step over 40000 steps).
+///   angular momentum is exactly conserved, and the implicit mid-point rotation update
+///   conserves L . I(R)^-1 L / 2 exactly; the nodal v^n are means of chord velocities, which
+///   differ from omega x r by O((omega dt)^2) = 3e-6 of the rotational energy, itself 4% of
+///   the total here (|omega| dt = 1.6e-3 with dt = 7.1e-5 s). Before the mid-point update
+///   (explicit omega = I(R^n)^-1 L) the error was 3.6e-5 and grew linearly with time and dt;
+/// - rigidity: every node's distance to every other within 1e-9 relative (the rotation is a
+///   product of Cayley rotations, orthogonal to round-off: 1e-16 per step over 5649 steps).
 #[test]
 fn free_rigid_body_conserves_momentum_energy_and_shape() {
-    // helper element: soft, dt ~ 1e-5 s
+    // helper element: soft, dt = 7.1e-5 s
     let helper = Material {
         id: 1,
         density: 1000.0,
@@ -732,9 +751,13 @@ fn free_rigid_body_conserves_momentum_energy_and_shape() {
 /// Pins: the slope of the mass-weighted mean x velocity, fitted over 0.02 to 0.08 s (after
 /// the settling transient under the suddenly applied gravity, a few ms; before the stop), is
 /// -mu g within 2%; the block has stopped (|v| < 1% of v0) by 0.12 s and stays on the wall
-/// (vertical mean velocity ~ 0). The normal impulse averages to M g once the block has
-/// settled; the residual error is the elastic ringing of the block (period 4h/c ~ 1 ms,
-/// damped by bulk viscosity), which averages out over 60 ms.
+/// (vertical mean velocity below 1% of v0); the wall's normal force (`wall_forces`) averages
+/// M g over the window within 0.5%. Once the block has settled the normal impulse is M g per
+/// unit time; the residual is the elastic ringing of the block (period 4h/c ~ 1 ms, damped by
+/// bulk viscosity), which averages out over 60 ms. Also the energy ledger: the sum of the
+/// kinetic, internal and hourglass energies equals E0 + W, with W the work of gravity and of
+/// the wall (whose friction dissipates), within 0.1% of E0 at every step (a consistency check
+/// of the wall and body-load work).
 #[test]
 fn block_sliding_on_frictional_wall_decelerates_at_mu_g() {
     let (mu, g, v0) = (0.3, 9.81, 0.3);
@@ -763,11 +786,17 @@ fn block_sliding_on_frictional_wall_decelerates_at_mu_g() {
     });
     let nn = m.num_nodes();
     let mut hist: Vec<(f64, Vec3)> = Vec::new();
-    let mut normal_impulse = 0.0;
+    let (mut normal_impulse, mut window) = (0.0, 0.0);
+    let mut balance = 0.0f64;
     let s = run(&m, |s| {
         hist.push((s.state.t, mean_velocity(s, 0..nn)));
+        let en = &s.state.energy;
+        let e0 = s.state.initial_energy;
+        balance = balance.max((en.total() - e0 - en.external_work).abs() / e0);
         if (0.02..=0.08).contains(&s.state.t) {
-            normal_impulse += s.wall_forces[0].normal * 0.5 * (s.state.dt_prev + s.state.dt);
+            let dt_mid = 0.5 * (s.state.dt_prev + s.state.dt);
+            normal_impulse += s.wall_forces[0].normal * dt_mid;
+            window += dt_mid;
         }
     });
     let pts: Vec<_> = hist
@@ -788,9 +817,9 @@ fn block_sliding_on_frictional_wall_decelerates_at_mu_g() {
         .filter(|h| h.0 >= 0.02)
         .map(|h| h.1[2].abs())
         .fold(0.0, f64::max);
-    let mean_normal = normal_impulse / 0.06;
+    let mean_normal = normal_impulse / window;
     eprintln!(
-        "friction: deceleration {:.5} vs mu g {:.5} (rel {:.1e}); intercept {a:.5} vs v0 {v0}; fitted stop {t_stop_fit:.4} s vs {:.4} s; mean normal force {mean_normal:.5e} vs M g {:.5e}; max |v| after 0.12 s {v_late:.1e}; max |vz| {vz:.1e}; {} steps",
+        "friction: deceleration {:.5} vs mu g {:.5} (rel {:.1e}); intercept {a:.5} vs v0 {v0}; fitted stop {t_stop_fit:.4} s vs {:.4} s; mean normal force {mean_normal:.5e} vs M g {:.5e}; max |v| after 0.12 s {v_late:.1e}; max |vz| {vz:.1e}; max |E - E0 - W| / E0 {balance:.2e}; {} steps",
         -slope,
         mu * g,
         rel(-slope, mu * g),
@@ -801,6 +830,8 @@ fn block_sliding_on_frictional_wall_decelerates_at_mu_g() {
     assert!(rel(-slope, mu * g) < 0.02);
     assert!(v_late < 0.01 * v0);
     assert!(vz < 0.01 * v0);
+    assert!(rel(mean_normal, mass * g) < 0.005);
+    assert!(balance < 1e-3);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -812,18 +843,21 @@ fn block_sliding_on_frictional_wall_decelerates_at_mu_g() {
 ///
 /// A steel bar (nu = 0.3) 0.1 m x 10 mm x 10 mm, 40 x 4 x 4 elements, fixed axially at x = 0
 /// (SPC ux) is pulled at x = L by v_x ramping 0 -> 2 m/s over 10 us and then held, for 150 us
-/// (four transits of the wave L/c_0 = 20 us: several reflections, lateral Poisson motion).
+/// (415 steps; seven transits L/c_0 = 20 us: reflections, lateral Poisson motion).
 /// Two drivers, each checked separately:
 /// (a) `*BOUNDARY_PRESCRIBED_MOTION_NODE` on the end-face nodes;
 /// (b) a rigid end cap (one layer of `*MAT_RIGID` elements, 2.5 mm thick) driven by
 ///     `*BOUNDARY_PRESCRIBED_MOTION_RIGID`, so the rigid-body reaction work is checked too.
 ///
-/// Pins: at every step after the first 10 us, |E - E0 - W_ext| / (E0 + W_ext) < 1%; the
-/// initial energy is 0, so this compares the energy in the bar with the work the driver did.
-/// Central differences with mid-point accounting of internal energy and the reaction impulse
-/// times v^n for the work balance to O(dt^2); the residual is the start-up of the ramp.
-/// Also checked: the external work equals the force-displacement integral
-/// v * (impulse of the reaction), within the same 1%, for driver (a).
+/// The initial energy is 0, so this compares the energy in the bar with the work the driver
+/// did. Central differences with mid-point internal energy and reaction work impulse . v^n,
+/// booked up to t^n, balance to O(dt^2): the relative error decays as (dt/t)^2 from the start
+/// (2% at step 4, 0.37% at step 10, 0.06% at the end of the ramp, step 26).
+///
+/// Pins: |E - E0 - W| / (E0 + W) below 1% from step 10 on, and below 0.1% after the ramp.
+/// (Before the ledger fix in `Solver::advance_to_half_step`, which booked the whole step's
+/// reaction work at t^n, half a step early, the error was 4.9% after the ramp, decaying only
+/// as dt/2t.)
 #[test]
 fn pulled_bar_energy_equals_external_work() {
     let (len, b) = (0.1, 0.01);
@@ -875,17 +909,21 @@ fn pulled_bar_energy_equals_external_work() {
                 });
             }
         }
-        let mut err = 0.0f64;
+        let (mut err, mut err_late) = (0.0f64, 0.0f64);
         let s = run(&m, |s| {
             let en = &s.state.energy;
             let expect = s.state.initial_energy + en.external_work;
+            let e = (en.total() - expect).abs() / expect;
+            if s.state.step >= 10 {
+                err = err.max(e);
+            }
             if s.state.t > t_ramp {
-                err = err.max((en.total() - expect).abs() / expect);
+                err_late = err_late.max(e);
             }
         });
         let en = &s.state.energy;
         eprintln!(
-            "pulled bar ({}): {} steps; at end KE {:.4e} IE {:.4e} HG {:.2e} total {:.5e}, E0 + W {:.5e}; max |E - E0 - W|/(E0 + W) after the ramp {err:.2e}",
+            "pulled bar ({}): {} steps; at end KE {:.4e} IE {:.4e} HG {:.2e} total {:.5e}, E0 + W {:.5e}; max |E - E0 - W|/(E0 + W) from step 10 {err:.2e}, after the ramp {err_late:.2e}",
             if rigid_cap { "rigid cap" } else { "nodal velocity" },
             s.state.step,
             en.kinetic,
@@ -895,5 +933,6 @@ fn pulled_bar_energy_equals_external_work() {
             s.state.initial_energy + en.external_work
         );
         assert!(err < 0.01);
+        assert!(err_late < 0.001);
     }
 }

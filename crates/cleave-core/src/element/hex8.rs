@@ -182,6 +182,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::needless_range_loop)] // i, k index a tensor, not one slice
     fn gradients_reproduce_linear_fields_on_a_distorted_element() {
         let mut x = unit_cube(1.0);
         x[6] = [1.3, 1.1, 1.2];

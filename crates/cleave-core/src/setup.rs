@@ -85,10 +85,18 @@ impl Setup {
             .iter()
             .map(SolidParams::from_material)
             .collect();
-        let elem_mat = (0..ne)
+        let elem_mat: Vec<u32> = (0..ne)
             .map(|e| model.parts[model.elem_part[e] as usize].material as u32)
             .collect();
         let (rigid, node_rigid) = build_rigid_bodies(model, &mass)?;
+        if params
+            .iter()
+            .enumerate()
+            .all(|(k, p)| p.is_none() || !elem_mat.contains(&(k as u32)))
+            && model.control.dt_init <= 0.0
+        {
+            return Err("the model has no deformable element to set the time step: give DTINIT in *CONTROL_TIMESTEP".into());
+        }
 
         let mut warnings = Vec::new();
         let mut spc = Vec::new();
@@ -185,4 +193,32 @@ pub fn estimate_time_step(model: &Model) -> Option<(f64, usize)> {
 /// Number of connected pieces of the mesh (elements joined through shared nodes).
 pub fn count_components(model: &Model) -> usize {
     crate::topology::element_components(model).1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::box_model;
+    use crate::model::{Material, MaterialKind};
+
+    #[test]
+    fn rigid_only_model_needs_dtinit() {
+        let rigid = Material {
+            id: 1,
+            density: 7800.0,
+            young: 2e11,
+            poisson: 0.3,
+            kind: MaterialKind::Rigid {
+                cmo: 0,
+                con1: 0,
+                con2: 0,
+            },
+        };
+        let mut m = box_model([1, 1, 1], [1.0, 1.0, 1.0], rigid, 1.0);
+        let err = Setup::new(&m).unwrap_err();
+        assert!(err.contains("DTINIT"), "{err}");
+        m.control.dt_init = 1e-3;
+        assert!(Setup::new(&m).is_ok());
+        assert!(estimate_time_step(&m).is_none());
+    }
 }

@@ -84,7 +84,7 @@ pub struct Solver<'m> {
     corner_f: Vec<[Vec3; 8]>,
     f: Vec<Vec3>,
     chunk_sums: Vec<ElemChunkSum>,
-    node_sums: Vec<[f64; 4]>,
+    node_sums: Vec<[f64; 7]>,
     finished: bool,
     /// Work of this step's impulses that falls after t^n, booked at the next step.
     pending_work: f64,
@@ -316,7 +316,8 @@ impl<'m> Solver<'m> {
     fn next_time_step(&mut self, dt_crit: f64, dt_elem: u32) -> Result<f64, SolverError> {
         let c = &self.model.control;
         let mut dt = c.tssfac * dt_crit;
-        if self.state.step == 0 && c.dt_init > 0.0 {
+        if c.dt_init > 0.0 && (self.state.step == 0 || !dt_crit.is_finite()) {
+            // DTINIT caps the first step, and is the step of a model with no deformable element
             dt = dt.min(c.dt_init);
         }
         if !dt.is_finite() || dt <= 0.0 {
@@ -382,14 +383,20 @@ impl<'m> Solver<'m> {
     }
 
     /// Change the velocity of node i to `v_new` after the free update; keeps v^n consistent
-    /// and returns the work of the implied reaction impulse, J . v^n.
+    /// and returns the work of the implied reaction impulse J = m (v_new - v).
+    ///
+    /// The work is J . (v^(n-1/2) + v^(n+1/2))/2, which is what the leapfrog kinetic energy
+    /// 1/2 m |v^(n+1/2)|^2 gains from the impulse on top of what the forces gave (charged over
+    /// the same mean velocity). v^(n-1/2) is recovered from the invariant
+    /// v^n = (1 - w) v^(n-1/2) + w v.
     fn constrain_velocity(&mut self, i: usize, v_new: Vec3) -> f64 {
         let w = self.half_step_weight();
         let s = &mut self.state;
+        let v_old = scale(sub(s.v_n[i], scale(s.v[i], w)), 1.0 / (1.0 - w));
         let dv = sub(v_new, s.v[i]);
         s.v[i] = v_new;
         s.v_n[i] = add(s.v_n[i], scale(dv, w));
-        dot(scale(dv, self.setup.mass[i]), s.v_n[i])
+        dot(scale(dv, self.setup.mass[i]), scale(add(v_old, v_new), 0.5))
     }
 
     /// Rigid bodies: sum force and moment over their nodes, advance, place the nodes.
@@ -525,28 +532,32 @@ impl<'m> Solver<'m> {
         work
     }
 
-    /// Kinetic energy at t^n and the work of body loads over the step; detects non-finite
-    /// velocities. Returns the body-load work.
+    /// Kinetic energy at t^n and the work of body loads over the step, g . P dt with P the
+    /// momentum at the mean of the half-step velocities; detects non-finite velocities.
+    /// Returns the body-load work.
     fn record_kinetic_energy(&mut self, dt_mid: f64) -> Result<f64, SolverError> {
         let mass = &self.setup.mass;
         let vn = &self.state.v_n;
+        let vh = &self.state.v;
         vn.par_chunks(NODE_CHUNK)
+            .zip(vh.par_chunks(NODE_CHUNK))
             .enumerate()
-            .map(|(c, chunk)| {
-                let mut s = [0.0; 4];
-                for (k, v) in chunk.iter().enumerate() {
+            .map(|(c, (chunk, half))| {
+                let mut s = [0.0; 7];
+                for (k, (v, u)) in chunk.iter().zip(half).enumerate() {
                     let m = mass[c * NODE_CHUNK + k];
                     s[0] += 0.5 * m * dot(*v, *v);
-                    s[1] += m * v[0];
-                    s[2] += m * v[1];
-                    s[3] += m * v[2];
+                    for d in 0..3 {
+                        s[1 + d] += m * v[d];
+                        s[4 + d] += m * u[d];
+                    }
                 }
                 s
             })
             .collect_into_vec(&mut self.node_sums);
-        let mut s = [0.0; 4];
+        let mut s = [0.0; 7];
         for p in &self.node_sums {
-            for k in 0..4 {
+            for k in 0..7 {
                 s[k] += p[k];
             }
         }
@@ -565,7 +576,14 @@ impl<'m> Solver<'m> {
         }
         self.state.energy.kinetic = s[0];
         let g = self.body_acceleration(self.state.t);
-        Ok(dot(g, [s[1], s[2], s[3]]) * dt_mid)
+        if g == [0.0; 3] {
+            return Ok(0.0);
+        }
+        // P^(n-1/2) from P^n = (1 - w) P^(n-1/2) + w P^(n+1/2)
+        let w = self.half_step_weight();
+        let p_new = [s[4], s[5], s[6]];
+        let p_old = scale(sub([s[1], s[2], s[3]], scale(p_new, w)), 1.0 / (1.0 - w));
+        Ok(dot(g, scale(add(p_old, p_new), 0.5)) * dt_mid)
     }
 
     /// x^(n+1) = x^n + dt v^(n+1/2); rigid bodies commit their placement; t += dt.

@@ -129,6 +129,21 @@ pub struct SegmentSet {
     pub segments: Vec<[u32; 4]>,
 }
 
+/// The translations (or rotations) x, y, z that an LS-DYNA constraint code fixes:
+/// 0 none, 1 x, 2 y, 3 z, 4 x+y, 5 y+z, 6 z+x, 7 all (`*NODE` TC/RC, `*MAT_RIGID` CON1/CON2).
+pub fn dof_code(code: i32) -> [bool; 3] {
+    match code {
+        1 => [true, false, false],
+        2 => [false, true, false],
+        3 => [false, false, true],
+        4 => [true, true, false],
+        5 => [false, true, true],
+        6 => [true, false, true],
+        7 => [true, true, true],
+        _ => [false; 3],
+    }
+}
+
 /// A single-point constraint: `dof[0..3]` translations x, y, z; `dof[3..6]` rotations
 /// (carried for completeness; solid nodes have no rotational dofs).
 #[derive(Clone, Debug, PartialEq)]

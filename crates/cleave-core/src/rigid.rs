@@ -32,20 +32,6 @@ pub struct RigidBody {
     pub fix_w: [bool; 3],
 }
 
-/// Decode the LS-DYNA constraint code 0 none, 1 x, 2 y, 3 z, 4 x+y, 5 y+z, 6 z+x, 7 all.
-pub fn decode_constraint(code: i32) -> [bool; 3] {
-    match code {
-        1 => [true, false, false],
-        2 => [false, true, false],
-        3 => [false, false, true],
-        4 => [true, true, false],
-        5 => [false, true, true],
-        6 => [true, false, true],
-        7 => [true, true, true],
-        _ => [false; 3],
-    }
-}
-
 /// Sentinel for "not a rigid node".
 pub const NOT_RIGID: u32 = u32::MAX;
 
@@ -107,7 +93,7 @@ pub fn build_rigid_bodies(
             }
         }
         let (fix_v, fix_w) = if cmo == 1 {
-            (decode_constraint(con1), decode_constraint(con2))
+            (crate::model::dof_code(con1), crate::model::dof_code(con2))
         } else {
             ([false; 3], [false; 3])
         };

@@ -12,6 +12,16 @@ fn cleave(args: &[&str]) -> Output {
         .expect("cleave runs")
 }
 
+/// Asserts the exit code, showing stderr when it differs.
+fn assert_exit(out: &Output, code: i32) {
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("cleave-cli-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
@@ -124,19 +134,9 @@ fn base_deck_checks_and_runs() {
     let d = tmp("base");
     let p = write_deck(&d, BASE);
     let out = cleave(&["check", p.to_str().unwrap()]);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_exit(&out, 0);
     let out = cleave(&["run", p.to_str().unwrap(), "-q"]);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_exit(&out, 0);
 }
 
 #[test]
@@ -264,23 +264,13 @@ fn degenerate_files_exit_2_without_panic() {
     )
     .unwrap();
     let out = cleave(&["run", p.to_str().unwrap(), "-q"]);
-    assert_eq!(
-        out.status.code(),
-        Some(2),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_exit(&out, 2);
 }
 
 #[test]
 fn missing_file_and_bad_options_exit_2() {
     let out = cleave(&["run", "/nonexistent/deck.k", "-q"]);
-    assert_eq!(
-        out.status.code(),
-        Some(2),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_exit(&out, 2);
     let d = tmp("opts");
     let p = write_deck(&d, BASE);
     let out = cleave(&["run", p.to_str().unwrap(), "--end-time", "-1", "-q"]);
@@ -340,12 +330,7 @@ fn outputs_parse_with_their_headers() {
     let d = tmp("outputs");
     let p = write_deck(&d, BASE);
     let out = cleave(&["run", p.to_str().unwrap(), "-q"]);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_exit(&out, 0);
     let o = d.join("deck.out");
     let (h, rows) = csv(&o.join("glstat.csv"));
     assert_eq!(

@@ -14,20 +14,6 @@ use super::{Builder, Ids};
 use crate::deck::error::DeckError;
 use crate::deck::raw::{RawSurface, Src, Target};
 
-/// The translations (or rotations) a `*NODE` TC/RC code 0..7 constrains.
-fn code_dofs(code: i32) -> [bool; 3] {
-    match code {
-        1 => [true, false, false],
-        2 => [false, true, false],
-        3 => [false, false, true],
-        4 => [true, true, false],
-        5 => [false, true, true],
-        6 => [true, false, true],
-        7 => [true, true, true],
-        _ => [false, false, false],
-    }
-}
-
 impl Builder<'_> {
     pub fn conditions(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
         let part_nodes = part_nodes(m);
@@ -135,7 +121,10 @@ impl Builder<'_> {
         };
         for (i, n) in self.raw.nodes.iter().enumerate() {
             if n.tc != 0 || n.rc != 0 {
-                let (t, r) = (code_dofs(n.tc), code_dofs(n.rc));
+                let (t, r) = (
+                    cleave_core::model::dof_code(n.tc),
+                    cleave_core::model::dof_code(n.rc),
+                );
                 add(i as u32, [t[0], t[1], t[2], r[0], r[1], r[2]]);
             }
         }

@@ -17,6 +17,7 @@ pub mod math;
 pub mod mesh;
 pub mod model;
 pub mod rigid;
+pub mod separation;
 pub mod setup;
 pub mod solver;
 pub mod state;

@@ -4,6 +4,7 @@
 //! ```text
 //! element pass   stress update and corner forces at x^n, stable time step   (elements)
 //! assembly       f_i = sum of corner forces + body loads                     (nodes)
+//! tie            coincident sets of a split model: f_i = m_i sum f / sum m    (sets)
 //! velocities     v^(n+1/2) = v^(n-1/2) + f/m (dt^(n-1/2) + dt^(n+1/2)) / 2     (nodes)
 //! rigid bodies   F, M summed over each body; 6-dof update; nodes placed
 //! constraints    SPC, prescribed motion, rigid walls; their reactions' work
@@ -22,6 +23,7 @@ use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{Model, MotionTarget, Vad};
 use crate::rigid::NOT_RIGID;
+use crate::separation::coincident::CoincidentSets;
 use crate::setup::Setup;
 use crate::state::{Energies, RigidState, State};
 
@@ -88,6 +90,8 @@ pub struct Solver<'m> {
     finished: bool,
     /// Work of this step's impulses that falls after t^n, booked at the next step.
     pending_work: f64,
+    /// Coincident node sets of a split model (element separation), tied after assembly.
+    ties: Option<CoincidentSets>,
 }
 
 impl<'m> Solver<'m> {
@@ -145,7 +149,14 @@ impl<'m> Solver<'m> {
             node_sums: Vec::with_capacity(nn.div_ceil(NODE_CHUNK)),
             finished: false,
             pending_work: 0.0,
+            ties: None,
         })
+    }
+
+    /// Tie the coincident node sets of a split model: after assembly each set gets its mean
+    /// acceleration (the paper's equations 1-4), before constraints act.
+    pub fn set_coincident_sets(&mut self, sets: CoincidentSets) {
+        self.ties = Some(sets);
     }
 
     /// True once the state at the end time has been computed and observed.
@@ -169,6 +180,7 @@ impl<'m> Solver<'m> {
     pub fn advance_to_half_step(&mut self) -> Result<(), SolverError> {
         let (dt_crit, dt_elem) = self.compute_element_forces()?;
         self.assemble_forces();
+        self.tie_coincident_nodes();
         let dt_new = self.next_time_step(dt_crit, dt_elem)?;
         let dt_mid = 0.5 * (self.state.dt_prev + dt_new);
         self.state.dt = dt_new;
@@ -300,6 +312,13 @@ impl<'m> Solver<'m> {
             }
             *fi = acc;
         });
+    }
+
+    /// Each coincident set: f_i <- m_i sum f / sum m, so its nodes share one acceleration.
+    fn tie_coincident_nodes(&mut self) {
+        if let Some(t) = &self.ties {
+            t.average_forces(&mut self.f, &self.setup.mass);
+        }
     }
 
     /// Base acceleration of all body loads at time t.

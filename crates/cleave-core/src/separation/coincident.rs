@@ -1,0 +1,362 @@
+//! Coincident node sets: the copies of a deck node tied together by intact interfaces (and
+//! permanent bonds). Each step every set shares one acceleration (the paper's equations 1-4):
+//! F = sum f_i, M = sum m_i, f_i <- m_i F / M.
+//!
+//! Storage: all members in one array, each set a contiguous ascending range, so a set's sums
+//! run in a fixed order (deterministic). When interfaces fail, only the sets that hold their
+//! nodes are recomputed (connected components through the faces still tying them), and the
+//! pieces are written back in place: no set is rebuilt from scratch, nothing grows but the
+//! list of set ranges.
+
+use super::split::{FaceKind, SharedFace};
+use crate::math::{add, scale, Vec3};
+use crate::topology::UnionFind;
+
+const NONE: u32 = u32::MAX;
+
+/// The coincident node sets of a split model.
+#[derive(Clone, Debug)]
+pub struct CoincidentSets {
+    members: Vec<u32>,
+    /// (start, len) of each set in `members`; a set with len < 2 is dead.
+    ranges: Vec<(u32, u32)>,
+    /// Set of each node, or NONE.
+    node_set: Vec<u32>,
+    /// Node -> incident faces (CSR).
+    adj_start: Vec<u32>,
+    adj: Vec<u32>,
+    // scratch for splitting
+    label: Vec<u32>,
+    stack: Vec<u32>,
+    piece: Vec<u32>,
+}
+
+/// Whether face `f` ties its nodes: bonds always, interfaces while intact.
+#[inline]
+fn ties(faces: &[SharedFace], intact: &[bool], f: usize) -> bool {
+    faces[f].kind == FaceKind::Bond || intact[f]
+}
+
+impl CoincidentSets {
+    /// Sets of `num_nodes` nodes tied by `faces`; `intact[f]` for the interface faces
+    /// (bonds are always tied; `intact` has one entry per face).
+    pub fn build(num_nodes: usize, faces: &[SharedFace], intact: &[bool]) -> Self {
+        let mut uf = UnionFind::new(num_nodes);
+        let mut deg = vec![0u32; num_nodes + 1];
+        for (f, face) in faces.iter().enumerate() {
+            for k in 0..4 {
+                deg[face.nodes[k] as usize + 1] += 1;
+                deg[face.nodes[4 + k] as usize + 1] += 1;
+                if ties(faces, intact, f) {
+                    uf.union(face.nodes[k], face.nodes[4 + k]);
+                }
+            }
+        }
+        for i in 0..num_nodes {
+            deg[i + 1] += deg[i];
+        }
+        let adj_start = deg.clone();
+        let mut fill = deg;
+        let mut adj = vec![0u32; adj_start[num_nodes] as usize];
+        for (f, face) in faces.iter().enumerate() {
+            for &n in &face.nodes {
+                adj[fill[n as usize] as usize] = f as u32;
+                fill[n as usize] += 1;
+            }
+        }
+        // group nodes by root; roots are smallest members, so sets come out ordered by their
+        // smallest member with ascending members
+        let mut count = vec![0u32; num_nodes];
+        for i in 0..num_nodes as u32 {
+            count[uf.find(i) as usize] += 1;
+        }
+        let mut node_set = vec![NONE; num_nodes];
+        let mut ranges = Vec::new();
+        let mut members = Vec::new();
+        let mut root_set = vec![NONE; num_nodes];
+        let mut next = Vec::new();
+        for i in 0..num_nodes as u32 {
+            let r = uf.find(i) as usize;
+            if count[r] < 2 {
+                continue;
+            }
+            if root_set[r] == NONE {
+                root_set[r] = ranges.len() as u32;
+                ranges.push((members.len() as u32, count[r]));
+                members.resize(members.len() + count[r] as usize, 0);
+                next.push(0u32);
+            }
+            let s = root_set[r] as usize;
+            members[(ranges[s].0 + next[s]) as usize] = i;
+            next[s] += 1;
+            node_set[i as usize] = s as u32;
+        }
+        Self {
+            members,
+            ranges,
+            node_set,
+            adj_start,
+            adj,
+            label: vec![NONE; num_nodes],
+            stack: Vec::new(),
+            piece: Vec::new(),
+        }
+    }
+
+    /// The live sets, each as its ascending member list.
+    pub fn sets(&self) -> impl Iterator<Item = &[u32]> {
+        self.ranges
+            .iter()
+            .filter(|r| r.1 >= 2)
+            .map(|&(s, l)| &self.members[s as usize..(s + l) as usize])
+    }
+
+    /// The set holding node `n`, if any.
+    pub fn set_of(&self, n: u32) -> Option<&[u32]> {
+        let s = self.node_set[n as usize];
+        (s != NONE).then(|| {
+            let (st, l) = self.ranges[s as usize];
+            &self.members[st as usize..(st + l) as usize]
+        })
+    }
+
+    /// Re-split the sets holding the nodes of `failed` faces (whose `intact` entry is already
+    /// false) into the components still tied together.
+    pub fn split_after_failure(&mut self, faces: &[SharedFace], intact: &[bool], failed: &[usize]) {
+        for &f in failed {
+            for k in 0..8 {
+                let s = self.node_set[faces[f].nodes[k] as usize];
+                if s != NONE {
+                    self.split_set(s as usize, faces, intact);
+                }
+            }
+        }
+    }
+
+    fn split_set(&mut self, s: usize, faces: &[SharedFace], intact: &[bool]) {
+        let (start, len) = self.ranges[s];
+        let range = start as usize..(start + len) as usize;
+        // label components by a search through tying faces, seeded in ascending member order
+        for &n in &self.members[range.clone()] {
+            self.label[n as usize] = NONE;
+        }
+        let mut pieces = 0u32;
+        for idx in range.clone() {
+            let seed = self.members[idx];
+            if self.label[seed as usize] != NONE {
+                continue;
+            }
+            self.label[seed as usize] = pieces;
+            self.stack.push(seed);
+            while let Some(n) = self.stack.pop() {
+                let (a, b) = (
+                    self.adj_start[n as usize] as usize,
+                    self.adj_start[n as usize + 1] as usize,
+                );
+                for &f in &self.adj[a..b] {
+                    let f = f as usize;
+                    if !ties(faces, intact, f) {
+                        continue;
+                    }
+                    let face = &faces[f];
+                    let k = face
+                        .nodes
+                        .iter()
+                        .position(|&m| m == n)
+                        .expect("adjacent face holds the node");
+                    let partner = face.nodes[(k + 4) % 8];
+                    if self.node_set[partner as usize] == s as u32
+                        && self.label[partner as usize] == NONE
+                    {
+                        self.label[partner as usize] = pieces;
+                        self.stack.push(partner);
+                    }
+                }
+            }
+            pieces += 1;
+        }
+        if pieces == 1 {
+            return;
+        }
+        // write the pieces back contiguously, each ascending, in order of their smallest member
+        self.piece.clear();
+        for p in 0..pieces {
+            self.piece.extend(
+                self.members[range.clone()]
+                    .iter()
+                    .copied()
+                    .filter(|&n| self.label[n as usize] == p),
+            );
+        }
+        self.members[range].copy_from_slice(&self.piece);
+        let mut at = start;
+        for p in 0..pieces {
+            let size = self
+                .piece
+                .iter()
+                .filter(|&&n| self.label[n as usize] == p)
+                .count() as u32;
+            let id = if p == 0 {
+                s as u32
+            } else {
+                self.ranges.len() as u32
+            };
+            if p == 0 {
+                self.ranges[s] = (at, size);
+            } else {
+                self.ranges.push((at, size));
+            }
+            for &n in &self.members[at as usize..(at + size) as usize] {
+                self.node_set[n as usize] = if size >= 2 { id } else { NONE };
+            }
+            at += size;
+        }
+    }
+
+    /// Give every set its mean acceleration: f_i <- m_i (sum f) / (sum m), sums in ascending
+    /// member order. Massless sets are left alone.
+    pub fn average_forces(&self, f: &mut [Vec3], mass: &[f64]) {
+        for set in self.sets() {
+            let mut ft = [0.0; 3];
+            let mut mt = 0.0;
+            for &n in set {
+                ft = add(ft, f[n as usize]);
+                mt += mass[n as usize];
+            }
+            if mt <= 0.0 {
+                continue;
+            }
+            let a = scale(ft, 1.0 / mt);
+            for &n in set {
+                f[n as usize] = scale(a, mass[n as usize]);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::box_model;
+    use crate::model::{Material, MaterialKind, SeparationDef};
+    use crate::separation::split::split_model;
+
+    fn split_block() -> crate::separation::split::SplitModel {
+        let mat = Material {
+            id: 1,
+            density: 1000.0,
+            young: 1e9,
+            poisson: 0.25,
+            kind: MaterialKind::Elastic,
+        };
+        let mut m = box_model([2, 2, 2], [2.0, 2.0, 2.0], mat, 1.0);
+        m.separations.push(SeparationDef {
+            material: 0,
+            model: 1,
+            sigmax: 1e6,
+            beta: 1.0,
+            gc: 0.0,
+            bond: 1,
+        });
+        split_model(&m)
+    }
+
+    /// Partition of all nodes into sets, computed from scratch (independent of the splitting).
+    fn partition(s: &CoincidentSets) -> Vec<Vec<u32>> {
+        let mut v: Vec<Vec<u32>> = s.sets().map(|x| x.to_vec()).collect();
+        v.sort();
+        v
+    }
+
+    /// The 2x2x2 block: 12 edge-midpoint sets of 2, 6 face-centre sets of 4, the centre set of 8.
+    #[test]
+    fn intact_block_sets() {
+        let sm = split_block();
+        let intact = vec![true; sm.faces.len()];
+        let cs = CoincidentSets::build(sm.model.num_nodes(), &sm.faces, &intact);
+        let mut sizes: Vec<usize> = cs.sets().map(|s| s.len()).collect();
+        sizes.sort();
+        assert_eq!(sizes, [vec![2; 12], vec![4; 6], vec![8]].concat());
+        for set in cs.sets() {
+            let x = sm.model.x0[set[0] as usize];
+            assert!(
+                set.iter().all(|&n| sm.model.x0[n as usize] == x),
+                "members coincide"
+            );
+            assert!(set.windows(2).all(|w| w[0] < w[1]), "members ascending");
+        }
+    }
+
+    /// The node shared by 8 elements at the block's centre: fail the 12 interfaces one by one
+    /// (in a scrambled order); after each failure the incrementally split sets equal the sets
+    /// built from scratch from the faces still intact, and the centre's copies are partitioned
+    /// exactly as the remaining faces connect them.
+    #[test]
+    fn sets_split_exactly_as_the_intact_faces_say() {
+        let sm = split_block();
+        let n = sm.model.num_nodes();
+        let mut intact = vec![true; sm.faces.len()];
+        let mut cs = CoincidentSets::build(n, &sm.faces, &intact);
+        let centre: Vec<u32> = (0..n as u32)
+            .filter(|&i| sm.model.x0[i as usize] == [1.0, 1.0, 1.0])
+            .collect();
+        assert_eq!(centre.len(), 8);
+        let order = [5usize, 0, 11, 3, 8, 1, 10, 6, 2, 9, 4, 7];
+        for (step, &f) in order.iter().enumerate() {
+            intact[f] = false;
+            cs.split_after_failure(&sm.faces, &intact, &[f]);
+            let fresh = CoincidentSets::build(n, &sm.faces, &intact);
+            assert_eq!(
+                partition(&cs),
+                partition(&fresh),
+                "after {} failures",
+                step + 1
+            );
+            // centre copies: components of the graph whose edges are intact faces' centre pairs
+            let mut uf = UnionFind::new(n);
+            for (g, face) in sm.faces.iter().enumerate() {
+                if intact[g] {
+                    for k in 0..4 {
+                        uf.union(face.nodes[k], face.nodes[4 + k]);
+                    }
+                }
+            }
+            for &a in &centre {
+                for &b in &centre {
+                    let together = cs.set_of(a).is_some_and(|s| s.contains(&b));
+                    assert_eq!(
+                        together || a == b,
+                        uf.find(a) == uf.find(b),
+                        "nodes {a} {b} after {} failures",
+                        step + 1
+                    );
+                }
+            }
+        }
+        assert_eq!(cs.sets().count(), 0, "all faces failed: every node is free");
+    }
+
+    /// Averaging gives every member the set's acceleration and conserves the total force.
+    #[test]
+    fn averaging_conserves_force() {
+        let sm = split_block();
+        let intact = vec![true; sm.faces.len()];
+        let cs = CoincidentSets::build(sm.model.num_nodes(), &sm.faces, &intact);
+        let n = sm.model.num_nodes();
+        let mass: Vec<f64> = (0..n).map(|i| 1.0 + (i % 3) as f64).collect();
+        let mut f: Vec<Vec3> = (0..n).map(|i| [i as f64, -(i as f64) * 0.5, 1.0]).collect();
+        let before: Vec3 = f.iter().fold([0.0; 3], |a, b| add(a, *b));
+        cs.average_forces(&mut f, &mass);
+        let after: Vec3 = f.iter().fold([0.0; 3], |a, b| add(a, *b));
+        for d in 0..3 {
+            assert!((before[d] - after[d]).abs() < 1e-9 * before[d].abs().max(1.0));
+        }
+        for set in cs.sets() {
+            let a0 = scale(f[set[0] as usize], 1.0 / mass[set[0] as usize]);
+            for &m in set {
+                let a = scale(f[m as usize], 1.0 / mass[m as usize]);
+                assert!((0..3).all(|d| (a[d] - a0[d]).abs() < 1e-12 * a0[d].abs().max(1.0)));
+            }
+        }
+    }
+}

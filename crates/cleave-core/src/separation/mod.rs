@@ -1,0 +1,10 @@
+//! Element separation without remeshing (Gerken, Bennett and Smith 2003, section 3).
+//!
+//! - [`split`]: preprocessing, once: every element of a separation group gets 8 nodes of its
+//!   own; the interface table lists every face shared by two elements where at least one is in
+//!   a group (the paper's 2 x N element and 8 x N node arrays), with its reference area.
+//! - [`coincident`]: the coincident node sets tied by intact interfaces, which share one
+//!   acceleration a = sum f / sum m; a set splits only where an interface fails.
+
+pub mod coincident;
+pub mod split;

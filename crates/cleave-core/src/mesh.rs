@@ -51,20 +51,26 @@ use crate::model::{Control, Material, Model, Part, Section};
 /// A one-part model of a structured box (deck ids = index + 1), with the given material and
 /// end time and every other setting at its default. Tests, benches and examples start here.
 pub fn box_model(n: [usize; 3], l: [f64; 3], material: Material, end_time: f64) -> Model {
-    let m = BoxMesh::new(n, l);
-    let nn = m.x.len();
-    let ne = m.conn.len();
+    let mut m = single_part_model(BoxMesh::new(n, l), material, end_time);
+    m.title = format!("box {}x{}x{}", n[0], n[1], n[2]);
+    m
+}
+
+/// A one-part model of any hexahedral mesh (deck ids = index + 1), at rest, every other
+/// setting at its default.
+pub fn single_part_model(mesh: BoxMesh, material: Material, end_time: f64) -> Model {
+    let nn = mesh.x.len();
+    let ne = mesh.conn.len();
     Model {
-        title: format!("box {}x{}x{}", n[0], n[1], n[2]),
         node_ids: (1..=nn as i64).collect(),
         v0: vec![[0.0; 3]; nn],
-        x0: m.x,
+        x0: mesh.x,
         elem_ids: (1..=ne as i64).collect(),
         elem_part: vec![0; ne],
-        conn: m.conn,
+        conn: mesh.conn,
         parts: vec![Part {
             id: 1,
-            title: "box".into(),
+            title: "part 1".into(),
             section: 0,
             material: 0,
         }],

@@ -6,11 +6,8 @@
 
 use std::path::PathBuf;
 
-use cleave_core::curve::Curve;
-use cleave_core::mesh::{extrude, ogrid_disc};
-use cleave_core::model::{
-    Control, Material, MaterialKind, Model, OutputRequests, Part, RigidWall, Section,
-};
+use cleave_core::mesh::{extrude, ogrid_disc, single_part_model};
+use cleave_core::model::{Material, MaterialKind, Model, OutputRequests, RigidWall};
 
 use crate::cli::ExampleArgs;
 use crate::failure::Failure;
@@ -71,8 +68,6 @@ pub fn taylor_bar() -> Model {
     let (r, l) = (3.2e-3, 32.4e-3);
     let (pts, quads) = ogrid_disc(r, 6, 3);
     let mesh = extrude(&pts, &quads, l, 40);
-    let nn = mesh.x.len();
-    let ne = mesh.conn.len();
     let copper = Material {
         id: 1,
         density: 8930.0,
@@ -107,44 +102,26 @@ pub fn taylor_bar() -> Model {
             })
         })
         .unwrap_or(0) as u32;
-    Model {
-        title: "Taylor bar: copper cylinder R 3.2 mm L 32.4 mm at 227 m/s onto a rigid wall".into(),
-        node_ids: (1..=nn as i64).collect(),
-        v0: vec![[0.0, 0.0, -227.0]; nn],
-        x0: mesh.x,
-        elem_ids: (1..=ne as i64).collect(),
-        elem_part: vec![0; ne],
-        conn: mesh.conn,
-        parts: vec![Part {
-            id: 1,
-            title: "copper bar".into(),
-            section: 0,
-            material: 0,
-        }],
-        sections: vec![Section { id: 1, elform: 1 }],
-        materials: vec![copper],
-        curves: Vec::<Curve>::new(),
-        rigid_walls: vec![RigidWall {
-            id: 1,
-            nodes: None,
-            tail: [0.0; 3],
-            head: [0.0, 0.0, 1.0],
-            fric: 0.0,
-        }],
-        control: Control {
-            end_time: 80e-6,
-            ..Control::default()
-        },
-        output: OutputRequests {
-            glstat_dt: 0.5e-6,
-            nodout_dt: 0.5e-6,
-            elout_dt: 0.5e-6,
-            rwforc_dt: 0.5e-6,
-            rcforc_dt: 0.0,
-            d3plot_dt: 4e-6,
-            history_nodes: vec![top_centre, foot_edge],
-            history_solids: vec![foot_centre_elem],
-        },
-        ..Model::default()
-    }
+    let mut m = single_part_model(mesh, copper, 80e-6);
+    m.title = "Taylor bar: copper cylinder R 3.2 mm L 32.4 mm at 227 m/s onto a rigid wall".into();
+    m.parts[0].title = "copper bar".into();
+    m.v0.iter_mut().for_each(|v| *v = [0.0, 0.0, -227.0]);
+    m.rigid_walls = vec![RigidWall {
+        id: 1,
+        nodes: None,
+        tail: [0.0; 3],
+        head: [0.0, 0.0, 1.0],
+        fric: 0.0,
+    }];
+    m.output = OutputRequests {
+        glstat_dt: 0.5e-6,
+        nodout_dt: 0.5e-6,
+        elout_dt: 0.5e-6,
+        rwforc_dt: 0.5e-6,
+        rcforc_dt: 0.0,
+        d3plot_dt: 4e-6,
+        history_nodes: vec![top_centre, foot_edge],
+        history_solids: vec![foot_centre_elem],
+    };
+    m
 }

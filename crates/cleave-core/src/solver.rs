@@ -22,7 +22,6 @@ use crate::element::kernel::{hex8_step, KernelControls};
 use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{Model, MotionTarget, Vad};
-use crate::rigid::NOT_RIGID;
 use crate::separation::coincident::CoincidentSets;
 use crate::setup::Setup;
 use crate::state::{Energies, RigidState, State};
@@ -631,10 +630,5 @@ impl<'m> Solver<'m> {
             p = add(p, scale(*v, *m));
         }
         p
-    }
-
-    /// Whether node i is driven by a rigid body.
-    pub fn is_rigid_node(&self, i: usize) -> bool {
-        self.setup.node_rigid[i] != NOT_RIGID
     }
 }

@@ -25,32 +25,11 @@ pub struct Box2 {
 
 impl Box2 {
     pub fn new() -> Self {
-        let id = |i: u32, j: u32, k: u32| i + 3 * j + 9 * k;
-        let mut points = Vec::new();
-        for k in 0..3 {
-            for j in 0..3 {
-                for i in 0..3 {
-                    points.push([f64::from(i), f64::from(j), f64::from(k)]);
-                }
-            }
-        }
-        let mut hexes = Vec::new();
-        for k in 0..2 {
-            for j in 0..2 {
-                for i in 0..2 {
-                    hexes.push([
-                        id(i, j, k),
-                        id(i + 1, j, k),
-                        id(i + 1, j + 1, k),
-                        id(i, j + 1, k),
-                        id(i, j, k + 1),
-                        id(i + 1, j, k + 1),
-                        id(i + 1, j + 1, k + 1),
-                        id(i, j + 1, k + 1),
-                    ]);
-                }
-            }
-        }
+        // x fastest, then y, then z: the numbering of cleave_core's structured box
+        let cleave_core::mesh::BoxMesh {
+            x: points,
+            conn: hexes,
+        } = cleave_core::mesh::BoxMesh::new([2, 2, 2], [2.0, 2.0, 2.0]);
         let displacement = points
             .iter()
             .map(|p| [0.1 * p[0], -1e-7 * p[1], 1.0 / 3.0 + p[2]])

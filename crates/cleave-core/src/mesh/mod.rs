@@ -1,9 +1,22 @@
-//! Structured mesh generators for tests, benchmarks and examples.
+//! Structured mesh generators for tests, benchmarks and examples: boxes ([`BoxMesh`]),
+//! O-grid discs extruded into cylinders ([`ogrid_disc`], [`extrude`]), O-grid spheres
+//! ([`ogrid_sphere`]), models built from them ([`single_part_model`], [`box_model`],
+//! [`Assembly`] for several parts), and shape measures ([`quality`]).
+
+mod assembly;
+mod quality;
+mod sphere;
+
+pub use assembly::Assembly;
+pub use quality::{quality, MeshQuality};
+pub use sphere::ogrid_sphere;
 
 use crate::math::Vec3;
 
 /// A structured block of nx x ny x nz hexahedra spanning [0,lx] x [0,ly] x [0,lz].
-/// Nodes are numbered x fastest, then y, then z; elements likewise.
+/// Nodes are numbered x fastest, then y, then z; elements likewise. The other generators
+/// return the same type: points and LS-DYNA-ordered hexahedra.
+#[derive(Clone, Debug, Default)]
 pub struct BoxMesh {
     pub x: Vec<Vec3>,
     pub conn: Vec<[u32; 8]>,
@@ -11,16 +24,20 @@ pub struct BoxMesh {
 
 impl BoxMesh {
     pub fn new(n: [usize; 3], l: [f64; 3]) -> Self {
-        let [nx, ny, nz] = n;
-        let mut x = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
-        for k in 0..=nz {
-            for j in 0..=ny {
-                for i in 0..=nx {
-                    x.push([
-                        l[0] * i as f64 / nx as f64,
-                        l[1] * j as f64 / ny as f64,
-                        l[2] * k as f64 / nz as f64,
-                    ]);
+        let along =
+            |k: usize| -> Vec<f64> { (0..=n[k]).map(|i| l[k] * i as f64 / n[k] as f64).collect() };
+        Self::from_coords(&along(0), &along(1), &along(2))
+    }
+
+    /// The structured block whose node planes are at the given coordinates (each list
+    /// strictly increasing, at least two values), numbered as [`BoxMesh::new`].
+    pub fn from_coords(xs: &[f64], ys: &[f64], zs: &[f64]) -> Self {
+        let (nx, ny, nz) = (xs.len() - 1, ys.len() - 1, zs.len() - 1);
+        let mut x = Vec::with_capacity(xs.len() * ys.len() * zs.len());
+        for &z in zs {
+            for &y in ys {
+                for &xv in xs {
+                    x.push([xv, y, z]);
                 }
             }
         }
@@ -43,6 +60,13 @@ impl BoxMesh {
             }
         }
         Self { x, conn }
+    }
+
+    /// Moves every node by `d`.
+    pub fn translate(&mut self, d: Vec3) {
+        for p in &mut self.x {
+            *p = [p[0] + d[0], p[1] + d[1], p[2] + d[2]];
+        }
     }
 }
 

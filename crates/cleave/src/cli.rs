@@ -67,9 +67,14 @@ pub struct ExampleArgs {
     /// Override the end time.
     #[arg(long = "end-time")]
     pub end_time: Option<f64>,
-    /// Mesh size, where the example has several.
+    /// Mesh size, where the example has several (ball-impact: 256, 425, 648, 2800, 8775 or
+    /// 20000 elements in the ball).
     #[arg(long)]
     pub elements: Option<usize>,
+    /// Separation model of the crack path (three-point-bend: 1, the paper's normal-stress
+    /// criterion, or 3, a cohesive law).
+    #[arg(long)]
+    pub model: Option<i32>,
     /// Write the deck without its separation card.
     #[arg(long = "no-separation")]
     pub no_separation: bool,

@@ -1,66 +1,7 @@
-//! `cleave example NAME`: write a ready deck for a bundled example.
-//!
-//! | name | what |
-//! |---|---|
-//! | `taylor-bar` | the classic copper Taylor impact test (LS-DYNA/NAFEMS benchmark): a cylinder of radius 3.2 mm and length 32.4 mm at 227 m/s onto a rigid wall, bilinear plasticity (E 117 GPa, nu 0.35, rho 8930 kg/m^3, SIGY 400 MPa, ETAN 100 MPa), 80 us. Published results: final length about 21.4-21.7 mm, foot radius about 7.0-7.1 mm. |
-
-use std::path::PathBuf;
+//! The copper Taylor bar (see the module table in [`super`]).
 
 use cleave_core::mesh::{extrude, ogrid_disc, single_part_model};
 use cleave_core::model::{Material, MaterialKind, Model, OutputRequests, RigidWall};
-
-use crate::cli::ExampleArgs;
-use crate::failure::Failure;
-
-/// The bundled examples: name and one-line description.
-pub const EXAMPLES: &[(&str, &str)] = &[(
-    "taylor-bar",
-    "copper Taylor bar, 227 m/s onto a rigid wall, bilinear plasticity (4320 elements, 80 us)",
-)];
-
-pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
-    let Some(name) = a.name.as_deref().filter(|_| !a.list) else {
-        for (n, d) in EXAMPLES {
-            println!("{n:<14} {d}");
-        }
-        return Ok(());
-    };
-    let mut model = match name {
-        "taylor-bar" => taylor_bar(),
-        other => {
-            let names: Vec<&str> = EXAMPLES.iter().map(|e| e.0).collect();
-            return Err(Failure::Input(format!(
-                "unknown example '{other}'; available: {}",
-                names.join(", ")
-            )));
-        }
-    };
-    if let Some(t) = a.end_time {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(Failure::Input(format!(
-                "--end-time {t}: must be a positive number"
-            )));
-        }
-        model.control.end_time = t;
-    }
-    if a.no_separation {
-        model.separations.clear();
-    }
-    let path = a
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{name}.k")));
-    std::fs::write(&path, cleave_io::deck::write_deck(&model))
-        .map_err(|e| crate::failure::io_failure("cannot write", &path, e))?;
-    println!(
-        "wrote {} ({} elements, {} nodes); run it with: cleave run {}",
-        path.display(),
-        model.num_elements(),
-        model.num_nodes(),
-        path.display()
-    );
-    Ok(())
-}
 
 /// The Taylor bar: an O-grid cylinder (n = 6, m = 3: 108 elements per layer, 40 layers) along
 /// z from 0 to L, moving at -227 m/s, with a stonewall at z = 0.

@@ -1,0 +1,146 @@
+//! The paper's section 4.1: a ceramic ball fragmenting on a rigid plate.
+//!
+//! - Ball: diameter 10 mm, centred at the origin, an O-grid hexahedral sphere
+//!   ([`ogrid_sphere`]) of one of the paper's six sizes (Table II: 256, 425, 648, 2800, 8775,
+//!   20000 elements with 321, 520, 779, 3137, 9504, 21271 nodes).
+//! - Alumina (Table I): `*MAT_ELASTIC` E 366 GPa, rho 3960 kg/m^3, nu 0.22, with
+//!   `*MAT_ADD_SEPARATION` MODEL 1 SIGMAX 310 MPa (the tensile strength): an interface fails
+//!   when the normal stress across it reaches 310 MPa.
+//! - Initial velocity (0, -75, +50) m/s: 75 m/s towards the plate (-y), 50 m/s along it (+z).
+//! - Plate: 0.02 x 0.02 x 0.01 m (x, z, and y its thickness) of 5 x 1 x 5 = 25 bricks,
+//!   centred under the ball, its top face 0.1 mm below the ball's lowest node (contact after
+//!   1.3 us);
+//!   `*MAT_RIGID` with steel's E 200 GPa, nu 0.3, rho 7850 kg/m^3 (so the contact stiffness
+//!   is steel's), fully constrained (CMO 1, CON1 7, CON2 7).
+//! - `*CONTACT_AUTOMATIC_SINGLE_SURFACE` over all parts, FS 0.5, FD 0.1 (so every surface,
+//!   the fragments' new ones included, is in contact).
+//! - 10 ms; glstat, history and contact force every min(1 us, T/200) (a Hertz estimate of the
+//!   contact gives about 7 us, so 1 us resolves it), 50 ParaView states; history nodes at
+//!   the ball's bottom and top, history solids at the bottom and the centre.
+
+use cleave_core::mesh::BoxMesh;
+use cleave_core::mesh::{ogrid_sphere, Assembly};
+use cleave_core::model::{
+    ContactDef, ContactSurface, Material, MaterialKind, Model, OutputRequests, SeparationDef,
+};
+
+/// The paper's meshes: (elements, nodes, n, m) of [`ogrid_sphere`].
+pub const BALL_SIZES: [(usize, usize, usize, usize); 6] = [
+    (256, 321, 4, 2),
+    (425, 520, 5, 2),
+    (648, 779, 6, 2),
+    (2800, 3137, 10, 3),
+    (8775, 9504, 15, 4),
+    (20000, 21271, 20, 5),
+];
+pub const DEFAULT_ELEMENTS: usize = 2800;
+/// The paper's simulated time.
+pub const END_TIME: f64 = 10e-3;
+/// Ball radius (m).
+pub const RADIUS: f64 = 0.005;
+/// Gap between the ball and the plate (m).
+pub const GAP: f64 = 1e-4;
+
+/// The ball-impact model with a ball of `elements` elements (one of [`BALL_SIZES`]) and the
+/// end time `end_time`; an error message for any other size.
+pub fn ball_impact(elements: usize, end_time: f64) -> Result<Model, String> {
+    let Some(&(_, _, n, m)) = BALL_SIZES.iter().find(|s| s.0 == elements) else {
+        let allowed: Vec<String> = BALL_SIZES.iter().map(|s| s.0.to_string()).collect();
+        return Err(format!(
+            "--elements {elements}: ball-impact has meshes of {} elements only",
+            allowed.join(", ")
+        ));
+    };
+    let mut a = Assembly::new(
+        &format!(
+            "Ball impact: alumina D 10 mm, {elements} elements, v (0,-75,50) m/s, rigid plate"
+        ),
+        end_time,
+    );
+    let alumina = a.material(Material {
+        id: 0,
+        density: 3960.0,
+        young: 366e9,
+        poisson: 0.22,
+        kind: MaterialKind::Elastic,
+    });
+    let steel = a.material(Material {
+        id: 0,
+        density: 7850.0,
+        young: 200e9,
+        poisson: 0.3,
+        kind: MaterialKind::Rigid {
+            cmo: 1,
+            con1: 7,
+            con2: 7,
+        },
+    });
+    let ball_part = a.part("alumina ball", alumina);
+    let plate_part = a.part("rigid steel plate", steel);
+
+    let ball = ogrid_sphere(RADIUS, n, m);
+    // the lowest node: the south pole for even n, a little higher for odd n
+    let bottom = ball.x.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
+    let (ball_nodes, ball_elems) = a.mesh(ball, |_| ball_part);
+    let mut plate = BoxMesh::new([5, 1, 5], [0.02, 0.01, 0.02]);
+    plate.translate([-0.01, bottom - GAP - 0.01, -0.01]);
+    a.mesh(plate, |_| plate_part);
+
+    let mut model = a.finish();
+    for i in ball_nodes.clone() {
+        model.v0[i as usize] = [0.0, -75.0, 50.0];
+    }
+    model.separations = vec![SeparationDef {
+        material: alumina,
+        model: 1,
+        sigmax: 310e6,
+        beta: 1.0,
+        gc: 0.0,
+        bond: 1,
+    }];
+    model.contacts = vec![ContactDef {
+        id: 1,
+        single_surface: true,
+        slave: ContactSurface::All,
+        master: None,
+        fs: 0.5,
+        fd: 0.1,
+        dc: 0.0,
+    }];
+
+    // history: the ball's lowest and highest node (ties: the first), the element with the
+    // lowest centroid and the one nearest the centre
+    let x = &model.x0;
+    let extreme = |sign: f64| {
+        ball_nodes
+            .clone()
+            .min_by(|&p, &q| (sign * x[p as usize][1]).total_cmp(&(sign * x[q as usize][1])))
+            .unwrap_or(0)
+    };
+    let (bottom, top) = (extreme(1.0), extreme(-1.0));
+    let centroid = |e: u32| -> [f64; 3] {
+        let c = &model.conn[e as usize];
+        std::array::from_fn(|d| c.iter().map(|&i| x[i as usize][d]).sum::<f64>() / 8.0)
+    };
+    let lowest = ball_elems
+        .clone()
+        .min_by(|&p, &q| centroid(p)[1].total_cmp(&centroid(q)[1]))
+        .unwrap_or(0);
+    let r2 = |c: [f64; 3]| c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    let centre = ball_elems
+        .clone()
+        .min_by(|&p, &q| r2(centroid(p)).total_cmp(&r2(centroid(q))))
+        .unwrap_or(0);
+    let dt = (end_time / 200.0).min(1e-6);
+    model.output = OutputRequests {
+        glstat_dt: dt,
+        nodout_dt: dt,
+        elout_dt: dt,
+        rwforc_dt: 0.0,
+        rcforc_dt: dt,
+        d3plot_dt: end_time / 50.0,
+        history_nodes: vec![bottom, top],
+        history_solids: vec![lowest, centre],
+    };
+    Ok(model)
+}

@@ -2,7 +2,7 @@
 //! per-material kernel parameters, rigid bodies and the constraint lists.
 
 use crate::element::hex8;
-use crate::material::SolidParams;
+use crate::material::{free_element_speed, SolidParams};
 use crate::math::Vec3;
 use crate::model::{Model, MotionTarget, PrescribedMotion};
 use crate::rigid::{build_rigid_bodies, RigidBody, NOT_RIGID};
@@ -20,6 +20,9 @@ pub struct Setup {
     pub corners: Vec<u32>,
     /// Kernel parameters per material (None: rigid).
     pub params: Vec<Option<SolidParams>>,
+    /// The same with the free-element step speed, for elements of a split mesh that have lost
+    /// a neighbour ([`free_element_speed`]).
+    pub loose_params: Vec<Option<SolidParams>>,
     /// Material index of each element.
     pub elem_mat: Vec<u32>,
     pub rigid: Vec<RigidBody>,
@@ -84,6 +87,16 @@ impl Setup {
             .materials
             .iter()
             .map(SolidParams::from_material)
+            .collect();
+        let loose_params = model
+            .materials
+            .iter()
+            .map(|m| {
+                SolidParams::from_material(m).map(|p| SolidParams {
+                    step_speed: free_element_speed(m),
+                    ..p
+                })
+            })
             .collect();
         let elem_mat: Vec<u32> = (0..ne)
             .map(|e| model.parts[model.elem_part[e] as usize].material as u32)
@@ -159,6 +172,7 @@ impl Setup {
             corner_start,
             corners,
             params,
+            loose_params,
             elem_mat,
             rigid,
             node_rigid,
@@ -182,7 +196,7 @@ pub fn estimate_time_step(model: &Model) -> Option<(f64, usize)> {
         let xe: [Vec3; 8] = std::array::from_fn(|a| model.x0[conn[a] as usize]);
         let vol = hex8::volume(&xe);
         let lc = vol / hex8::max_face_area(&xe);
-        let dt = model.control.tssfac * lc / p.wave_speed;
+        let dt = model.control.tssfac * lc / p.step_speed;
         if best.is_none_or(|(b, _)| dt < b) {
             best = Some((dt, e));
         }

@@ -3,7 +3,9 @@
 //!
 //! ```text
 //! element pass   stress update and corner forces at x^n, stable time step   (elements)
+//! interfaces     failure check of intact interfaces on the new stresses; release  (faces)
 //! assembly       f_i = sum of corner forces + body loads                     (nodes)
+//! cohesive       softening interfaces' tractions on their 8 nodes            (faces)
 //! tie            coincident sets of a split model: f_i = m_i sum f / sum m    (sets)
 //! velocities     v^(n+1/2) = v^(n-1/2) + f/m (dt^(n-1/2) + dt^(n+1/2)) / 2     (nodes)
 //! rigid bodies   F, M summed over each body; 6-dof update; nodes placed
@@ -22,7 +24,7 @@ use crate::element::kernel::{hex8_step, KernelControls};
 use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{Model, MotionTarget, Vad};
-use crate::separation::coincident::CoincidentSets;
+use crate::separation::interfaces::Separation;
 use crate::setup::Setup;
 use crate::state::{Energies, RigidState, State};
 
@@ -37,6 +39,20 @@ pub struct WallForce {
     /// Force along the wall normal (positive pushes the nodes away from the wall).
     pub normal: f64,
     pub force: Vec3,
+}
+
+/// Work of this step's impulses on the model: the part up to t^n and the part after it.
+#[derive(Clone, Copy, Debug, Default)]
+struct Work {
+    now: f64,
+    later: f64,
+}
+
+impl std::ops::AddAssign for Work {
+    fn add_assign(&mut self, o: Work) {
+        self.now += o.now;
+        self.later += o.later;
+    }
 }
 
 /// Partial results of one chunk of the element pass.
@@ -85,12 +101,12 @@ pub struct Solver<'m> {
     corner_f: Vec<[Vec3; 8]>,
     f: Vec<Vec3>,
     chunk_sums: Vec<ElemChunkSum>,
-    node_sums: Vec<[f64; 7]>,
+    node_sums: Vec<[f64; 4]>,
     finished: bool,
     /// Work of this step's impulses that falls after t^n, booked at the next step.
     pending_work: f64,
-    /// Coincident node sets of a split model (element separation), tied after assembly.
-    ties: Option<CoincidentSets>,
+    /// Interfaces and coincident node sets of a split model (element separation).
+    separation: Option<Separation>,
 }
 
 impl<'m> Solver<'m> {
@@ -148,14 +164,20 @@ impl<'m> Solver<'m> {
             node_sums: Vec::with_capacity(nn.div_ceil(NODE_CHUNK)),
             finished: false,
             pending_work: 0.0,
-            ties: None,
+            separation: None,
         })
     }
 
-    /// Tie the coincident node sets of a split model: after assembly each set gets its mean
-    /// acceleration (the paper's equations 1-4), before constraints act.
-    pub fn set_coincident_sets(&mut self, sets: CoincidentSets) {
-        self.ties = Some(sets);
+    /// Run a split model with its interfaces: each step the intact ones are checked for
+    /// failure, and after assembly each coincident set gets its mean acceleration (the paper's
+    /// equations 1-4), before constraints act.
+    pub fn attach_separation(&mut self, separation: Separation) {
+        self.separation = Some(separation);
+    }
+
+    /// The interfaces of a split model, if any.
+    pub fn separation(&self) -> Option<&Separation> {
+        self.separation.as_ref()
     }
 
     /// True once the state at the end time has been computed and observed.
@@ -178,29 +200,26 @@ impl<'m> Solver<'m> {
     /// The first part of a step: forces at t^n, the new time step, v^(n+1/2), energies at t^n.
     pub fn advance_to_half_step(&mut self) -> Result<(), SolverError> {
         let (dt_crit, dt_elem) = self.compute_element_forces()?;
+        self.check_interfaces();
         self.assemble_forces();
+        self.add_cohesive_forces();
         self.tie_coincident_nodes();
         let dt_new = self.next_time_step(dt_crit, dt_elem)?;
         let dt_mid = 0.5 * (self.state.dt_prev + dt_new);
         self.state.dt = dt_new;
         self.update_velocities(dt_mid);
-        let booked = self.state.energy.external_work;
-        self.update_rigid_bodies(dt_mid, dt_new);
-        let mut work = self.apply_constraints(dt_mid, dt_new);
+        let mut work = self.update_rigid_bodies(dt_mid, dt_new);
+        work += self.apply_constraints(dt_new);
         work += self.apply_rigid_walls(dt_mid, dt_new);
-        work += self.record_kinetic_energy(dt_mid)?;
-        // The impulses of this step act over [t^(n-1/2), t^(n+1/2)] and their work (impulse .
-        // v^n, or body force . v^n dt_mid) covers that whole interval, but the ledger is at
-        // t^n: book the part up to t^n now (fraction dt^(n-1/2) / (dt^(n-1/2) + dt^(n+1/2)))
-        // and carry the rest into the next step. Booking it all at t^n put the external work
-        // half a step ahead of the kinetic and internal energies: an energy-ratio error of about
-        // dt/(2t) for a steady driver, 5% after 25 steps of a ramped pull (verification tests).
-        let step_work = self.state.energy.external_work - booked + work;
-        let w = self.half_step_weight();
-        self.state.energy.external_work = booked + self.pending_work + w * step_work;
-        self.pending_work = (1.0 - w) * step_work;
+        let body_work = self.record_kinetic_energy()?;
+        // NOTE: an impulse J of this step changes v^(n+1/2), which the kinetic energy at t^n
+        // (1/2 m v^(n-1/2).v^(n+1/2)) and at t^(n+1) both contain: its work is booked as
+        // 1/2 J.v^(n-1/2) now and 1/2 J.v^(n+1/2) at the next step.
+        self.state.energy.external_work += self.pending_work + work.now + body_work;
+        self.pending_work = work.later;
         if self.state.step == 0 {
-            self.state.initial_energy = self.state.energy.total();
+            // E0 + W = the total at t = 0 (W holds the first half of the first impulses)
+            self.state.initial_energy = self.state.energy.total() - self.state.energy.external_work;
         }
         Ok(())
     }
@@ -222,6 +241,7 @@ impl<'m> Solver<'m> {
         let dt_prev = state.dt_prev;
         let ctl = *ctl;
         let conn = &model.conn;
+        let loose = self.separation.as_ref().map(|s| s.loose_elements());
         let process = |c: usize,
                        fc: &mut [[Vec3; 8]],
                        sc: &mut [crate::math::Sym3],
@@ -233,7 +253,11 @@ impl<'m> Solver<'m> {
             let mut acc = ElemChunkSum::default();
             for k in 0..fc.len() {
                 let e = e0 + k;
-                let Some(p) = &setup.params[setup.elem_mat[e] as usize] else {
+                let params = match loose {
+                    Some(l) if l[e] => &setup.loose_params,
+                    _ => &setup.params,
+                };
+                let Some(p) = &params[setup.elem_mat[e] as usize] else {
                     fc[k] = [[0.0; 3]; 8];
                     continue;
                 };
@@ -313,10 +337,25 @@ impl<'m> Solver<'m> {
         });
     }
 
+    /// Check every intact interface on the stresses at t^n; release the failed ones.
+    fn check_interfaces(&mut self) {
+        if let Some(sep) = &mut self.separation {
+            let s = &self.state;
+            sep.check_failure(s.t, &s.x, &s.v, &s.stress, &s.hist);
+        }
+    }
+
+    /// Cohesive tractions of softening interfaces; their work goes to the fracture energy.
+    fn add_cohesive_forces(&mut self) {
+        if let Some(sep) = &mut self.separation {
+            self.state.energy.fracture += sep.add_cohesive_forces(&self.state.x, &mut self.f);
+        }
+    }
+
     /// Each coincident set: f_i <- m_i sum f / sum m, so its nodes share one acceleration.
     fn tie_coincident_nodes(&mut self) {
-        if let Some(t) = &self.ties {
-            t.average_forces(&mut self.f, &self.setup.mass);
+        if let Some(sep) = &self.separation {
+            sep.tie(&mut self.f, &self.setup.mass);
         }
     }
 
@@ -390,10 +429,15 @@ impl<'m> Solver<'m> {
             });
     }
 
-    /// Weight of v^(n+1/2) in v^n = (1 - w) v^(n-1/2) + w v^(n+1/2), w = dt^(n-1/2) / (dt^(n-1/2) + dt^(n+1/2)).
+    /// Weight of v^(n+1/2) in v^n = (1 - w) v^(n-1/2) + w v^(n+1/2),
+    /// w = dt^(n-1/2) / (dt^(n-1/2) + dt^(n+1/2)). At the first step, 1/2: the first update
+    /// v^(1/2) = v^0 + a^0 dt/2 is the second half of a symmetric step from the virtual
+    /// v^(-1/2) = v^0 - a^0 dt/2.
     fn half_step_weight(&self) -> f64 {
         let s = &self.state;
-        if s.dt_prev + s.dt > 0.0 {
+        if s.step == 0 {
+            0.5
+        } else if s.dt_prev + s.dt > 0.0 {
             s.dt_prev / (s.dt_prev + s.dt)
         } else {
             0.0
@@ -401,24 +445,28 @@ impl<'m> Solver<'m> {
     }
 
     /// Change the velocity of node i to `v_new` after the free update; keeps v^n consistent
-    /// and returns the work of the implied reaction impulse J = m (v_new - v).
-    ///
-    /// The work is J . (v^(n-1/2) + v^(n+1/2))/2, which is what the leapfrog kinetic energy
-    /// 1/2 m |v^(n+1/2)|^2 gains from the impulse on top of what the forces gave (charged over
-    /// the same mean velocity). v^(n-1/2) is recovered from the invariant
-    /// v^n = (1 - w) v^(n-1/2) + w v.
-    fn constrain_velocity(&mut self, i: usize, v_new: Vec3) -> f64 {
+    /// and returns the work of the implied reaction impulse J = m (v_new - v), split as
+    /// 1/2 J.v^(n-1/2) (up to t^n) and 1/2 J.v^(n+1/2) (after t^n): what the leapfrog kinetic
+    /// energies at t^n and t^(n+1) gain from the impulse. v^(n-1/2) is recovered from the
+    /// invariant v^n = (1 - w) v^(n-1/2) + w v.
+    fn constrain_velocity(&mut self, i: usize, v_new: Vec3) -> Work {
         let w = self.half_step_weight();
         let s = &mut self.state;
         let v_old = scale(sub(s.v_n[i], scale(s.v[i], w)), 1.0 / (1.0 - w));
         let dv = sub(v_new, s.v[i]);
         s.v[i] = v_new;
         s.v_n[i] = add(s.v_n[i], scale(dv, w));
-        dot(scale(dv, self.setup.mass[i]), scale(add(v_old, v_new), 0.5))
+        let j = scale(dv, self.setup.mass[i]);
+        Work {
+            now: 0.5 * dot(j, v_old),
+            later: 0.5 * dot(j, v_new),
+        }
     }
 
-    /// Rigid bodies: sum force and moment over their nodes, advance, place the nodes.
-    fn update_rigid_bodies(&mut self, dt_mid: f64, dt_new: f64) {
+    /// Rigid bodies: sum force and moment over their nodes, advance, place the nodes; returns
+    /// the work of the constraint reactions (split as in [`Self::constrain_velocity`]).
+    fn update_rigid_bodies(&mut self, dt_mid: f64, dt_new: f64) -> Work {
+        let mut work = Work::default();
         for b in 0..self.setup.rigid.len() {
             let body = &self.setup.rigid[b];
             let st = &mut self.state.rigid[b];
@@ -453,8 +501,8 @@ impl<'m> Solver<'m> {
             let dp = scale(sub(st.v_cm, v_free), body.mass);
             let inertia = body.inertia(&st.rot);
             let dl = crate::math::mat_vec(&inertia, sub(st.omega, w_free));
-            self.state.energy.external_work += dot(dp, scale(add(v_old, st.v_cm), 0.5))
-                + dot(dl, scale(add(w_old, st.omega), 0.5));
+            work.now += 0.5 * (dot(dp, v_old) + dot(dl, w_old));
+            work.later += 0.5 * (dot(dp, st.v_cm) + dot(dl, st.omega));
             let (x_cm1, rot1) = body.next_placement(st, dt_new);
             let w = self.half_step_weight();
             for &n in &body.nodes {
@@ -466,11 +514,12 @@ impl<'m> Solver<'m> {
                 self.state.v_n[i] = add(self.state.v_n[i], scale(dv, w));
             }
         }
+        work
     }
 
     /// SPC and prescribed nodal motion; returns the work of their reactions.
-    fn apply_constraints(&mut self, _dt_mid: f64, dt_new: f64) -> f64 {
-        let mut work = 0.0;
+    fn apply_constraints(&mut self, dt_new: f64) -> Work {
+        let mut work = Work::default();
         for k in 0..self.setup.spc.len() {
             let (n, d) = self.setup.spc[k];
             let i = n as usize;
@@ -507,8 +556,8 @@ impl<'m> Solver<'m> {
     /// (normal velocity -d^n/dt for the gap d^n, or 0 if already behind); friction removes up to
     /// FRIC times the normal impulse from the tangential momentum (FRIC >= 1: no sliding).
     /// Returns the work of the wall on the model.
-    fn apply_rigid_walls(&mut self, dt_mid: f64, dt_new: f64) -> f64 {
-        let mut work = 0.0;
+    fn apply_rigid_walls(&mut self, dt_mid: f64, dt_new: f64) -> Work {
+        let mut work = Work::default();
         for wi in 0..self.model.rigid_walls.len() {
             let wall = &self.model.rigid_walls[wi];
             let d = sub(wall.head, wall.tail);
@@ -550,32 +599,43 @@ impl<'m> Solver<'m> {
         work
     }
 
-    /// Kinetic energy at t^n and the work of body loads over the step, g . P dt with P the
-    /// momentum at the mean of the half-step velocities; detects non-finite velocities.
-    /// Returns the body-load work.
-    fn record_kinetic_energy(&mut self, dt_mid: f64) -> Result<f64, SolverError> {
+    /// Kinetic energy at t^n and the work of body loads since t^(n-1); detects non-finite
+    /// velocities. Returns the body-load work.
+    ///
+    /// The kinetic energy is the leapfrog's, K^n = 1/2 sum m v^(n-1/2) . v^(n+1/2) (at the
+    /// first step v^(-1/2) = v^0 - a^0 dt/2, see [`Self::half_step_weight`]): with the trapezoid
+    /// work of the forces, K^(n+1) - K^n = 1/2 (f^n + f^(n+1)) . (x^(n+1) - x^n) exactly for a
+    /// constant time step, whatever the forces. So the ledger balances even for a fragment of
+    /// one element ringing near its stability limit (omega dt near 2), where 1/2 m |v^n|^2 with
+    /// the mean velocity v^n would be off by up to (omega dt)^2 / 4 of its energy. The two
+    /// differ by 1/8 m |a dt|^2 per node.
+    ///
+    /// Body loads: the trapezoid 1/2 (g^(n-1) + g^n) . P^(n-1/2) dt^(n-1/2), with P the momentum.
+    fn record_kinetic_energy(&mut self) -> Result<f64, SolverError> {
         let mass = &self.setup.mass;
         let vn = &self.state.v_n;
         let vh = &self.state.v;
+        let w = self.half_step_weight();
         vn.par_chunks(NODE_CHUNK)
             .zip(vh.par_chunks(NODE_CHUNK))
             .enumerate()
             .map(|(c, (chunk, half))| {
-                let mut s = [0.0; 7];
+                let mut s = [0.0; 4];
                 for (k, (v, u)) in chunk.iter().zip(half).enumerate() {
                     let m = mass[c * NODE_CHUNK + k];
-                    s[0] += 0.5 * m * dot(*v, *v);
+                    // v^(n-1/2) from v^n = (1 - w) v^(n-1/2) + w v^(n+1/2)
+                    let old = scale(sub(*v, scale(*u, w)), 1.0 / (1.0 - w));
+                    s[0] += 0.5 * m * dot(old, *u);
                     for d in 0..3 {
-                        s[1 + d] += m * v[d];
-                        s[4 + d] += m * u[d];
+                        s[1 + d] += m * old[d];
                     }
                 }
                 s
             })
             .collect_into_vec(&mut self.node_sums);
-        let mut s = [0.0; 7];
+        let mut s = [0.0; 4];
         for p in &self.node_sums {
-            for k in 0..7 {
+            for k in 0..4 {
                 s[k] += p[k];
             }
         }
@@ -593,15 +653,15 @@ impl<'m> Solver<'m> {
             });
         }
         self.state.energy.kinetic = s[0];
-        let g = self.body_acceleration(self.state.t);
-        if g == [0.0; 3] {
+        let dt = self.state.dt_prev;
+        if self.model.body_loads.is_empty() || dt == 0.0 {
             return Ok(0.0);
         }
-        // P^(n-1/2) from P^n = (1 - w) P^(n-1/2) + w P^(n+1/2)
-        let w = self.half_step_weight();
-        let p_new = [s[4], s[5], s[6]];
-        let p_old = scale(sub([s[1], s[2], s[3]], scale(p_new, w)), 1.0 / (1.0 - w));
-        Ok(dot(g, scale(add(p_old, p_new), 0.5)) * dt_mid)
+        let g = add(
+            self.body_acceleration(self.state.t - dt),
+            self.body_acceleration(self.state.t),
+        );
+        Ok(0.5 * dot(g, [s[1], s[2], s[3]]) * dt)
     }
 
     /// x^(n+1) = x^n + dt v^(n+1/2); rigid bodies commit their placement; t += dt.

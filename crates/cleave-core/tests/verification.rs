@@ -904,11 +904,12 @@ fn block_sliding_on_frictional_wall_decelerates_at_mu_g() {
 ///     `*BOUNDARY_PRESCRIBED_MOTION_RIGID`, so the rigid-body reaction work is checked too.
 ///
 /// The initial energy is 0, so this compares the energy in the bar with the work the driver
-/// did. Central differences with mid-point internal energy and reaction work impulse . v^n,
-/// booked up to t^n, balance to O(dt^2): the relative error decays as (dt/t)^2 from the start
-/// (2% at step 4, 0.37% at step 10, 0.06% at the end of the ramp, step 26).
+/// did. The leapfrog kinetic energy 1/2 m v^(n-1/2).v^(n+1/2) with trapezoid internal work and
+/// reaction work split 1/2 J.v^(n-1/2) | 1/2 J.v^(n+1/2) balances exactly for a constant time
+/// step; the bar's step changes as it stretches, which leaves a slow drift of order
+/// (dt^- - dt^+) |f|^2 dt / m per step (measured 1.2e-3 at the end, 415 steps).
 ///
-/// Pins: |E - E0 - W| / (E0 + W) below 1% from step 10 on, and below 0.1% after the ramp.
+/// Pins: |E - E0 - W| / (E0 + W) below 1% from step 10 on, and below 0.2% after the ramp.
 /// (Before the ledger fix in `Solver::advance_to_half_step`, which booked the whole step's
 /// reaction work at t^n, half a step early, the error was 4.9% after the ramp, decaying only
 /// as dt/2t.)
@@ -987,6 +988,6 @@ fn pulled_bar_energy_equals_external_work() {
             s.state.initial_energy + en.external_work
         );
         assert!(err < 0.01);
-        assert!(err_late < 0.001);
+        assert!(err_late < 0.002);
     }
 }

@@ -201,7 +201,7 @@ pub fn hex8_step(
 
     // 7: stable time step.
     let lc = vol / max_face_area(x);
-    let c = mat.wave_speed;
+    let c = mat.step_speed;
     let qv = if eps_v_rate < 0.0 {
         ctl.q2 * c + ctl.q1 * lc * eps_v_rate.abs()
     } else {

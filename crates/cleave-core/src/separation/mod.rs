@@ -5,6 +5,12 @@
 //!   a group (the paper's 2 x N element and 8 x N node arrays), with its reference area.
 //! - [`coincident`]: the coincident node sets tied by intact interfaces, which share one
 //!   acceleration a = sum f / sum m; a set splits only where an interface fails.
+//! - [`criteria`]: the failure criteria (one file each), [`cohesive`]: the MODEL 3 law.
+//! - [`interfaces`]: the run-time status of every interface, the failure check, cohesive
+//!   forces, fragments.
 
+pub mod cohesive;
 pub mod coincident;
+pub mod criteria;
+pub mod interfaces;
 pub mod split;

@@ -1,0 +1,78 @@
+//! Interface failure criteria: when does an intact interface stop tying its nodes?
+//!
+//! Each step every intact interface is shown an [`InterfaceSample`]: the information the paper
+//! lists as available to a criterion (section 3: nodal and element variables, time, interface
+//! history), and returns a failure index; the interface fails when the index reaches 1.
+//!
+//! A new criterion is one file: implement [`Criterion`] and add its MODEL number to
+//! [`criterion_for`]. The solver loop never changes.
+//!
+//! | MODEL | criterion | after onset |
+//! |---|---|---|
+//! | 1 | [`normal_stress::NormalStress`]: n.s.n / SIGMAX (the paper) | free |
+//! | 2 | [`effective_stress::EffectiveStress`]: sqrt(<sn>^2 + (tau/BETA)^2) / SIGMAX | free |
+//! | 3 | as 2 | linear softening ([`super::cohesive::LinearSoftening`]), then free |
+
+pub mod effective_stress;
+pub mod normal_stress;
+
+use crate::material::History;
+use crate::math::{dot, scale, sub, sym_mul_vec, Sym3, Vec3};
+use crate::model::SeparationDef;
+use crate::separation::split::SharedFace;
+
+/// What a criterion may look at for one interface at t^n.
+pub struct InterfaceSample<'a> {
+    /// Time t^n.
+    pub time: f64,
+    /// The interface (its two elements, 4 + 4 nodes, reference area).
+    pub face: &'a SharedFace,
+    /// Current unit normal of the face, pointing out of `face.elems[0]` into `face.elems[1]`.
+    pub normal: Vec3,
+    /// Cauchy stresses of the two elements at t^n.
+    pub stress: [&'a Sym3; 2],
+    /// Material history (plastic strain, back stress) of the two elements.
+    pub history: [&'a History; 2],
+    /// Nodal positions x^n and velocities v^(n-1/2) of the whole model.
+    pub x: &'a [Vec3],
+    pub v: &'a [Vec3],
+}
+
+impl InterfaceSample<'_> {
+    /// Mean Cauchy stress of the two elements, s = (s_a + s_b) / 2 (the interface page's
+    /// sampling).
+    pub fn mean_stress(&self) -> Sym3 {
+        std::array::from_fn(|k| 0.5 * (self.stress[0][k] + self.stress[1][k]))
+    }
+
+    /// Traction on the face, t = s n, split into its normal part sn = n.t (positive in tension)
+    /// and the magnitude of its shear part tau = |t - sn n|.
+    pub fn normal_and_shear(&self) -> (f64, f64) {
+        let t = sym_mul_vec(&self.mean_stress(), self.normal);
+        let sn = dot(t, self.normal);
+        let ts = sub(t, scale(self.normal, sn));
+        (sn, dot(ts, ts).sqrt())
+    }
+}
+
+/// A failure criterion of one separation group.
+pub trait Criterion: Send + Sync {
+    /// Failure index of the interface: it fails when the index is >= 1.
+    fn failure_index(&self, sample: &InterfaceSample) -> f64;
+}
+
+/// The criterion of a `*MAT_ADD_SEPARATION` card, by its MODEL number.
+///
+/// MODEL 3 starts softening at the onset given by MODEL 2's effective stress.
+pub fn criterion_for(def: &SeparationDef) -> Result<Box<dyn Criterion>, String> {
+    match def.model {
+        1 => Ok(Box::new(normal_stress::NormalStress { sigmax: def.sigmax })),
+        2 | 3 => Ok(Box::new(effective_stress::EffectiveStress {
+            sigmax: def.sigmax,
+            beta: def.beta,
+        })),
+        m => Err(format!(
+            "*MAT_ADD_SEPARATION MODEL {m} is not a criterion (1, 2 or 3)"
+        )),
+    }
+}

@@ -1,0 +1,461 @@
+//! The interfaces at run time: their status, the failure check of every intact interface each
+//! step, the cohesive forces of softening ones, and the coincident sets they tie.
+//!
+//! An interface is *intact* (its node pairs belong to coincident sets), *softening* (MODEL 3,
+//! between onset and full opening: no longer tied, the cohesive law pulls its faces together)
+//! or *free*. Status only moves forward. Failure flips one entry, shrinks the coincident sets
+//! holding the interface's nodes and reports the interface so that contact can take in its two
+//! faces; nothing is remeshed and no nodal array changes size.
+
+use rayon::prelude::*;
+
+use super::cohesive::{stable_slope, LinearSoftening};
+use super::coincident::CoincidentSets;
+use super::criteria::{criterion_for, Criterion, InterfaceSample};
+use super::split::{FaceKind, SharedFace, SplitModel};
+use crate::element::hex8::{self, quad_normal_area};
+use crate::material::History;
+use crate::math::{add, dot, scale, sub, sym_mul_vec, Sym3, Vec3};
+use crate::topology::UnionFind;
+
+/// Interfaces per chunk of the parallel failure check.
+const CHUNK: usize = 1024;
+
+/// Status of one interface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    Intact,
+    Softening,
+    Free,
+}
+
+/// A softening interface: the cohesive law at the face's 4 node pairs (nodal quadrature, each
+/// pair weighted by a quarter of the reference area). Each point opens normally by its own
+/// d_k . n (so the law resists relative rotation of the faces) and slides by the tangential
+/// part of the face's mean opening: the faces' relative translation. (The tangential
+/// differences between the points are the two elements' different in-plane stretching, not
+/// sliding; taken as sliding they would turn the full strength sideways at near-zero opening.)
+#[derive(Clone, Debug)]
+struct CohesiveFace {
+    interface: u32,
+    delta_max: [f64; 4],
+    /// Traction at onset (from the mean stress), used until the face starts to open.
+    t0: Vec3,
+    /// Cap of the unloading slope (Pa/m), from the thinner, stiffer side.
+    k_max: f64,
+    /// Opening x_b - x_a and force on side a at the previous evaluation (for the work).
+    d_prev: [Vec3; 4],
+    f_prev: [Vec3; 4],
+}
+
+/// Element fragments: a label per element (numbered by first element) and their count.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fragments {
+    pub label: Vec<u32>,
+    pub count: usize,
+}
+
+/// The interfaces of a split model at run time.
+pub struct Separation {
+    faces: Vec<SharedFace>,
+    interfaces: usize,
+    status: Vec<Status>,
+    /// Per face: whether it ties its node pairs (bonds always; interfaces while intact).
+    ties: Vec<bool>,
+    criteria: Vec<Box<dyn Criterion>>,
+    laws: Vec<Option<LinearSoftening>>,
+    /// Per element: whether an interface failure has touched its nodes' coincident sets (it then
+    /// steps with the free-element speed).
+    loose: Vec<bool>,
+    /// Owner element of each node of a group element (u32::MAX for shared nodes).
+    node_elem: Vec<u32>,
+    /// Per element: the stable cohesive unloading slope E / (2 h), h = V / (largest face area).
+    elem_slope: Vec<f64>,
+    sets: CoincidentSets,
+    cohesive: Vec<CohesiveFace>,
+    // scratch
+    /// Failure index of each interface that reached 1 this step (0 otherwise).
+    fails: Vec<f64>,
+    /// Elements that lost an interface in this step's release.
+    touched: Vec<bool>,
+    candidates: Vec<(f64, usize)>,
+    chunk_fails: Vec<u32>,
+    released: Vec<usize>,
+    failed: usize,
+    crack_area: f64,
+}
+
+impl Separation {
+    /// All interfaces intact; one criterion (and cohesive law for MODEL 3) per separation group.
+    pub fn new(split: &SplitModel) -> Result<Self, String> {
+        let defs = &split.model.separations;
+        let criteria = defs
+            .iter()
+            .map(criterion_for)
+            .collect::<Result<Vec<_>, _>>()?;
+        let laws = defs
+            .iter()
+            .map(|d| (d.model == 3).then(|| LinearSoftening::new(d.sigmax, d.beta, d.gc)))
+            .collect();
+        let m = &split.model;
+        let elem_slope = (0..m.num_elements())
+            .map(|e| {
+                let xe: [Vec3; 8] = std::array::from_fn(|a| m.x0[m.conn[e][a] as usize]);
+                let h = hex8::volume(&xe) / hex8::max_face_area(&xe);
+                stable_slope(m.element_material(e).young, h)
+            })
+            .collect();
+        let mut node_elem = vec![0u32; m.num_nodes()];
+        let mut users = vec![0u8; m.num_nodes()];
+        for (e, c) in m.conn.iter().enumerate() {
+            for &n in c {
+                node_elem[n as usize] = e as u32;
+                users[n as usize] = users[n as usize].saturating_add(1);
+            }
+        }
+        for (ne, &u) in node_elem.iter_mut().zip(&users) {
+            if u != 1 {
+                *ne = u32::MAX;
+            }
+        }
+        let ties = vec![true; split.faces.len()];
+        let sets = CoincidentSets::build(split.model.num_nodes(), &split.faces, &ties);
+        let n = split.interfaces;
+        Ok(Self {
+            faces: split.faces.clone(),
+            interfaces: n,
+            status: vec![Status::Intact; n],
+            ties,
+            criteria,
+            laws,
+            elem_slope,
+            loose: vec![false; m.num_elements()],
+            node_elem,
+            sets,
+            cohesive: Vec::new(),
+            fails: vec![0.0; n],
+            touched: vec![false; split.model.num_elements()],
+            candidates: Vec::new(),
+            chunk_fails: vec![0; n.div_ceil(CHUNK)],
+            released: Vec::new(),
+            failed: 0,
+            crack_area: 0.0,
+        })
+    }
+
+    /// Number of interfaces that may fail.
+    pub fn num_interfaces(&self) -> usize {
+        self.interfaces
+    }
+    /// Interfaces no longer intact (softening or free).
+    pub fn num_failed(&self) -> usize {
+        self.failed
+    }
+    /// Reference area of the interfaces no longer intact.
+    pub fn crack_area(&self) -> f64 {
+        self.crack_area
+    }
+    /// Every shared face (interfaces first, then bonds).
+    pub fn faces(&self) -> &[SharedFace] {
+        &self.faces
+    }
+    /// Status of interface `i`.
+    pub fn status(&self, i: usize) -> Status {
+        self.status[i]
+    }
+    /// The coincident node sets.
+    pub fn sets(&self) -> &CoincidentSets {
+        &self.sets
+    }
+    /// Interfaces released by the last [`Self::check_failure`] (ascending).
+    pub fn released(&self) -> &[usize] {
+        &self.released
+    }
+    /// Indices of the interfaces no longer intact, ascending.
+    pub fn failed_interfaces(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.interfaces).filter(|&i| self.status[i] != Status::Intact)
+    }
+
+    /// Check every intact interface against its group's criterion on the stresses at t^n;
+    /// release those whose failure index reached 1 (softening under MODEL 3, else free) and
+    /// split the coincident sets they tied. Returns the released interfaces, ascending.
+    pub fn check_failure(
+        &mut self,
+        time: f64,
+        x: &[Vec3],
+        v: &[Vec3],
+        stress: &[Sym3],
+        history: &[History],
+    ) -> &[usize] {
+        let Self {
+            faces,
+            status,
+            criteria,
+            fails,
+            chunk_fails,
+            ..
+        } = self;
+        fails
+            .par_chunks_mut(CHUNK)
+            .zip(chunk_fails.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (fl, count))| {
+                *count = 0;
+                for (k, out) in fl.iter_mut().enumerate() {
+                    let i = c * CHUNK + k;
+                    *out = 0.0;
+                    if status[i] != Status::Intact {
+                        continue;
+                    }
+                    let face = &faces[i];
+                    let [ea, eb] = face.elems.map(|e| e as usize);
+                    let sample = InterfaceSample {
+                        time,
+                        face,
+                        normal: face_normal(face, x),
+                        stress: [&stress[ea], &stress[eb]],
+                        history: [&history[ea], &history[eb]],
+                        x,
+                        v,
+                    };
+                    let index = criteria[face.group as usize].failure_index(&sample);
+                    if index >= 1.0 {
+                        *out = index;
+                        *count += 1;
+                    }
+                }
+            });
+        self.select_releases();
+        if !self.released.is_empty() {
+            for k in 0..self.released.len() {
+                self.release(self.released[k], x, stress);
+            }
+            self.mark_loose();
+            self.sets
+                .split_after_failure(&self.faces, &self.ties, &self.released);
+        }
+        &self.released
+    }
+
+    /// Choose which of the interfaces that reached their criterion are released this step: in
+    /// order of decreasing failure index (then ascending number), at most one per element. The
+    /// others are checked again next step, on stresses that the released crack has begun to
+    /// relieve: an element whose stress carried two of its faces over the strength in one step
+    /// was resolved too coarsely in time to say which face cracks first, and releasing both
+    /// would cut it loose as a one-element fragment ringing at its highest frequency.
+    fn select_releases(&mut self) {
+        self.candidates.clear();
+        for (c, &count) in self.chunk_fails.iter().enumerate() {
+            if count == 0 {
+                continue;
+            }
+            let end = ((c + 1) * CHUNK).min(self.interfaces);
+            self.candidates.extend(
+                (c * CHUNK..end)
+                    .filter(|&i| self.fails[i] > 0.0)
+                    .map(|i| (self.fails[i], i)),
+            );
+        }
+        self.candidates
+            .sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        self.released.clear();
+        for &(_, i) in &self.candidates {
+            let [ea, eb] = self.faces[i].elems.map(|e| e as usize);
+            if self.touched[ea] || self.touched[eb] {
+                continue;
+            }
+            self.touched[ea] = true;
+            self.touched[eb] = true;
+            self.released.push(i);
+        }
+        for &i in &self.released {
+            for e in self.faces[i].elems {
+                self.touched[e as usize] = false;
+            }
+        }
+        self.released.sort_unstable();
+    }
+
+    /// Mark the elements owning the members of every set the released interfaces held (before
+    /// the sets split), and the interfaces' own elements.
+    fn mark_loose(&mut self) {
+        for &i in &self.released {
+            let face = &self.faces[i];
+            for e in face.elems {
+                self.loose[e as usize] = true;
+            }
+            for &n in &face.nodes {
+                if let Some(set) = self.sets.set_of(n) {
+                    for &m in set {
+                        let e = self.node_elem[m as usize];
+                        if e != u32::MAX {
+                            self.loose[e as usize] = true;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Per element: whether it steps with the free-element speed.
+    pub fn loose_elements(&self) -> &[bool] {
+        &self.loose
+    }
+
+    /// Interface `i` stops tying its nodes: softening if its group has a cohesive law.
+    fn release(&mut self, i: usize, x: &[Vec3], stress: &[Sym3]) {
+        let face = &self.faces[i];
+        self.ties[i] = false;
+        self.failed += 1;
+        self.crack_area += face.area0;
+        if let Some(law) = self.laws[face.group as usize] {
+            self.status[i] = Status::Softening;
+            let [ea, eb] = face.elems.map(|e| e as usize);
+            let mean: Sym3 = std::array::from_fn(|k| 0.5 * (stress[ea][k] + stress[eb][k]));
+            let t0 = law.onset_traction(
+                sym_mul_vec(&mean, face_normal(face, x)),
+                face_normal(face, x),
+            );
+            let d_prev = std::array::from_fn(|k| {
+                sub(x[face.nodes[4 + k] as usize], x[face.nodes[k] as usize])
+            });
+            self.cohesive.push(CohesiveFace {
+                interface: i as u32,
+                delta_max: [0.0; 4],
+                t0,
+                k_max: self.elem_slope[ea].min(self.elem_slope[eb]),
+                d_prev,
+                f_prev: [[0.0; 3]; 4],
+            });
+        } else {
+            self.status[i] = Status::Free;
+        }
+    }
+
+    /// Add the cohesive forces of the softening interfaces to `f` (positions x^n) and return the
+    /// work they absorbed since the last call, the trapezoid 1/2 (f_prev + f) . (d - d_prev)
+    /// over the openings (the same rule as the element energies). An interface whose four
+    /// points are fully open becomes free.
+    pub fn add_cohesive_forces(&mut self, x: &[Vec3], f: &mut [Vec3]) -> f64 {
+        let mut work = 0.0;
+        let Self {
+            faces,
+            status,
+            laws,
+            cohesive,
+            ..
+        } = self;
+        for c in cohesive.iter_mut() {
+            let face = &faces[c.interface as usize];
+            let law = laws[face.group as usize].expect("softening interfaces have a law");
+            let n = face_normal(face, x);
+            let w = 0.25 * face.area0;
+            let mut open = true;
+            let d: [Vec3; 4] = std::array::from_fn(|k| {
+                sub(x[face.nodes[4 + k] as usize], x[face.nodes[k] as usize])
+            });
+            // sliding: the tangential part of the mean opening (the faces' relative translation)
+            let d_mean = scale(add(add(d[0], d[1]), add(d[2], d[3])), 0.25);
+            let ds = sub(d_mean, scale(n, dot(d_mean, n)));
+            for k in 0..4 {
+                let (a, b) = (face.nodes[k] as usize, face.nodes[4 + k] as usize);
+                let d_law = add(scale(n, dot(d[k], n)), ds);
+                let fa = scale(
+                    law.traction(d_law, n, c.t0, c.k_max, &mut c.delta_max[k]),
+                    w,
+                );
+                let d = d[k];
+                f[a] = add(f[a], fa);
+                f[b] = sub(f[b], fa);
+                // force on b is -fa and b - a opens by d - d_prev: work absorbed = fa . dd
+                work += 0.5 * dot(add(c.f_prev[k], fa), sub(d, c.d_prev[k]));
+                c.d_prev[k] = d;
+                c.f_prev[k] = fa;
+                open &= law.is_open(c.delta_max[k]);
+            }
+            if open {
+                status[c.interface as usize] = Status::Free;
+            }
+        }
+        cohesive.retain(|c| status[c.interface as usize] == Status::Softening);
+        work
+    }
+
+    /// Each coincident set gets its mean acceleration: f_i <- m_i sum f / sum m.
+    pub fn tie(&self, f: &mut [Vec3], mass: &[f64]) {
+        self.sets.average_forces(f, mass);
+    }
+
+    /// Fragments: connected components of elements through shared nodes and through every
+    /// shared face that still holds (bonds, intact and softening interfaces).
+    pub fn fragments(&self, conn: &[[u32; 8]], num_nodes: usize) -> Fragments {
+        let mut uf = UnionFind::new(num_nodes);
+        for c in conn {
+            for k in 1..8 {
+                uf.union(c[0], c[k]);
+            }
+        }
+        for (i, face) in self.faces.iter().enumerate() {
+            let holds = face.kind == FaceKind::Bond || self.status[i] != Status::Free;
+            if holds {
+                for k in 0..4 {
+                    uf.union(face.nodes[k], face.nodes[4 + k]);
+                }
+            }
+        }
+        label_elements(conn, &mut uf, num_nodes)
+    }
+}
+
+/// Number the components of the elements' first nodes in order of first element.
+fn label_elements(conn: &[[u32; 8]], uf: &mut UnionFind, num_nodes: usize) -> Fragments {
+    let mut root_label = vec![u32::MAX; num_nodes];
+    let mut count = 0u32;
+    let label = conn
+        .iter()
+        .map(|c| {
+            let r = uf.find(c[0]) as usize;
+            if root_label[r] == u32::MAX {
+                root_label[r] = count;
+                count += 1;
+            }
+            root_label[r]
+        })
+        .collect();
+    Fragments {
+        label,
+        count: count as usize,
+    }
+}
+
+/// Fragments of a model without separation: components through shared nodes.
+pub fn mesh_fragments(conn: &[[u32; 8]], num_nodes: usize) -> Fragments {
+    let mut uf = UnionFind::new(num_nodes);
+    for c in conn {
+        for k in 1..8 {
+            uf.union(c[0], c[k]);
+        }
+    }
+    label_elements(conn, &mut uf, num_nodes)
+}
+
+/// Current unit normal of a shared face, out of its first element: the diagonal cross product
+/// of the mid-points of its 4 node pairs.
+pub fn face_normal(face: &SharedFace, x: &[Vec3]) -> Vec3 {
+    let p: [Vec3; 4] = std::array::from_fn(|k| {
+        scale(
+            add(x[face.nodes[k] as usize], x[face.nodes[4 + k] as usize]),
+            0.5,
+        )
+    });
+    quad_normal_area(p[0], p[1], p[2], p[3]).0
+}
+
+/// Current centroid of a shared face (mean of its 8 nodes).
+pub fn face_centroid(face: &SharedFace, x: &[Vec3]) -> Vec3 {
+    let mut c = [0.0; 3];
+    for &n in &face.nodes {
+        c = add(c, x[n as usize]);
+    }
+    scale(c, 0.125)
+}

@@ -45,6 +45,14 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
     }
     println!("materials   {}", m.materials.len());
     println!("separation  {} group(s)", m.separations.len());
+    if !m.separations.is_empty() {
+        let split = cleave_core::separation::split::split_model(m);
+        println!(
+            "interfaces  {} (nodes after splitting: {})",
+            split.interfaces,
+            split.model.num_nodes()
+        );
+    }
     println!("contacts    {}", m.contacts.len());
     println!("rigid walls {}", m.rigid_walls.len());
     println!("rigid bodies {}", setup.rigid.len());

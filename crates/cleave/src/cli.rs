@@ -93,4 +93,8 @@ pub struct BenchArgs {
     /// Worker threads.
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
+    /// Put every element in a separation group (MODEL 1, a strength nothing reaches), so the
+    /// step carries the split nodes, the averaging and the failure check of every interface.
+    #[arg(long)]
+    pub separation: bool,
 }

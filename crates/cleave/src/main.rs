@@ -8,6 +8,7 @@ mod check;
 mod cli;
 mod example;
 mod failure;
+mod fracture;
 mod progress;
 mod results;
 mod run;

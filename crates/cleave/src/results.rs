@@ -1,6 +1,9 @@
 //! The run's output: the observer that writes glstat, nodout, elout, rwforc, the ParaView
-//! states, and at the end the plots, fragments and summary (file formats in
-//! `shared/spec/interface.md`).
+//! states, the fracture files ([`crate::fracture`]), and at the end the plots (file formats
+//! in `shared/spec/interface.md`).
+//!
+//! A split model reports deck nodes: a history node's displacement and velocity are the
+//! mass-weighted means over its copies.
 //!
 //! Intervals: each CSV uses its `*DATABASE_*` DT; where the deck gives none, glstat uses
 //! ENDTIM/200 (so the energy plot has a curve), and the other histories also ENDTIM/200 when
@@ -11,13 +14,14 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
-use cleave_core::math::{sub, von_mises, Vec3};
+use cleave_core::math::{add, scale, sub, von_mises, Vec3};
 use cleave_core::model::Model;
 use cleave_core::solver::{Observer, Solver};
 use cleave_io::output::csv::{CsvWriter, Field};
 use cleave_io::output::plot::plot_lines;
 use cleave_io::output::vtk::{write_vtu, DataArray, PvdWriter};
 
+use crate::fracture::{fragment_table, fragments_of, FractureOutput};
 use crate::progress::Progress;
 
 type Csv = CsvWriter<BufWriter<File>>;
@@ -56,6 +60,8 @@ pub struct EnergyRow {
     pub kinetic: f64,
     pub internal: f64,
     pub hourglass: f64,
+    pub contact: f64,
+    pub fracture: f64,
     pub total: f64,
     pub external: f64,
     pub ratio: f64,
@@ -72,7 +78,13 @@ pub struct RunOutput<'m> {
     states: (PvdWriter, Schedule),
     state_count: usize,
     part_ids: Vec<i32>,
+    /// History nodes: deck id and the solved nodes that are its copies.
+    history_nodes: Vec<(i64, Vec<u32>)>,
+    fracture: FractureOutput,
+    /// Fragments of an unsplit mesh (fixed), or None to count them at each row.
+    static_fragments: Option<usize>,
     pub energy: Vec<EnergyRow>,
+    /// Fragments at the last glstat row.
     pub fragments: usize,
     progress: Progress,
 }
@@ -82,7 +94,15 @@ fn csv(dir: &Path, name: &str, header: &[&str]) -> std::io::Result<Csv> {
 }
 
 impl<'m> RunOutput<'m> {
-    pub fn create(dir: &Path, model: &'m Model, progress: Progress) -> std::io::Result<Self> {
+    /// `history_nodes`: each history node's deck id and its solved copies; `split`: whether the
+    /// model is split (its fragments change during the run).
+    pub fn create(
+        dir: &Path,
+        model: &'m Model,
+        history_nodes: Vec<(i64, Vec<u32>)>,
+        split: bool,
+        progress: Progress,
+    ) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir.join("states"))?;
         let o = &model.output;
         let end = model.control.end_time;
@@ -105,7 +125,7 @@ impl<'m> RunOutput<'m> {
                 "fragments",
             ],
         )?;
-        let nodout = if o.history_nodes.is_empty() {
+        let nodout = if history_nodes.is_empty() {
             None
         } else {
             let h = [
@@ -162,13 +182,22 @@ impl<'m> RunOutput<'m> {
             ),
             state_count: 0,
             part_ids,
+            history_nodes,
+            fracture: FractureOutput::create(dir)?,
+            static_fragments: (!split).then(|| cleave_core::setup::count_components(model)),
             energy: Vec::new(),
-            fragments: cleave_core::setup::count_components(model),
+            fragments: 0,
             progress,
         })
     }
 
     fn write_glstat(&mut self, s: &Solver) -> std::io::Result<()> {
+        self.fragments = match self.static_fragments {
+            Some(n) => n,
+            None => fragments_of(s).count,
+        };
+        self.fracture.write_row(s, self.fragments)?;
+        let failed = s.separation().map_or(0, |sep| sep.num_failed());
         let e = &s.state.energy;
         let total = e.total();
         let denom = s.state.initial_energy + e.external_work;
@@ -182,6 +211,8 @@ impl<'m> RunOutput<'m> {
             kinetic: e.kinetic,
             internal: e.internal,
             hourglass: e.hourglass,
+            contact: e.contact,
+            fracture: e.fracture,
             total,
             external: e.external_work,
             ratio,
@@ -197,19 +228,33 @@ impl<'m> RunOutput<'m> {
             Field::F(e.external_work),
             Field::F(total),
             Field::F(ratio),
-            Field::I(0),
+            Field::I(failed as i64),
             Field::I(self.fragments as i64),
         ])
     }
 
-    fn write_nodout(csv: &mut Csv, m: &Model, s: &Solver) -> std::io::Result<()> {
-        for &n in &m.output.history_nodes {
-            let i = n as usize;
-            let u = sub(s.state.x[i], m.x0[i]);
-            let v = s.state.v_n[i];
+    fn write_nodout(
+        csv: &mut Csv,
+        m: &Model,
+        nodes: &[(i64, Vec<u32>)],
+        s: &Solver,
+    ) -> std::io::Result<()> {
+        for (id, copies) in nodes {
+            let (mut u, mut v, mut mass) = ([0.0; 3], [0.0; 3], 0.0);
+            for &n in copies {
+                let i = n as usize;
+                let mi = s.setup.mass[i];
+                u = add(u, scale(sub(s.state.x[i], m.x0[i]), mi));
+                v = add(v, scale(s.state.v_n[i], mi));
+                mass += mi;
+            }
+            if mass > 0.0 {
+                u = scale(u, 1.0 / mass);
+                v = scale(v, 1.0 / mass);
+            }
             csv.row(&[
                 Field::F(s.state.t),
-                Field::I(m.node_ids[i]),
+                Field::I(*id),
                 Field::F(u[0]),
                 Field::F(u[1]),
                 Field::F(u[2]),
@@ -291,6 +336,7 @@ impl<'m> RunOutput<'m> {
         {
             f.0.flush()?;
         }
+        self.fracture.finish()?;
         self.plot_energy()
     }
 
@@ -301,6 +347,8 @@ impl<'m> RunOutput<'m> {
             ("kinetic", pick(|r| r.kinetic)),
             ("internal", pick(|r| r.internal)),
             ("hourglass", pick(|r| r.hourglass)),
+            ("contact", pick(|r| r.contact)),
+            ("fracture", pick(|r| r.fracture)),
             ("external work", pick(|r| r.external)),
             ("total", pick(|r| r.total)),
             ("initial + external work", pick(|r| r.total / r.ratio)),
@@ -328,7 +376,7 @@ impl Observer for RunOutput<'_> {
         }
         if let Some((csv, sch)) = &mut self.nodout {
             if sch.due(t, last) {
-                Self::write_nodout(csv, m, s)?;
+                Self::write_nodout(csv, m, &self.history_nodes, s)?;
             }
         }
         if let Some((csv, sch)) = &mut self.elout {
@@ -343,8 +391,15 @@ impl Observer for RunOutput<'_> {
         }
         if self.states.1.due(t, last) {
             self.write_state(s)?;
+            self.fracture.write_surfaces(s)?;
         }
-        self.progress.update(s, 0);
+        if last {
+            let rows = fragment_table(s, &fragments_of(s));
+            self.fragments = rows.len();
+            self.fracture.write_fragments(&rows)?;
+        }
+        self.progress
+            .update(s, s.separation().map_or(0, |sep| sep.num_failed()));
         Ok(())
     }
 }

@@ -4,6 +4,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use cleave_core::model::Model;
+use cleave_core::separation::interfaces::Separation;
+use cleave_core::separation::split::{copies_of, split_model, SplitModel};
 use cleave_core::solver::{RunError, Solver};
 use cleave_io::output::{peak_rss_mb, Summary};
 
@@ -39,13 +41,6 @@ pub fn load_model(
     if no_separation {
         model.separations.clear();
     }
-    if !model.separations.is_empty() {
-        return Err(Failure::Input(format!(
-            "{}: *MAT_ADD_SEPARATION is read but element separation is not implemented yet in this version; \
-             run with --no-separation",
-            deck.display()
-        )));
-    }
     if !model.contacts.is_empty() {
         return Err(Failure::Input(format!(
             "{}: *CONTACT_AUTOMATIC_... is read but contact is not implemented yet in this version",
@@ -53,6 +48,20 @@ pub fn load_model(
         )));
     }
     Ok(model)
+}
+
+/// Each history node of the deck: its id and the solved nodes that are its copies (itself
+/// when the model is not split).
+fn history_copies(deck: &Model, split: Option<&SplitModel>) -> Vec<(i64, Vec<u32>)> {
+    let copies = split.map(|s| copies_of(&s.origin, deck.num_nodes()));
+    deck.output
+        .history_nodes
+        .iter()
+        .map(|&n| {
+            let list = copies.as_ref().map_or(vec![n], |c| c.of(n).to_vec());
+            (deck.node_ids[n as usize], list)
+        })
+        .collect()
 }
 
 /// A rayon pool of `threads` workers (all cores by default).
@@ -69,15 +78,22 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Failure>
 
 pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let started = Instant::now();
-    let model = load_model(&a.deck, a.end_time, a.no_separation)?;
+    let deck_model = load_model(&a.deck, a.end_time, a.no_separation)?;
     let pool = thread_pool(a.threads)?;
     let dir = a.out.clone().unwrap_or_else(|| default_out_dir(&a.deck));
-    let mut solver = Solver::new(&model)?;
+    // separation groups: every group element gets nodes of its own (the paper's preprocessing)
+    let split = (!deck_model.separations.is_empty()).then(|| split_model(&deck_model));
+    let model = split.as_ref().map_or(&deck_model, |s| &s.model);
+    let mut solver = Solver::new(model)?;
+    if let Some(sp) = &split {
+        solver.attach_separation(Separation::new(sp).map_err(Failure::Input)?);
+    }
+    let history_nodes = history_copies(&deck_model, split.as_ref());
     for w in &solver.setup.warnings {
         eprintln!("warning: {w}");
     }
     let progress = Progress::new(model.control.end_time, a.quiet);
-    let mut out = RunOutput::create(&dir, &model, progress)
+    let mut out = RunOutput::create(&dir, model, history_nodes, split.is_some(), progress)
         .map_err(|e| io_failure("cannot create output in", &dir, e))?;
     let loop_start = Instant::now();
     let result = pool.install(|| solver.run(&mut out));
@@ -90,10 +106,10 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let last = out.energy.last().copied();
     let summary = Summary {
         elements: ne,
-        nodes: model.num_nodes(),
+        nodes: deck_model.num_nodes(),
         nodes_solved: solver.state.x.len(),
-        interfaces: 0,
-        failed_interfaces: 0,
+        interfaces: solver.separation().map_or(0, |s| s.num_interfaces()),
+        failed_interfaces: solver.separation().map_or(0, |s| s.num_failed()),
         fragments: out.fragments,
         steps,
         end_time: solver.state.t,

@@ -1,0 +1,246 @@
+//! Fracture output: crack.csv (at the glstat interval), the crack surfaces as their own
+//! ParaView series (cracks.pvd with cracks/*.vtp, at the state interval), fragments.csv at the
+//! end, and the plots crack.png (crack area and fragments over time) and fragments.png (the
+//! fragment mass distribution).
+//!
+//! Fragments are the connected components of elements through shared nodes and every face
+//! still holding (bonds, intact and softening interfaces); a model without separation has the
+//! components of its mesh. They are numbered by decreasing mass in fragments.csv.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+use cleave_core::math::{add, scale, Vec3};
+use cleave_core::separation::interfaces::{face_centroid, mesh_fragments, Fragments, Status};
+use cleave_core::solver::Solver;
+use cleave_io::output::csv::{CsvWriter, Field};
+use cleave_io::output::plot::{plot_histogram, plot_two_axes};
+use cleave_io::output::vtk::{write_vtp_quads, DataArray, PvdWriter};
+
+type Csv = CsvWriter<BufWriter<File>>;
+
+/// Mass, centroid and velocity of one fragment at t^n.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FragmentRow {
+    pub elements: usize,
+    pub mass: f64,
+    pub centroid: Vec3,
+    pub velocity: Vec3,
+}
+
+/// The fragments of the current state.
+pub fn fragments_of(s: &Solver) -> Fragments {
+    match s.separation() {
+        Some(sep) => sep.fragments(&s.model.conn, s.model.num_nodes()),
+        None => mesh_fragments(&s.model.conn, s.model.num_nodes()),
+    }
+}
+
+/// Mass, centroid and velocity (mass-weighted, from the nodes) of each fragment, by decreasing
+/// mass. Every node belongs to the fragment of the elements that use it.
+pub fn fragment_table(s: &Solver, fr: &Fragments) -> Vec<FragmentRow> {
+    let m = s.model;
+    let mut rows = vec![FragmentRow::default(); fr.count];
+    let mut node_frag = vec![u32::MAX; m.num_nodes()];
+    for (e, c) in m.conn.iter().enumerate() {
+        rows[fr.label[e] as usize].elements += 1;
+        for &n in c {
+            node_frag[n as usize] = fr.label[e];
+        }
+    }
+    for (i, &f) in node_frag.iter().enumerate() {
+        if f == u32::MAX {
+            continue;
+        }
+        let r = &mut rows[f as usize];
+        let mi = s.setup.mass[i];
+        r.mass += mi;
+        r.centroid = add(r.centroid, scale(s.state.x[i], mi));
+        r.velocity = add(r.velocity, scale(s.state.v_n[i], mi));
+    }
+    for r in &mut rows {
+        if r.mass > 0.0 {
+            r.centroid = scale(r.centroid, 1.0 / r.mass);
+            r.velocity = scale(r.velocity, 1.0 / r.mass);
+        }
+    }
+    rows.sort_by(|a, b| b.mass.total_cmp(&a.mass));
+    rows
+}
+
+/// The fracture files of a run.
+pub struct FractureOutput {
+    dir: PathBuf,
+    crack: Csv,
+    cracks: PvdWriter,
+    count: usize,
+    /// (t, crack area, fragments) of every crack.csv row, for the plot.
+    history: Vec<(f64, f64, usize)>,
+    final_masses: Vec<f64>,
+}
+
+impl FractureOutput {
+    pub fn create(dir: &Path) -> std::io::Result<Self> {
+        std::fs::create_dir_all(dir.join("cracks"))?;
+        let crack = CsvWriter::create(
+            dir.join("crack.csv"),
+            &[
+                "time",
+                "failed_interfaces",
+                "crack_area",
+                "fragments",
+                "min_x",
+                "max_x",
+                "min_y",
+                "max_y",
+                "min_z",
+                "max_z",
+            ],
+        )?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            crack,
+            cracks: PvdWriter::new(dir.join("cracks.pvd")),
+            count: 0,
+            history: Vec::new(),
+            final_masses: Vec::new(),
+        })
+    }
+
+    /// One crack.csv row: failed interfaces, their reference area, the fragment count, and the
+    /// extent of the current centroids of the failed interfaces (empty while none has failed).
+    pub fn write_row(&mut self, s: &Solver, fragments: usize) -> std::io::Result<()> {
+        let (failed, area) = s
+            .separation()
+            .map_or((0, 0.0), |sep| (sep.num_failed(), sep.crack_area()));
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        if let Some(sep) = s.separation() {
+            for i in sep.failed_interfaces() {
+                let c = face_centroid(&sep.faces()[i], &s.state.x);
+                for d in 0..3 {
+                    lo[d] = lo[d].min(c[d]);
+                    hi[d] = hi[d].max(c[d]);
+                }
+            }
+        }
+        let mut row = vec![
+            Field::F(s.state.t),
+            Field::I(failed as i64),
+            Field::F(area),
+            Field::I(fragments as i64),
+        ];
+        for d in 0..3 {
+            if failed > 0 {
+                row.push(Field::F(lo[d]));
+                row.push(Field::F(hi[d]));
+            } else {
+                row.push(Field::Empty);
+                row.push(Field::Empty);
+            }
+        }
+        self.history.push((s.state.t, area, fragments));
+        self.crack.row(&row)
+    }
+
+    /// The crack surfaces now: both faces of every interface no longer intact, at the current
+    /// positions, with the interface number and its status (1 softening, 2 free).
+    pub fn write_surfaces(&mut self, s: &Solver) -> std::io::Result<()> {
+        let mut points: Vec<Vec3> = Vec::new();
+        let mut quads: Vec<[u32; 4]> = Vec::new();
+        let mut ids: Vec<i32> = Vec::new();
+        let mut status: Vec<i32> = Vec::new();
+        if let Some(sep) = s.separation() {
+            for i in sep.failed_interfaces() {
+                let face = &sep.faces()[i];
+                let st = match sep.status(i) {
+                    Status::Softening => 1,
+                    _ => 2,
+                };
+                // side a in its outward order; side b reversed, so that it faces the other way
+                for side in [[0, 1, 2, 3], [7, 6, 5, 4]] {
+                    let base = points.len() as u32;
+                    for k in side {
+                        points.push(s.state.x[face.nodes[k] as usize]);
+                    }
+                    quads.push([base, base + 1, base + 2, base + 3]);
+                    ids.push(i as i32);
+                    status.push(st);
+                }
+            }
+        }
+        let name = format!("cracks/cracks_{:05}.vtp", self.count);
+        let mut w = BufWriter::new(File::create(self.dir.join(&name))?);
+        write_vtp_quads(
+            &mut w,
+            &points,
+            &quads,
+            &[
+                ("interface", DataArray::Int(&ids)),
+                ("status", DataArray::Int(&status)),
+            ],
+        )?;
+        std::io::Write::flush(&mut w)?;
+        self.cracks.add(s.state.t, &name)?;
+        self.count += 1;
+        Ok(())
+    }
+
+    /// fragments.csv: `fragment,elements,mass,cx,cy,cz,vx,vy,vz`, by decreasing mass.
+    pub fn write_fragments(&mut self, rows: &[FragmentRow]) -> std::io::Result<()> {
+        let mut csv: Csv = CsvWriter::create(
+            self.dir.join("fragments.csv"),
+            &[
+                "fragment", "elements", "mass", "cx", "cy", "cz", "vx", "vy", "vz",
+            ],
+        )?;
+        for (k, r) in rows.iter().enumerate() {
+            csv.row(&[
+                Field::I(k as i64 + 1),
+                Field::I(r.elements as i64),
+                Field::F(r.mass),
+                Field::F(r.centroid[0]),
+                Field::F(r.centroid[1]),
+                Field::F(r.centroid[2]),
+                Field::F(r.velocity[0]),
+                Field::F(r.velocity[1]),
+                Field::F(r.velocity[2]),
+            ])?;
+        }
+        csv.flush()?;
+        self.final_masses = rows.iter().map(|r| r.mass).collect();
+        Ok(())
+    }
+
+    /// Flush crack.csv; plot crack.png and, once fragments.csv is written, fragments.png.
+    pub fn finish(&mut self) -> std::io::Result<()> {
+        self.crack.flush()?;
+        let area: Vec<(f64, f64)> = self.history.iter().map(|r| (r.0, r.1)).collect();
+        let frags: Vec<(f64, f64)> = self.history.iter().map(|r| (r.0, r.2 as f64)).collect();
+        let io = |e: cleave_io::output::plot::PlotError| std::io::Error::other(e.to_string());
+        plot_two_axes(
+            &self.dir.join("crack.png"),
+            "Crack area and fragments",
+            "time",
+            ("crack area", &area),
+            ("fragments", &frags),
+        )
+        .map_err(io)?;
+        if !self.final_masses.is_empty() {
+            let total: f64 = self.final_masses.iter().sum();
+            let fractions: Vec<f64> = self.final_masses.iter().map(|m| m / total).collect();
+            plot_histogram(
+                &self.dir.join("fragments.png"),
+                "Fragment masses at the end",
+                "fragment mass / total mass",
+                "fragments",
+                &fractions,
+                20,
+                true,
+            )
+            .map_err(io)?;
+        }
+        Ok(())
+    }
+}

@@ -12,8 +12,6 @@ use crate::rigid::{build_rigid_bodies, RigidBody, NOT_RIGID};
 pub struct Setup {
     /// Lumped nodal mass: each element gives rho V / 8 to each of its corners (V exact).
     pub mass: Vec<f64>,
-    /// 1 / mass (0 for massless nodes).
-    pub inv_mass: Vec<f64>,
     /// CSR index from node to its element corners (entry = 8 e + corner), ascending, so the
     /// assembly sums corner forces in a fixed order whatever the thread count.
     pub corner_start: Vec<u32>,
@@ -59,10 +57,6 @@ impl Setup {
                 mass[n as usize] += m8;
             }
         }
-        let inv_mass = mass
-            .iter()
-            .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
-            .collect();
 
         let mut count = vec![0u32; nn + 1];
         for conn in &model.conn {
@@ -168,7 +162,6 @@ impl Setup {
             .collect();
         Ok(Self {
             mass,
-            inv_mass,
             corner_start,
             corners,
             params,

@@ -416,13 +416,19 @@ impl<'m> Solver<'m> {
         } else {
             0.0
         };
-        let inv_mass = &self.setup.inv_mass;
+        let mass = &self.setup.mass;
         let f = &self.f;
         v.par_iter_mut()
             .zip(v_n.par_iter_mut())
             .enumerate()
             .for_each(|(i, (vi, vni))| {
-                let dv = scale(f[i], inv_mass[i] * dt_mid);
+                // massless nodes (in no element) stay as they are
+                let m = mass[i];
+                let dv = if m > 0.0 {
+                    scale(f[i], dt_mid / m)
+                } else {
+                    [0.0; 3]
+                };
                 let new = add(*vi, dv);
                 *vni = add(*vi, scale(dv, 2.0 * w));
                 *vi = new;

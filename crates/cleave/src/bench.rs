@@ -54,7 +54,7 @@ fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
         .ok_or_else(|| Failure::Other("no time step".into()))?;
     model.control.end_time = dt * a.steps as f64;
     let pool = crate::run::thread_pool(Some(a.threads))?;
-    let split = a.separation.then(|| {
+    let (model, interfaces) = if a.separation {
         model.separations.push(SeparationDef {
             material: 0,
             model: 1,
@@ -63,12 +63,14 @@ fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
             gc: 0.0,
             bond: 1,
         });
-        split_model(&model)
-    });
-    let solved = split.as_ref().map_or(&model, |s| &s.model);
-    let mut solver = Solver::new(solved)?;
-    if let Some(s) = &split {
-        solver.attach_separation(Separation::new(s).map_err(Failure::Input)?);
+        let sp = split_model(&model);
+        (sp.model, Some((sp.faces, sp.interfaces)))
+    } else {
+        (model, None)
+    };
+    let mut solver = Solver::new(&model)?;
+    if let Some((faces, n)) = interfaces {
+        solver.attach_separation(Separation::from_parts(&model, faces, n).map_err(Failure::Input)?);
     }
     let start = Instant::now();
     pool.install(|| solver.run(&mut Quiet))

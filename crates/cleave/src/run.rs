@@ -81,19 +81,28 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let deck_model = load_model(&a.deck, a.end_time, a.no_separation)?;
     let pool = thread_pool(a.threads)?;
     let dir = a.out.clone().unwrap_or_else(|| default_out_dir(&a.deck));
-    // separation groups: every group element gets nodes of its own (the paper's preprocessing)
-    let split = (!deck_model.separations.is_empty()).then(|| split_model(&deck_model));
-    let model = split.as_ref().map_or(&deck_model, |s| &s.model);
+    let deck_nodes = deck_model.num_nodes();
+    // separation groups: every group element gets nodes of its own (the paper's preprocessing);
+    // the deck's mesh is then dropped, and the interface table moves into the run's interfaces
+    let (model, interfaces, history_nodes) = if deck_model.separations.is_empty() {
+        let h = history_copies(&deck_model, None);
+        (deck_model, None, h)
+    } else {
+        let sp = split_model(&deck_model);
+        let h = history_copies(&deck_model, Some(&sp));
+        (sp.model, Some((sp.faces, sp.interfaces)), h)
+    };
+    let model = &model;
+    let split = interfaces.is_some();
     let mut solver = Solver::new(model)?;
-    if let Some(sp) = &split {
-        solver.attach_separation(Separation::new(sp).map_err(Failure::Input)?);
+    if let Some((faces, n)) = interfaces {
+        solver.attach_separation(Separation::from_parts(model, faces, n).map_err(Failure::Input)?);
     }
-    let history_nodes = history_copies(&deck_model, split.as_ref());
     for w in &solver.setup.warnings {
         eprintln!("warning: {w}");
     }
     let progress = Progress::new(model.control.end_time, a.quiet);
-    let mut out = RunOutput::create(&dir, model, history_nodes, split.is_some(), progress)
+    let mut out = RunOutput::create(&dir, model, history_nodes, split, progress)
         .map_err(|e| io_failure("cannot create output in", &dir, e))?;
     let loop_start = Instant::now();
     let result = pool.install(|| solver.run(&mut out));
@@ -106,7 +115,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let last = out.energy.last().copied();
     let summary = Summary {
         elements: ne,
-        nodes: deck_model.num_nodes(),
+        nodes: deck_nodes,
         nodes_solved: solver.state.x.len(),
         interfaces: solver.separation().map_or(0, |s| s.num_interfaces()),
         failed_interfaces: solver.separation().map_or(0, |s| s.num_failed()),

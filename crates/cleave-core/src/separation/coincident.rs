@@ -22,14 +22,21 @@ pub struct CoincidentSets {
     ranges: Vec<(u32, u32)>,
     /// Set of each node, or NONE.
     node_set: Vec<u32>,
-    /// Node -> incident faces (CSR).
-    adj_start: Vec<u32>,
-    adj: Vec<u32>,
-    // scratch for splitting
+    /// The element of each node that some face holds (`NONE`: in no face; `SHARED`: a node of
+    /// several elements, outside every group). A node's faces are among its element's.
+    node_elem: Vec<u32>,
+    /// The shared faces of each element (`NONE` padding).
+    elem_faces: Vec<[u32; 6]>,
+    /// (node, face) for the `SHARED` nodes, sorted.
+    shared_adj: Vec<(u32, u32)>,
+    // scratch for splitting: piece label per position of the set being split
     label: Vec<u32>,
     stack: Vec<u32>,
     piece: Vec<u32>,
+    incident: Vec<u32>,
 }
+
+const SHARED: u32 = u32::MAX - 1;
 
 /// Whether face `f` ties its nodes: bonds always, interfaces while intact.
 #[inline]
@@ -42,28 +49,45 @@ impl CoincidentSets {
     /// (bonds are always tied; `intact` has one entry per face).
     pub fn build(num_nodes: usize, faces: &[SharedFace], intact: &[bool]) -> Self {
         let mut uf = UnionFind::new(num_nodes);
-        let mut deg = vec![0u32; num_nodes + 1];
+        let mut node_elem = vec![NONE; num_nodes];
+        let ne = faces
+            .iter()
+            .map(|f| f.elems[0].max(f.elems[1]) as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut elem_faces = vec![[NONE; 6]; ne];
         for (f, face) in faces.iter().enumerate() {
-            for k in 0..4 {
-                deg[face.nodes[k] as usize + 1] += 1;
-                deg[face.nodes[4 + k] as usize + 1] += 1;
-                if ties(faces, intact, f) {
+            for side in 0..2 {
+                let e = face.elems[side];
+                let slot = elem_faces[e as usize]
+                    .iter_mut()
+                    .find(|x| **x == NONE)
+                    .expect("a hexahedron shares at most 6 faces");
+                *slot = f as u32;
+                for k in 0..4 {
+                    let n = face.nodes[4 * side + k] as usize;
+                    node_elem[n] = match node_elem[n] {
+                        NONE => e,
+                        x if x == e => e,
+                        _ => SHARED,
+                    };
+                }
+            }
+            if ties(faces, intact, f) {
+                for k in 0..4 {
                     uf.union(face.nodes[k], face.nodes[4 + k]);
                 }
             }
         }
-        for i in 0..num_nodes {
-            deg[i + 1] += deg[i];
-        }
-        let adj_start = deg.clone();
-        let mut fill = deg;
-        let mut adj = vec![0u32; adj_start[num_nodes] as usize];
+        let mut shared_adj: Vec<(u32, u32)> = Vec::new();
         for (f, face) in faces.iter().enumerate() {
             for &n in &face.nodes {
-                adj[fill[n as usize] as usize] = f as u32;
-                fill[n as usize] += 1;
+                if node_elem[n as usize] == SHARED {
+                    shared_adj.push((n, f as u32));
+                }
             }
         }
+        shared_adj.sort_unstable();
         // group nodes by root; roots are smallest members, so sets come out ordered by their
         // smallest member with ascending members
         let mut count = vec![0u32; num_nodes];
@@ -95,11 +119,13 @@ impl CoincidentSets {
             members,
             ranges,
             node_set,
-            adj_start,
-            adj,
-            label: vec![NONE; num_nodes],
+            node_elem,
+            elem_faces,
+            shared_adj,
+            label: Vec::new(),
             stack: Vec::new(),
             piece: Vec::new(),
+            incident: Vec::new(),
         }
     }
 
@@ -120,6 +146,35 @@ impl CoincidentSets {
         })
     }
 
+    /// The one element whose node `n` is, if `n` is a node of a group element in some face.
+    pub fn owner(&self, n: u32) -> Option<u32> {
+        let e = self.node_elem[n as usize];
+        (e != NONE && e != SHARED).then_some(e)
+    }
+
+    /// The faces holding node `n`, into `out`.
+    fn faces_of(&self, n: u32, faces: &[SharedFace], out: &mut Vec<u32>) {
+        out.clear();
+        match self.node_elem[n as usize] {
+            NONE => {}
+            SHARED => {
+                let at = self.shared_adj.partition_point(|p| p.0 < n);
+                out.extend(
+                    self.shared_adj[at..]
+                        .iter()
+                        .take_while(|p| p.0 == n)
+                        .map(|p| p.1),
+                );
+            }
+            e => out.extend(
+                self.elem_faces[e as usize]
+                    .iter()
+                    .copied()
+                    .filter(|&f| f != NONE && faces[f as usize].nodes.contains(&n)),
+            ),
+        }
+    }
+
     /// Re-split the sets holding the nodes of `failed` faces (whose `intact` entry is already
     /// false) into the components still tied together.
     pub fn split_after_failure(&mut self, faces: &[SharedFace], intact: &[bool], failed: &[usize]) {
@@ -136,24 +191,21 @@ impl CoincidentSets {
     fn split_set(&mut self, s: usize, faces: &[SharedFace], intact: &[bool]) {
         let (start, len) = self.ranges[s];
         let range = start as usize..(start + len) as usize;
-        // label components by a search through tying faces, seeded in ascending member order
-        for &n in &self.members[range.clone()] {
-            self.label[n as usize] = NONE;
-        }
+        // label components by a search through tying faces, seeded in ascending member order;
+        // labels are kept per position in the set (members are ascending: binary search)
+        self.label.clear();
+        self.label.resize(len as usize, NONE);
+        let mut incident = std::mem::take(&mut self.incident);
         let mut pieces = 0u32;
-        for idx in range.clone() {
-            let seed = self.members[idx];
-            if self.label[seed as usize] != NONE {
+        for seed_at in 0..len as usize {
+            if self.label[seed_at] != NONE {
                 continue;
             }
-            self.label[seed as usize] = pieces;
-            self.stack.push(seed);
+            self.label[seed_at] = pieces;
+            self.stack.push(self.members[start as usize + seed_at]);
             while let Some(n) = self.stack.pop() {
-                let (a, b) = (
-                    self.adj_start[n as usize] as usize,
-                    self.adj_start[n as usize + 1] as usize,
-                );
-                for &f in &self.adj[a..b] {
+                self.faces_of(n, faces, &mut incident);
+                for &f in &incident {
                     let f = f as usize;
                     if !ties(faces, intact, f) {
                         continue;
@@ -165,16 +217,21 @@ impl CoincidentSets {
                         .position(|&m| m == n)
                         .expect("adjacent face holds the node");
                     let partner = face.nodes[(k + 4) % 8];
-                    if self.node_set[partner as usize] == s as u32
-                        && self.label[partner as usize] == NONE
-                    {
-                        self.label[partner as usize] = pieces;
+                    if self.node_set[partner as usize] != s as u32 {
+                        continue;
+                    }
+                    let at = self.members[range.clone()]
+                        .binary_search(&partner)
+                        .expect("a set member");
+                    if self.label[at] == NONE {
+                        self.label[at] = pieces;
                         self.stack.push(partner);
                     }
                 }
             }
             pieces += 1;
         }
+        self.incident = incident;
         if pieces == 1 {
             return;
         }
@@ -184,18 +241,15 @@ impl CoincidentSets {
             self.piece.extend(
                 self.members[range.clone()]
                     .iter()
-                    .copied()
-                    .filter(|&n| self.label[n as usize] == p),
+                    .zip(&self.label)
+                    .filter(|&(_, &l)| l == p)
+                    .map(|(&n, _)| n),
             );
         }
         self.members[range].copy_from_slice(&self.piece);
         let mut at = start;
         for p in 0..pieces {
-            let size = self
-                .piece
-                .iter()
-                .filter(|&&n| self.label[n as usize] == p)
-                .count() as u32;
+            let size = self.label.iter().filter(|&&l| l == p).count() as u32;
             let id = if p == 0 {
                 s as u32
             } else {

@@ -11,11 +11,12 @@ use rayon::prelude::*;
 
 use super::cohesive::{stable_slope, LinearSoftening};
 use super::coincident::CoincidentSets;
-use super::criteria::{criterion_for, Criterion, InterfaceSample};
+use super::criteria::{criterion_for, traction_bound, Criterion, InterfaceSample};
 use super::split::{FaceKind, SharedFace, SplitModel};
 use crate::element::hex8::{self, quad_normal_area};
 use crate::material::History;
 use crate::math::{add, dot, scale, sub, sym_mul_vec, Sym3, Vec3};
+use crate::model::Model;
 use crate::topology::UnionFind;
 
 /// Interfaces per chunk of the parallel failure check.
@@ -67,18 +68,17 @@ pub struct Separation {
     /// Per element: whether an interface failure has touched its nodes' coincident sets (it then
     /// steps with the free-element speed).
     loose: Vec<bool>,
-    /// Owner element of each node of a group element (u32::MAX for shared nodes).
-    node_elem: Vec<u32>,
     /// Per element: the stable cohesive unloading slope E / (2 h), h = V / (largest face area).
     elem_slope: Vec<f64>,
     sets: CoincidentSets,
     cohesive: Vec<CohesiveFace>,
     // scratch
-    /// Failure index of each interface that reached 1 this step (0 otherwise).
-    fails: Vec<f64>,
+    /// Failure index of each interface that reached 1 this step (0 otherwise; single precision
+    /// is plenty to order the releases).
+    fails: Vec<f32>,
     /// Elements that lost an interface in this step's release.
     touched: Vec<bool>,
-    candidates: Vec<(f64, usize)>,
+    candidates: Vec<(f32, usize)>,
     chunk_fails: Vec<u32>,
     released: Vec<usize>,
     failed: usize,
@@ -87,8 +87,19 @@ pub struct Separation {
 
 impl Separation {
     /// All interfaces intact; one criterion (and cohesive law for MODEL 3) per separation group.
+    /// Copies the interface table; [`Self::from_parts`] takes it over.
     pub fn new(split: &SplitModel) -> Result<Self, String> {
-        let defs = &split.model.separations;
+        Self::from_parts(&split.model, split.faces.clone(), split.interfaces)
+    }
+
+    /// As [`Self::new`], from the split model, its shared faces and the number of interfaces
+    /// among them (they come first).
+    pub fn from_parts(
+        m: &Model,
+        faces: Vec<SharedFace>,
+        interfaces: usize,
+    ) -> Result<Self, String> {
+        let defs = &m.separations;
         let criteria = defs
             .iter()
             .map(criterion_for)
@@ -97,7 +108,6 @@ impl Separation {
             .iter()
             .map(|d| (d.model == 3).then(|| LinearSoftening::new(d.sigmax, d.beta, d.gc)))
             .collect();
-        let m = &split.model;
         let elem_slope = (0..m.num_elements())
             .map(|e| {
                 let xe: [Vec3; 8] = std::array::from_fn(|a| m.x0[m.conn[e][a] as usize]);
@@ -105,24 +115,11 @@ impl Separation {
                 stable_slope(m.element_material(e).young, h)
             })
             .collect();
-        let mut node_elem = vec![0u32; m.num_nodes()];
-        let mut users = vec![0u8; m.num_nodes()];
-        for (e, c) in m.conn.iter().enumerate() {
-            for &n in c {
-                node_elem[n as usize] = e as u32;
-                users[n as usize] = users[n as usize].saturating_add(1);
-            }
-        }
-        for (ne, &u) in node_elem.iter_mut().zip(&users) {
-            if u != 1 {
-                *ne = u32::MAX;
-            }
-        }
-        let ties = vec![true; split.faces.len()];
-        let sets = CoincidentSets::build(split.model.num_nodes(), &split.faces, &ties);
-        let n = split.interfaces;
+        let ties = vec![true; faces.len()];
+        let sets = CoincidentSets::build(m.num_nodes(), &faces, &ties);
+        let n = interfaces;
         Ok(Self {
-            faces: split.faces.clone(),
+            faces,
             interfaces: n,
             status: vec![Status::Intact; n],
             ties,
@@ -130,11 +127,10 @@ impl Separation {
             laws,
             elem_slope,
             loose: vec![false; m.num_elements()],
-            node_elem,
             sets,
             cohesive: Vec::new(),
-            fails: vec![0.0; n],
-            touched: vec![false; split.model.num_elements()],
+            fails: vec![0.0f32; n],
+            touched: vec![false; m.num_elements()],
             candidates: Vec::new(),
             chunk_fails: vec![0; n.div_ceil(CHUNK)],
             released: Vec::new(),
@@ -209,6 +205,10 @@ impl Separation {
                     }
                     let face = &faces[i];
                     let [ea, eb] = face.elems.map(|e| e as usize);
+                    let criterion = &criteria[face.group as usize];
+                    if !criterion.reachable(traction_bound(&stress[ea], &stress[eb])) {
+                        continue;
+                    }
                     let sample = InterfaceSample {
                         time,
                         face,
@@ -218,9 +218,9 @@ impl Separation {
                         x,
                         v,
                     };
-                    let index = criteria[face.group as usize].failure_index(&sample);
+                    let index = criterion.failure_index(&sample);
                     if index >= 1.0 {
-                        *out = index;
+                        *out = index as f32;
                         *count += 1;
                     }
                 }
@@ -287,8 +287,7 @@ impl Separation {
             for &n in &face.nodes {
                 if let Some(set) = self.sets.set_of(n) {
                     for &m in set {
-                        let e = self.node_elem[m as usize];
-                        if e != u32::MAX {
+                        if let Some(e) = self.sets.owner(m) {
                             self.loose[e as usize] = true;
                         }
                     }

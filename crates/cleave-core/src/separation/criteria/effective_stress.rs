@@ -21,4 +21,9 @@ impl Criterion for EffectiveStress {
         let ts = tau / self.beta;
         (sn * sn + ts * ts).sqrt() / self.sigmax
     }
+
+    /// sqrt(<sn>^2 + (tau/BETA)^2) <= |t| max(1, 1/BETA).
+    fn reachable(&self, traction_bound: f64) -> bool {
+        traction_bound * (1.0f64).max(1.0 / self.beta) >= self.sigmax
+    }
 }

@@ -59,6 +59,26 @@ impl InterfaceSample<'_> {
 pub trait Criterion: Send + Sync {
     /// Failure index of the interface: it fails when the index is >= 1.
     fn failure_index(&self, sample: &InterfaceSample) -> f64;
+
+    /// Whether the criterion can fire at all when the traction on the face, for any normal, is
+    /// at most `traction_bound` (Pa): a cheap test that spares the full sample of interfaces
+    /// far from failure. The default, `true`, always takes the full sample.
+    fn reachable(&self, _traction_bound: f64) -> bool {
+        true
+    }
+}
+
+/// An upper bound of |s n| over unit normals n for the mean of two stresses: the mean of their
+/// largest absolute row sums (the spectral norm of a symmetric matrix is at most its largest
+/// absolute row sum, Gershgorin).
+pub fn traction_bound(a: &Sym3, b: &Sym3) -> f64 {
+    fn rows(s: &Sym3) -> f64 {
+        let (xy, yz, zx) = (s[3].abs(), s[4].abs(), s[5].abs());
+        (s[0].abs() + xy + zx)
+            .max(s[1].abs() + xy + yz)
+            .max(s[2].abs() + yz + zx)
+    }
+    0.5 * (rows(a) + rows(b))
 }
 
 /// The criterion of a `*MAT_ADD_SEPARATION` card, by its MODEL number.

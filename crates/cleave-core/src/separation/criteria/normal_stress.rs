@@ -16,4 +16,8 @@ impl Criterion for NormalStress {
     fn failure_index(&self, s: &InterfaceSample) -> f64 {
         s.normal_and_shear().0 / self.sigmax
     }
+
+    fn reachable(&self, traction_bound: f64) -> bool {
+        traction_bound >= self.sigmax
+    }
 }

@@ -1,0 +1,486 @@
+//! Contact search: which faces each node may touch, by a uniform bucket grid.
+//!
+//! Each face is represented by its axis-aligned bounding box, inflated by how far a node may be
+//! from it and still be in contact plus a motion margin (the caller decides the inflation). A
+//! node's candidates are the faces whose inflated box contains it. The grid's cell size is the
+//! largest box extent, so a box covers at most 2 x 2 x 2 cells; every face is listed in each
+//! cell its box overlaps (counting sort: linear time, and each cell lists its faces in ascending
+//! order), and a node looks only at the faces listed in its own cell. The grid also lists the
+//! nodes of each cell, to find the nodes inside a box (when faces join a surface). Nothing
+//! compares all nodes with all faces. The number of cells is capped (a few per face or node),
+//! so a domain that grows (fragments flying apart) makes the cells larger, never the memory.
+//!
+//! The caller rebuilds the candidate lists only when some node has moved more than half the
+//! margin since the last build (see `contact::Contact`); in between, the lists are reused.
+
+use crate::math::Vec3;
+
+/// An axis-aligned box, bounds included.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// The box of some points.
+    pub fn of_points(p: &[Vec3]) -> Self {
+        let mut b = Self {
+            min: [f64::INFINITY; 3],
+            max: [f64::NEG_INFINITY; 3],
+        };
+        for q in p {
+            b.include(*q);
+        }
+        b
+    }
+    /// Grow the box to hold `q`.
+    #[inline]
+    pub fn include(&mut self, q: Vec3) {
+        for (d, &v) in q.iter().enumerate() {
+            self.min[d] = self.min[d].min(v);
+            self.max[d] = self.max[d].max(v);
+        }
+    }
+    /// The box grown by `r` on every side.
+    #[inline]
+    pub fn inflated(&self, r: f64) -> Self {
+        Self {
+            min: self.min.map(|v| v - r),
+            max: self.max.map(|v| v + r),
+        }
+    }
+    #[inline]
+    pub fn contains(&self, p: Vec3) -> bool {
+        (0..3).all(|d| self.min[d] <= p[d] && p[d] <= self.max[d])
+    }
+    /// Largest edge length.
+    #[inline]
+    pub fn extent(&self) -> f64 {
+        (0..3)
+            .map(|d| self.max[d] - self.min[d])
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Candidate faces of each node, compressed rows: node `i`'s faces are
+/// `list[start[i]..start[i + 1]]`, ascending.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Candidates {
+    pub start: Vec<u32>,
+    pub list: Vec<u32>,
+}
+
+impl Candidates {
+    /// The candidate faces of node `i`.
+    #[inline]
+    pub fn of(&self, i: usize) -> &[u32] {
+        &self.list[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    fn reset(&mut self) {
+        self.start.clear();
+        self.start.push(0);
+        self.list.clear();
+    }
+}
+
+/// A uniform bucket grid over face boxes; keeps its buffers between builds.
+#[derive(Clone, Debug, Default)]
+pub struct BucketGrid {
+    bounds: Option<Aabb>,
+    h: f64,
+    dims: [usize; 3],
+    /// Compressed rows: cell c's faces are `cell_faces[cell_start[c]..cell_start[c + 1]]`.
+    cell_start: Vec<u32>,
+    cell_faces: Vec<u32>,
+    /// Cell c's points are `cell_points[point_start[c]..point_start[c + 1]]`.
+    point_start: Vec<u32>,
+    cell_points: Vec<u32>,
+    cursor: Vec<u32>,
+}
+
+impl BucketGrid {
+    /// Candidate faces of every point: the faces `f` whose box `boxes[f]` contains `points[i]`
+    /// and for which `keep(i, f)` holds (e.g. the node is not one of the face's own nodes).
+    pub fn candidates(
+        &mut self,
+        boxes: &[Aabb],
+        points: &[Vec3],
+        keep: impl Fn(usize, u32) -> bool,
+        out: &mut Candidates,
+    ) {
+        self.build(boxes, &[]);
+        out.reset();
+        for (i, &p) in points.iter().enumerate() {
+            self.faces_at(p, boxes, |f| keep(i, f), &mut out.list);
+            out.start.push(out.list.len() as u32);
+        }
+    }
+
+    /// Append to `out`, ascending, the faces `f` whose box (`boxes`, those of the build)
+    /// contains `p` and for which `keep(f)` holds.
+    #[inline]
+    pub fn faces_at(
+        &self,
+        p: Vec3,
+        boxes: &[Aabb],
+        keep: impl Fn(u32) -> bool,
+        out: &mut Vec<u32>,
+    ) {
+        if self.cell_start.is_empty() {
+            return;
+        }
+        if let Some(c) = self.cell_of(p) {
+            let range = self.cell_start[c] as usize..self.cell_start[c + 1] as usize;
+            for &f in &self.cell_faces[range] {
+                if boxes[f as usize].contains(p) && keep(f) {
+                    out.push(f);
+                }
+            }
+        }
+    }
+
+    /// Append to `out` the points of the build (indices into its `points`, whose positions
+    /// `pos(q)` gives) inside box `b`, in cell order.
+    pub fn points_in(&self, b: &Aabb, pos: impl Fn(u32) -> Vec3, out: &mut Vec<u32>) {
+        let Some(bounds) = self.bounds.as_ref() else {
+            return;
+        };
+        if self.point_start.is_empty()
+            || (0..3).any(|d| b.max[d] < bounds.min[d] || b.min[d] > bounds.max[d])
+        {
+            return;
+        }
+        let (lo, hi) = (self.index(b.min), self.index(b.max));
+        for k in lo[2]..=hi[2] {
+            for j in lo[1]..=hi[1] {
+                for i in lo[0]..=hi[0] {
+                    let c = self.flat([i, j, k]);
+                    let range = self.point_start[c] as usize..self.point_start[c + 1] as usize;
+                    for &q in &self.cell_points[range] {
+                        if b.contains(pos(q)) {
+                            out.push(q);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Size the grid to the boxes and points, list each box in the cells it overlaps and each
+    /// point in its cell.
+    pub fn build(&mut self, boxes: &[Aabb], points: &[Vec3]) {
+        self.bounds = None;
+        self.cell_start.clear();
+        self.point_start.clear();
+        if boxes.is_empty() && points.is_empty() {
+            return;
+        }
+        let mut bounds = Aabb {
+            min: [f64::INFINITY; 3],
+            max: [f64::NEG_INFINITY; 3],
+        };
+        let mut h: f64 = 0.0;
+        for b in boxes {
+            bounds.include(b.min);
+            bounds.include(b.max);
+            h = h.max(b.extent());
+        }
+        for p in points {
+            if p.iter().all(|v| v.is_finite()) {
+                bounds.include(*p);
+            }
+        }
+        if !(0..3).all(|d| bounds.min[d] <= bounds.max[d]) {
+            // only non-finite points: one cell at the origin
+            bounds = Aabb {
+                min: [0.0; 3],
+                max: [0.0; 3],
+            };
+        }
+        let ext = bounds.extent();
+        if boxes.is_empty() {
+            // points only: about one per cell
+            h = ext / (points.len() as f64).cbrt();
+        }
+        if h.is_nan() || h <= 0.0 || !h.is_finite() {
+            h = if ext > 0.0 && ext.is_finite() {
+                ext
+            } else {
+                1.0
+            };
+        }
+        // at most a few cells per face (and never more than 2^21 per axis)
+        let cap = (8 * boxes.len() + points.len() + 64) as f64;
+        let mut dims = [1usize; 3];
+        for _ in 0..64 {
+            let n: [f64; 3] =
+                std::array::from_fn(|d| ((bounds.max[d] - bounds.min[d]) / h).floor() + 1.0);
+            let total = n[0] * n[1] * n[2];
+            if total <= cap && n.iter().all(|&v| v < 2_097_152.0) {
+                dims = n.map(|v| if v.is_finite() { v as usize } else { 1 });
+                break;
+            }
+            h *= (total / cap).cbrt().max(1.01);
+        }
+        self.bounds = Some(bounds);
+        self.h = h;
+        self.dims = dims;
+        let ncell = dims[0] * dims[1] * dims[2];
+        self.cell_start.clear();
+        self.cell_start.resize(ncell + 1, 0);
+        for b in boxes {
+            let (lo, hi) = (self.index(b.min), self.index(b.max));
+            for k in lo[2]..=hi[2] {
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        let c = self.flat([i, j, k]);
+                        self.cell_start[c + 1] += 1;
+                    }
+                }
+            }
+        }
+        for c in 0..ncell {
+            self.cell_start[c + 1] += self.cell_start[c];
+        }
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&self.cell_start[..ncell]);
+        self.cell_faces.clear();
+        self.cell_faces.resize(self.cell_start[ncell] as usize, 0);
+        for (f, b) in boxes.iter().enumerate() {
+            let (lo, hi) = (self.index(b.min), self.index(b.max));
+            for k in lo[2]..=hi[2] {
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        let c = self.flat([i, j, k]);
+                        self.cell_faces[self.cursor[c] as usize] = f as u32;
+                        self.cursor[c] += 1;
+                    }
+                }
+            }
+        }
+        if points.is_empty() {
+            return;
+        }
+        self.point_start.clear();
+        self.point_start.resize(ncell + 1, 0);
+        for p in points {
+            let c = self.flat(self.index(*p));
+            self.point_start[c + 1] += 1;
+        }
+        for c in 0..ncell {
+            self.point_start[c + 1] += self.point_start[c];
+        }
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&self.point_start[..ncell]);
+        self.cell_points.clear();
+        self.cell_points.resize(points.len(), 0);
+        for (q, p) in points.iter().enumerate() {
+            let c = self.flat(self.index(*p));
+            self.cell_points[self.cursor[c] as usize] = q as u32;
+            self.cursor[c] += 1;
+        }
+    }
+
+    /// Cell coordinates of a point, clamped to the grid. Monotone in each coordinate, so a
+    /// point inside a box falls in one of the box's cells.
+    #[inline]
+    fn index(&self, p: Vec3) -> [usize; 3] {
+        let b = self.bounds.as_ref().expect("grid built");
+        std::array::from_fn(|d| {
+            let t = ((p[d] - b.min[d]) / self.h).floor();
+            if t > 0.0 {
+                (t as usize).min(self.dims[d] - 1)
+            } else {
+                0 // also NaN
+            }
+        })
+    }
+
+    #[inline]
+    fn flat(&self, c: [usize; 3]) -> usize {
+        c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
+    }
+
+    /// The cell holding `p`, or `None` outside every box.
+    #[inline]
+    fn cell_of(&self, p: Vec3) -> Option<usize> {
+        let b = self.bounds.as_ref()?;
+        b.contains(p).then(|| self.flat(self.index(p)))
+    }
+}
+
+/// The same lists as [`BucketGrid::candidates`] by testing every point against every box: the
+/// reference the grid is checked against. Test-only: quadratic.
+#[cfg(test)]
+pub fn brute_force_candidates(
+    boxes: &[Aabb],
+    points: &[Vec3],
+    keep: impl Fn(usize, u32) -> bool,
+    out: &mut Candidates,
+) {
+    out.reset();
+    for (i, &p) in points.iter().enumerate() {
+        for (f, b) in boxes.iter().enumerate() {
+            if b.contains(p) && keep(i, f as u32) {
+                out.list.push(f as u32);
+            }
+        }
+        out.start.push(out.list.len() as u32);
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A tiny deterministic generator (SplitMix64), for reproducible random geometry.
+    pub(crate) struct Rng(pub u64);
+    impl Rng {
+        pub(crate) fn next_u64(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        /// Uniform in [0, 1).
+        pub(crate) fn unit(&mut self) -> f64 {
+            (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        }
+        pub(crate) fn range(&mut self, a: f64, b: f64) -> f64 {
+            a + (b - a) * self.unit()
+        }
+    }
+
+    /// A soup of random quads (random centre, size spread over two decades, random shape),
+    /// their boxes inflated by a random reach, and random points around them (some outside
+    /// every box, some exactly on a box corner).
+    fn soup(seed: u64, faces: usize, points: usize) -> (Vec<Aabb>, Vec<Vec3>) {
+        let mut r = Rng(seed);
+        let mut boxes = Vec::with_capacity(faces);
+        for _ in 0..faces {
+            let c = [r.range(0.0, 10.0), r.range(0.0, 5.0), r.range(-1.0, 1.0)];
+            let s = 10f64.powf(r.range(-1.5, 0.5));
+            let quad: Vec<Vec3> = (0..4)
+                .map(|_| std::array::from_fn(|d| c[d] + s * r.range(-1.0, 1.0)))
+                .collect();
+            boxes.push(Aabb::of_points(&quad).inflated(r.range(0.0, 0.2)));
+        }
+        let mut pts: Vec<Vec3> = (0..points)
+            .map(|_| [r.range(-1.0, 11.0), r.range(-1.0, 6.0), r.range(-2.0, 2.0)])
+            .collect();
+        for k in 0..faces.min(points / 10) {
+            pts[k] = boxes[k].max; // on a box's corner: bounds are inclusive
+        }
+        (boxes, pts)
+    }
+
+    /// The bucket grid finds exactly the brute-force candidates (same faces, same order) on
+    /// random face soups, with and without a filter, for several seeds and sizes.
+    #[test]
+    fn bucket_equals_brute_force() {
+        let mut grid = BucketGrid::default();
+        let (mut a, mut b) = (Candidates::default(), Candidates::default());
+        let mut total = 0;
+        for seed in 1..=8u64 {
+            let faces = 50 + 150 * seed as usize;
+            let (boxes, pts) = soup(seed, faces, 2000);
+            let keep = |i: usize, f: u32| !(i + f as usize).is_multiple_of(7);
+            grid.candidates(&boxes, &pts, keep, &mut a);
+            brute_force_candidates(&boxes, &pts, keep, &mut b);
+            assert_eq!(a, b, "seed {seed}");
+            grid.candidates(&boxes, &pts, |_, _| true, &mut a);
+            brute_force_candidates(&boxes, &pts, |_, _| true, &mut b);
+            assert_eq!(a, b, "seed {seed}, no filter");
+            total += a.list.len();
+        }
+        // the soups are dense enough that the comparison is not vacuous
+        assert!(total > 10_000, "only {total} candidates");
+    }
+
+    /// Far-apart clusters (a domain much larger than the faces) hit the cell cap; the result
+    /// is still exact.
+    #[test]
+    fn sparse_domain_is_capped_and_exact() {
+        let (mut boxes, mut pts) = soup(99, 300, 1000);
+        let (b2, p2) = soup(100, 300, 1000);
+        let shift = |v: Vec3| [v[0] + 1e5, v[1] - 3e4, v[2] + 7e4];
+        boxes.extend(b2.iter().map(|b| Aabb {
+            min: shift(b.min),
+            max: shift(b.max),
+        }));
+        pts.extend(p2.iter().map(|&p| shift(p)));
+        let mut grid = BucketGrid::default();
+        let (mut a, mut b) = (Candidates::default(), Candidates::default());
+        grid.candidates(&boxes, &pts, |_, _| true, &mut a);
+        brute_force_candidates(&boxes, &pts, |_, _| true, &mut b);
+        assert_eq!(a, b);
+        let cells = grid.dims.iter().product::<usize>();
+        assert!(cells <= 8 * boxes.len() + pts.len() + 64, "{cells} cells");
+    }
+
+    /// The points a box query finds are exactly the points inside the box (brute force), for
+    /// random boxes over a face soup's grid.
+    #[test]
+    fn points_in_box_equals_brute_force() {
+        let (boxes, pts) = soup(5, 400, 3000);
+        let mut grid = BucketGrid::default();
+        grid.build(&boxes, &pts);
+        let mut r = Rng(77);
+        let mut found = 0;
+        for _ in 0..200 {
+            let c = [r.range(-1.0, 11.0), r.range(-1.0, 6.0), r.range(-2.0, 2.0)];
+            let h = r.range(0.0, 1.5);
+            let b = Aabb {
+                min: c.map(|v| v - h),
+                max: c.map(|v| v + h),
+            };
+            let mut a = Vec::new();
+            grid.points_in(&b, |q| pts[q as usize], &mut a);
+            a.sort_unstable();
+            let want: Vec<u32> = (0..pts.len() as u32)
+                .filter(|&q| b.contains(pts[q as usize]))
+                .collect();
+            assert_eq!(a, want);
+            found += a.len();
+        }
+        assert!(found > 1000, "{found}");
+    }
+
+    /// A grid of points only (no face joined one side while nodes joined the other) still
+    /// finds its points.
+    #[test]
+    fn points_only_grid() {
+        let pts: Vec<Vec3> = (0..50).map(|i| [i as f64 * 0.1, 0.0, 1.0]).collect();
+        let mut grid = BucketGrid::default();
+        grid.build(&[], &pts);
+        let b = Aabb {
+            min: [0.25, -1.0, 0.0],
+            max: [0.55, 1.0, 2.0],
+        };
+        let mut a = Vec::new();
+        grid.points_in(&b, |q| pts[q as usize], &mut a);
+        a.sort_unstable();
+        assert_eq!(a, vec![3, 4, 5]);
+        let mut f = Vec::new();
+        grid.faces_at(pts[0], &[], |_| true, &mut f);
+        assert!(f.is_empty());
+    }
+
+    #[test]
+    fn no_faces_no_candidates() {
+        let mut grid = BucketGrid::default();
+        let mut a = Candidates::default();
+        grid.candidates(&[], &[[0.0; 3]; 3], |_, _| true, &mut a);
+        assert_eq!(a.len(), 3);
+        assert!(a.list.is_empty());
+    }
+}

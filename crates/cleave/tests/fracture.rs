@@ -169,7 +169,7 @@ fn separation_deck_reports_the_crack() {
         .lines()
         .filter_map(|l| l.split("file=\"").nth(1))
         .map(|r| r.split('"').next().unwrap().to_string())
-        .last()
+        .next_back()
         .unwrap();
     let vtp = String::from_utf8_lossy(&std::fs::read(out.join(last_vtp)).unwrap()).to_string();
     assert!(vtp.contains("NumberOfPolys=\"2\""), "two crack faces");

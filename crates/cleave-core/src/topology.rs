@@ -34,31 +34,12 @@ impl UnionFind {
 
 /// Component label of each element (0-based, numbered by smallest element) and the count.
 pub fn element_components(model: &Model) -> (Vec<u32>, usize) {
-    let ne = model.num_elements();
-    let mut first_elem = vec![u32::MAX; model.num_nodes()];
-    let mut uf = UnionFind::new(ne);
-    for (e, conn) in model.conn.iter().enumerate() {
-        for &n in conn {
-            let f = &mut first_elem[n as usize];
-            if *f == u32::MAX {
-                *f = e as u32;
-            } else {
-                uf.union(*f, e as u32);
-            }
-        }
-    }
-    let mut label = vec![u32::MAX; ne];
-    let mut root_label = vec![u32::MAX; ne];
-    let mut count = 0u32;
-    for (e, l) in label.iter_mut().enumerate() {
-        let r = uf.find(e as u32) as usize;
-        if root_label[r] == u32::MAX {
-            root_label[r] = count;
-            count += 1;
-        }
-        *l = root_label[r];
-    }
-    (label, count as usize)
+    let f = crate::separation::fragments::components(
+        &model.conn,
+        model.num_nodes(),
+        std::iter::empty(),
+    );
+    (f.label, f.count)
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use cleave_core::mesh::box_model;
 use cleave_core::model::{
     Material, MaterialKind, Model, MotionTarget, Part, PrescribedMotion, SeparationDef, Spc, Vad,
 };
+use cleave_core::separation::fragments::FragmentSummary;
 use cleave_core::separation::interfaces::{face_centroid, Separation, Status};
 use cleave_core::separation::split::split_model;
 use cleave_core::solver::{Observer, Solver};
@@ -197,33 +198,15 @@ fn separation(model: i32, sigmax: f64, gc: f64) -> SeparationDef {
     }
 }
 
-/// Mass, momentum, element count and initial centroid x of each fragment at t^n, largest
-/// mass first.
-fn fragment_table(s: &Solver) -> Vec<(f64, [f64; 3], usize, f64)> {
+/// Mass, centroid and velocity of each fragment at t^n, largest mass first.
+fn fragment_table(s: &Solver) -> Vec<FragmentSummary> {
     let sep = s.separation().unwrap();
-    let fr = sep.fragments(&s.model.conn, s.model.num_nodes());
-    let mut table = vec![(0.0, [0.0; 3], 0usize, 0.0); fr.count];
-    let mut node_frag = vec![u32::MAX; s.model.num_nodes()];
-    for (e, c) in s.model.conn.iter().enumerate() {
-        table[fr.label[e] as usize].2 += 1;
-        for &n in c {
-            node_frag[n as usize] = fr.label[e];
-        }
-    }
-    for (i, &f) in node_frag.iter().enumerate() {
-        let t = &mut table[f as usize];
-        let m = s.setup.mass[i];
-        t.0 += m;
-        t.3 += m * s.model.x0[i][0];
-        for d in 0..3 {
-            t.1[d] += m * s.state.v_n[i][d];
-        }
-    }
-    for t in &mut table {
-        t.3 /= t.0;
-    }
-    table.sort_by(|a, b| b.0.total_cmp(&a.0));
-    table
+    sep.fragments(&s.model.conn, s.model.num_nodes()).summaries(
+        &s.model.conn,
+        &s.setup.mass,
+        &s.state.x,
+        &s.state.v_n,
+    )
 }
 
 /// MODEL 1, rho c v < SIGMAX = 1.5 rho c v < 2 rho c v: the bar breaks where the two waves
@@ -278,21 +261,21 @@ fn pulled_bar_breaks_in_the_middle_into_equal_halves() {
         "pulled bar: {} failed interfaces, {} fragments; halves: {} and {} elements, momenta {:.6e} {:.6e}",
         sep.num_failed(),
         frags.len(),
-        a.2,
-        b.2,
-        a.1[0],
-        b.1[0],
+        a.elements,
+        b.elements,
+        a.mass * a.velocity[0],
+        b.mass * b.velocity[0],
     );
-    assert_eq!(a.2, b.2, "equal halves");
-    assert!((a.0 - b.0).abs() < 1e-12 * a.0);
-    assert!(a.1[0] * b.1[0] < 0.0, "moving apart");
+    assert_eq!(a.elements, b.elements, "equal halves");
+    assert!((a.mass - b.mass).abs() < 1e-12 * a.mass);
+    assert!(a.velocity[0] * b.velocity[0] < 0.0, "moving apart");
     // momentum of each side (the halves and any small pieces between them) vs the impulse
     let expect = rcv * h * h * (t_end - t_fail);
     let side = |left: bool| -> f64 {
         frags
             .iter()
-            .filter(|f| (f.3 < BAR_L / 2.0) == left)
-            .map(|f| f.1[0])
+            .filter(|f| (f.centroid[0] < BAR_L / 2.0) == left)
+            .map(|f| f.mass * f.velocity[0])
             .sum()
     };
     let (pl, pr) = (side(true) - p_fail, side(false) + p_fail);

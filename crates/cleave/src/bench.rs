@@ -12,8 +12,6 @@ use std::time::Instant;
 
 use cleave_core::mesh::box_model;
 use cleave_core::model::{Material, MaterialKind, SeparationDef};
-use cleave_core::separation::interfaces::Separation;
-use cleave_core::separation::split::split_model;
 use cleave_core::solver::{Observer, RunError, Solver};
 use cleave_io::output::peak_rss_mb;
 
@@ -54,7 +52,7 @@ fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
         .ok_or_else(|| Failure::Other("no time step".into()))?;
     model.control.end_time = dt * a.steps as f64;
     let pool = crate::run::thread_pool(Some(a.threads))?;
-    let (model, interfaces) = if a.separation {
+    if a.separation {
         model.separations.push(SeparationDef {
             material: 0,
             model: 1,
@@ -63,15 +61,9 @@ fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
             gc: 0.0,
             bond: 1,
         });
-        let sp = split_model(&model);
-        (sp.model, Some((sp.faces, sp.interfaces)))
-    } else {
-        (model, None)
-    };
-    let mut solver = Solver::new(&model)?;
-    if let Some((faces, n)) = interfaces {
-        solver.attach_separation(Separation::from_parts(&model, faces, n).map_err(Failure::Input)?);
     }
+    let prepared = crate::run::prepare(model);
+    let mut solver = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
     let start = Instant::now();
     pool.install(|| solver.run(&mut Quiet))
         .map_err(|e| match e {

@@ -11,62 +11,31 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
-use cleave_core::math::{add, scale, Vec3};
-use cleave_core::separation::interfaces::{face_centroid, mesh_fragments, Fragments, Status};
+use cleave_core::math::Vec3;
+use cleave_core::separation::fragments::{FragmentSummary, Fragments};
+use cleave_core::separation::interfaces::{face_centroid, Status};
 use cleave_core::solver::Solver;
+use cleave_core::topology::element_components;
 use cleave_io::output::csv::{CsvWriter, Field};
 use cleave_io::output::plot::{plot_histogram, plot_two_axes};
 use cleave_io::output::vtk::{write_vtp_quads, DataArray, PvdWriter};
 
 type Csv = CsvWriter<BufWriter<File>>;
 
-/// Mass, centroid and velocity of one fragment at t^n.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct FragmentRow {
-    pub elements: usize,
-    pub mass: f64,
-    pub centroid: Vec3,
-    pub velocity: Vec3,
-}
-
 /// The fragments of the current state.
 pub fn fragments_of(s: &Solver) -> Fragments {
     match s.separation() {
         Some(sep) => sep.fragments(&s.model.conn, s.model.num_nodes()),
-        None => mesh_fragments(&s.model.conn, s.model.num_nodes()),
+        None => {
+            let (label, count) = element_components(s.model);
+            Fragments { label, count }
+        }
     }
 }
 
-/// Mass, centroid and velocity (mass-weighted, from the nodes) of each fragment, by decreasing
-/// mass. Every node belongs to the fragment of the elements that use it.
-pub fn fragment_table(s: &Solver, fr: &Fragments) -> Vec<FragmentRow> {
-    let m = s.model;
-    let mut rows = vec![FragmentRow::default(); fr.count];
-    let mut node_frag = vec![u32::MAX; m.num_nodes()];
-    for (e, c) in m.conn.iter().enumerate() {
-        rows[fr.label[e] as usize].elements += 1;
-        for &n in c {
-            node_frag[n as usize] = fr.label[e];
-        }
-    }
-    for (i, &f) in node_frag.iter().enumerate() {
-        if f == u32::MAX {
-            continue;
-        }
-        let r = &mut rows[f as usize];
-        let mi = s.setup.mass[i];
-        r.mass += mi;
-        r.centroid = add(r.centroid, scale(s.state.x[i], mi));
-        r.velocity = add(r.velocity, scale(s.state.v_n[i], mi));
-    }
-    for r in &mut rows {
-        if r.mass > 0.0 {
-            r.centroid = scale(r.centroid, 1.0 / r.mass);
-            r.velocity = scale(r.velocity, 1.0 / r.mass);
-        }
-    }
-    rows.sort_by(|a, b| b.mass.total_cmp(&a.mass));
-    rows
+/// Mass, centroid and velocity of each fragment at t^n, by decreasing mass.
+pub fn fragment_table(s: &Solver, fr: &Fragments) -> Vec<FragmentSummary> {
+    fr.summaries(&s.model.conn, &s.setup.mass, &s.state.x, &s.state.v_n)
 }
 
 /// The fracture files of a run.
@@ -188,7 +157,7 @@ impl FractureOutput {
     }
 
     /// fragments.csv: `fragment,elements,mass,cx,cy,cz,vx,vy,vz`, by decreasing mass.
-    pub fn write_fragments(&mut self, rows: &[FragmentRow]) -> std::io::Result<()> {
+    pub fn write_fragments(&mut self, rows: &[FragmentSummary]) -> std::io::Result<()> {
         let mut csv: Csv = CsvWriter::create(
             self.dir.join("fragments.csv"),
             &[

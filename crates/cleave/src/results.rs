@@ -23,6 +23,7 @@ use cleave_io::output::vtk::{write_vtu, DataArray, PvdWriter};
 
 use crate::fracture::{fragment_table, fragments_of, FractureOutput};
 use crate::progress::Progress;
+use cleave_core::separation::fragments::Fragments;
 
 type Csv = CsvWriter<BufWriter<File>>;
 
@@ -191,10 +192,12 @@ impl<'m> RunOutput<'m> {
         })
     }
 
-    fn write_glstat(&mut self, s: &Solver) -> std::io::Result<()> {
-        self.fragments = match self.static_fragments {
-            Some(n) => n,
-            None => fragments_of(s).count,
+    /// A glstat and crack.csv row; `fr`: the fragments now (None: the mesh's, fixed).
+    fn write_glstat(&mut self, s: &Solver, fr: Option<&Fragments>) -> std::io::Result<()> {
+        self.fragments = match (fr, self.static_fragments) {
+            (Some(f), _) => f.count,
+            (None, Some(n)) => n,
+            (None, None) => unreachable!("a split model's fragments are counted at each row"),
         };
         self.fracture.write_row(s, self.fragments)?;
         let failed = s.separation().map_or(0, |sep| sep.num_failed());
@@ -371,8 +374,14 @@ impl Observer for RunOutput<'_> {
         let t = s.state.t;
         let last = s.is_finished();
         let m = self.model;
+        // glstat is always due at the last step, where fragments.csv needs the fragments too
         if self.glstat.1.due(t, last) {
-            self.write_glstat(s)?;
+            let fr = (self.static_fragments.is_none() || last).then(|| fragments_of(s));
+            self.write_glstat(s, fr.as_ref())?;
+            if let (true, Some(fr)) = (last, &fr) {
+                let rows = fragment_table(s, fr);
+                self.fracture.write_fragments(&rows)?;
+            }
         }
         if let Some((csv, sch)) = &mut self.nodout {
             if sch.due(t, last) {
@@ -392,11 +401,6 @@ impl Observer for RunOutput<'_> {
         if self.states.1.due(t, last) {
             self.write_state(s)?;
             self.fracture.write_surfaces(s)?;
-        }
-        if last {
-            let rows = fragment_table(s, &fragments_of(s));
-            self.fragments = rows.len();
-            self.fracture.write_fragments(&rows)?;
         }
         self.progress
             .update(s, s.separation().map_or(0, |sep| sep.num_failed()));

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use cleave_core::model::Model;
 use cleave_core::separation::interfaces::Separation;
-use cleave_core::separation::split::{copies_of, split_model, SplitModel};
+use cleave_core::separation::split::{copies_of, split_model, SharedFace};
 use cleave_core::solver::{RunError, Solver};
 use cleave_io::output::{peak_rss_mb, Summary};
 
@@ -50,10 +50,59 @@ pub fn load_model(
     Ok(model)
 }
 
-/// Each history node of the deck: its id and the solved nodes that are its copies (itself
-/// when the model is not split).
-fn history_copies(deck: &Model, split: Option<&SplitModel>) -> Vec<(i64, Vec<u32>)> {
-    let copies = split.map(|s| copies_of(&s.origin, deck.num_nodes()));
+/// The interface table of a split model: its shared faces and how many of them are
+/// interfaces (they come first).
+pub type InterfaceTable = (Vec<SharedFace>, usize);
+
+/// The model the solver runs, and what the output needs to know of the deck.
+pub struct Prepared {
+    pub model: Model,
+    pub interfaces: Option<InterfaceTable>,
+    /// Each history node of the deck: its id and the solved nodes that are its copies.
+    pub history_nodes: Vec<(i64, Vec<u32>)>,
+    pub deck_nodes: usize,
+}
+
+/// With separation groups, every group element gets nodes of its own (the paper's
+/// preprocessing) and the deck's mesh is dropped; the interface table moves into the run's
+/// interfaces.
+pub fn prepare(deck: Model) -> Prepared {
+    let deck_nodes = deck.num_nodes();
+    if deck.separations.is_empty() {
+        let history_nodes = history_copies(&deck, None);
+        Prepared {
+            model: deck,
+            interfaces: None,
+            history_nodes,
+            deck_nodes,
+        }
+    } else {
+        let sp = split_model(&deck);
+        Prepared {
+            history_nodes: history_copies(&deck, Some(&sp.origin)),
+            model: sp.model,
+            interfaces: Some((sp.faces, sp.interfaces)),
+            deck_nodes,
+        }
+    }
+}
+
+/// A solver for `model`, with its interfaces when it is split.
+pub fn start_solver(
+    model: &Model,
+    interfaces: Option<InterfaceTable>,
+) -> Result<Solver<'_>, Failure> {
+    let mut solver = Solver::new(model)?;
+    if let Some((faces, n)) = interfaces {
+        solver.attach_separation(Separation::from_parts(model, faces, n).map_err(Failure::Input)?);
+    }
+    Ok(solver)
+}
+
+/// Each history node of the deck: its id and the solved nodes that are its copies (`origin`:
+/// the deck node of each solved node of a split model; itself when the model is not split).
+fn history_copies(deck: &Model, origin: Option<&[u32]>) -> Vec<(i64, Vec<u32>)> {
+    let copies = origin.map(|o| copies_of(o, deck.num_nodes()));
     deck.output
         .history_nodes
         .iter()
@@ -81,23 +130,15 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let deck_model = load_model(&a.deck, a.end_time, a.no_separation)?;
     let pool = thread_pool(a.threads)?;
     let dir = a.out.clone().unwrap_or_else(|| default_out_dir(&a.deck));
-    let deck_nodes = deck_model.num_nodes();
-    // separation groups: every group element gets nodes of its own (the paper's preprocessing);
-    // the deck's mesh is then dropped, and the interface table moves into the run's interfaces
-    let (model, interfaces, history_nodes) = if deck_model.separations.is_empty() {
-        let h = history_copies(&deck_model, None);
-        (deck_model, None, h)
-    } else {
-        let sp = split_model(&deck_model);
-        let h = history_copies(&deck_model, Some(&sp));
-        (sp.model, Some((sp.faces, sp.interfaces)), h)
-    };
+    let Prepared {
+        model,
+        interfaces,
+        history_nodes,
+        deck_nodes,
+    } = prepare(deck_model);
     let model = &model;
     let split = interfaces.is_some();
-    let mut solver = Solver::new(model)?;
-    if let Some((faces, n)) = interfaces {
-        solver.attach_separation(Separation::from_parts(model, faces, n).map_err(Failure::Input)?);
-    }
+    let mut solver = start_solver(model, interfaces)?;
     for w in &solver.setup.warnings {
         eprintln!("warning: {w}");
     }

@@ -2,15 +2,12 @@
 //! numerical failure, and the output files of a small run (parsed back by their headers, and
 //! the .vtu by an independent reader, Python's meshio, when it is installed).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn cleave(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cleave"))
-        .args(args)
-        .output()
-        .expect("cleave runs")
-}
+use common::{cleave, csv, tmp};
 
 /// Asserts the exit code, showing stderr when it differs.
 fn assert_exit(out: &Output, code: i32) {
@@ -20,13 +17,6 @@ fn assert_exit(out: &Output, code: i32) {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cleave-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 /// A valid 2x1x1 elastic bar deck, free format, pulled at x = 2 by a prescribed velocity.
@@ -299,28 +289,6 @@ fn unstable_run_exits_3_with_readable_output() {
     );
     let summary = std::fs::read_to_string(d.join("deck.out/summary.json")).unwrap();
     assert!(summary.contains("\"steps\""));
-}
-
-fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect::<Vec<_>>();
-    let rows = lines
-        .map(|l| {
-            l.split(',')
-                .map(|v| v.parse::<f64>().unwrap_or(f64::NAN))
-                .collect::<Vec<_>>()
-        })
-        .collect::<Vec<_>>();
-    for r in &rows {
-        assert_eq!(r.len(), header.len(), "{}", path.display());
-    }
-    (header, rows)
 }
 
 /// The output files of the base run parse with the headers of the interface page, have a row

@@ -3,8 +3,11 @@
 //! cracks.pvd), and with a strength nothing reaches gives the same node histories as the same
 //! deck run with `--no-separation`.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+use common::{cleave, csv, tmp};
 
 use cleave_core::curve::Curve;
 use cleave_core::mesh::box_model;
@@ -17,20 +20,6 @@ const YOUNG: f64 = 200e9;
 const L: f64 = 0.1;
 const N: usize = 40;
 const PULL: f64 = 10.0;
-
-fn cleave(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cleave"))
-        .args(args)
-        .output()
-        .expect("cleave runs")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cleave-frac-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 fn run_ok(args: &[&str]) {
     let out = cleave(args);
@@ -91,26 +80,6 @@ fn bar_deck(dir: &Path, sigmax: f64) -> PathBuf {
     let p = dir.join("bar.k");
     std::fs::write(&p, cleave_io::deck::write_deck(&m)).unwrap();
     p
-}
-
-/// Rows of a CSV file (header checked by the caller), numbers parsed (empty fields as NaN).
-fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let rows = lines
-        .map(|l| {
-            l.split(',')
-                .map(|v| v.parse().unwrap_or(f64::NAN))
-                .collect()
-        })
-        .collect();
-    (header, rows)
 }
 
 fn json_number(text: &str, key: &str) -> f64 {

@@ -12,12 +12,12 @@ use rayon::prelude::*;
 use super::cohesive::{stable_slope, LinearSoftening};
 use super::coincident::CoincidentSets;
 use super::criteria::{criterion_for, traction_bound, Criterion, InterfaceSample};
+use super::fragments::{components, Fragments};
 use super::split::{FaceKind, SharedFace, SplitModel};
 use crate::element::hex8::{self, quad_normal_area};
 use crate::material::History;
 use crate::math::{add, dot, scale, sub, sym_mul_vec, Sym3, Vec3};
 use crate::model::Model;
-use crate::topology::UnionFind;
 
 /// Interfaces per chunk of the parallel failure check.
 const CHUNK: usize = 1024;
@@ -47,13 +47,6 @@ struct CohesiveFace {
     /// Opening x_b - x_a and force on side a at the previous evaluation (for the work).
     d_prev: [Vec3; 4],
     f_prev: [Vec3; 4],
-}
-
-/// Element fragments: a label per element (numbered by first element) and their count.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Fragments {
-    pub label: Vec<u32>,
-    pub count: usize,
 }
 
 /// The interfaces of a split model at run time.
@@ -311,10 +304,8 @@ impl Separation {
             self.status[i] = Status::Softening;
             let [ea, eb] = face.elems.map(|e| e as usize);
             let mean: Sym3 = std::array::from_fn(|k| 0.5 * (stress[ea][k] + stress[eb][k]));
-            let t0 = law.onset_traction(
-                sym_mul_vec(&mean, face_normal(face, x)),
-                face_normal(face, x),
-            );
+            let n = face_normal(face, x);
+            let t0 = law.onset_traction(sym_mul_vec(&mean, n), n);
             let d_prev = std::array::from_fn(|k| {
                 sub(x[face.nodes[4 + k] as usize], x[face.nodes[k] as usize])
             });
@@ -388,54 +379,14 @@ impl Separation {
     /// Fragments: connected components of elements through shared nodes and through every
     /// shared face that still holds (bonds, intact and softening interfaces).
     pub fn fragments(&self, conn: &[[u32; 8]], num_nodes: usize) -> Fragments {
-        let mut uf = UnionFind::new(num_nodes);
-        for c in conn {
-            for k in 1..8 {
-                uf.union(c[0], c[k]);
-            }
-        }
-        for (i, face) in self.faces.iter().enumerate() {
-            let holds = face.kind == FaceKind::Bond || self.status[i] != Status::Free;
-            if holds {
-                for k in 0..4 {
-                    uf.union(face.nodes[k], face.nodes[4 + k]);
-                }
-            }
-        }
-        label_elements(conn, &mut uf, num_nodes)
+        let holding = self
+            .faces
+            .iter()
+            .enumerate()
+            .filter(|(i, face)| face.kind == FaceKind::Bond || self.status[*i] != Status::Free);
+        let ties = holding.flat_map(|(_, face)| (0..4).map(|k| (face.nodes[k], face.nodes[4 + k])));
+        components(conn, num_nodes, ties)
     }
-}
-
-/// Number the components of the elements' first nodes in order of first element.
-fn label_elements(conn: &[[u32; 8]], uf: &mut UnionFind, num_nodes: usize) -> Fragments {
-    let mut root_label = vec![u32::MAX; num_nodes];
-    let mut count = 0u32;
-    let label = conn
-        .iter()
-        .map(|c| {
-            let r = uf.find(c[0]) as usize;
-            if root_label[r] == u32::MAX {
-                root_label[r] = count;
-                count += 1;
-            }
-            root_label[r]
-        })
-        .collect();
-    Fragments {
-        label,
-        count: count as usize,
-    }
-}
-
-/// Fragments of a model without separation: components through shared nodes.
-pub fn mesh_fragments(conn: &[[u32; 8]], num_nodes: usize) -> Fragments {
-    let mut uf = UnionFind::new(num_nodes);
-    for c in conn {
-        for k in 1..8 {
-            uf.union(c[0], c[k]);
-        }
-    }
-    label_elements(conn, &mut uf, num_nodes)
 }
 
 /// Current unit normal of a shared face, out of its first element: the diagonal cross product

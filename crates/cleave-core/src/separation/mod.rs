@@ -7,10 +7,11 @@
 //!   acceleration a = sum f / sum m; a set splits only where an interface fails.
 //! - [`criteria`]: the failure criteria (one file each), [`cohesive`]: the MODEL 3 law.
 //! - [`interfaces`]: the run-time status of every interface, the failure check, cohesive
-//!   forces, fragments.
+//!   forces; [`fragments`]: the components that hold together, with mass, centroid, velocity.
 
 pub mod cohesive;
 pub mod coincident;
 pub mod criteria;
+pub mod fragments;
 pub mod interfaces;
 pub mod split;

@@ -1,0 +1,44 @@
+//! Helpers shared by the end-to-end tests: run the binary, a fresh scratch folder, read a CSV.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Run the `cleave` binary with `args`.
+pub fn cleave(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cleave"))
+        .args(args)
+        .output()
+        .expect("cleave runs")
+}
+
+/// A fresh, empty scratch folder for one test.
+pub fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cleave-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Header and rows of a CSV file, numbers parsed (empty fields as NaN); every row has as many
+/// fields as the header.
+pub fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect::<Vec<_>>();
+    let rows = lines
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse::<f64>().unwrap_or(f64::NAN))
+                .collect::<Vec<_>>()
+        })
+        .collect::<Vec<_>>();
+    for r in &rows {
+        assert_eq!(r.len(), header.len(), "{}", path.display());
+    }
+    (header, rows)
+}

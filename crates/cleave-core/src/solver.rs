@@ -6,6 +6,7 @@
 //! interfaces     failure check of intact interfaces on the new stresses; release  (faces)
 //! assembly       f_i = sum of corner forces + body loads                     (nodes)
 //! cohesive       softening interfaces' tractions on their 8 nodes            (faces)
+//! contact        faces of failed interfaces join; penalty and friction forces (nodes, faces)
 //! tie            coincident sets of a split model: f_i = m_i sum f / sum m    (sets)
 //! velocities     v^(n+1/2) = v^(n-1/2) + f/m (dt^(n-1/2) + dt^(n+1/2)) / 2     (nodes)
 //! rigid bodies   F, M summed over each body; 6-dof update; nodes placed
@@ -18,8 +19,11 @@
 //! Every sum over elements or nodes is done in fixed chunks whose partial results are added in
 //! chunk order, so the numbers do not depend on the number of threads.
 
+use std::time::Instant;
+
 use rayon::prelude::*;
 
+use crate::contact::ContactSet;
 use crate::element::kernel::{hex8_step, KernelControls};
 use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
@@ -32,6 +36,26 @@ use crate::state::{Energies, RigidState, State};
 const ELEM_CHUNK: usize = 256;
 /// Nodes per chunk of the nodal passes.
 const NODE_CHUNK: usize = 1024;
+
+/// Wall-clock seconds spent in each phase of the step so far (for benchmarks and profiles).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// Element pass: stresses, corner forces, element time step.
+    pub elements: f64,
+    /// Failure check of the interfaces.
+    pub interfaces: f64,
+    /// Contact search and forces.
+    pub contact: f64,
+    /// Everything else of `advance_to_half_step` (assembly, cohesive forces, tie, velocities,
+    /// rigid bodies, constraints, energies) and the position update.
+    pub nodal: f64,
+}
+
+impl PhaseTimes {
+    pub fn total(&self) -> f64 {
+        self.elements + self.interfaces + self.contact + self.nodal
+    }
+}
 
 /// Resultant force of a rigid wall at t^n (on the model).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -107,6 +131,14 @@ pub struct Solver<'m> {
     pending_work: f64,
     /// Interfaces and coincident node sets of a split model (element separation).
     separation: Option<Separation>,
+    /// Contact definitions of the model.
+    contact: Option<ContactSet>,
+    /// Scratch: the faces of this step's failed interfaces, for the contact surfaces.
+    new_faces: Vec<(u32, u8)>,
+    /// Stable time step of the contact penalty springs (infinite without contact).
+    dt_contact: f64,
+    /// Time spent in each phase.
+    pub times: PhaseTimes,
 }
 
 impl<'m> Solver<'m> {
@@ -165,6 +197,10 @@ impl<'m> Solver<'m> {
             finished: false,
             pending_work: 0.0,
             separation: None,
+            contact: None,
+            new_faces: Vec::new(),
+            dt_contact: f64::INFINITY,
+            times: PhaseTimes::default(),
         })
     }
 
@@ -178,6 +214,39 @@ impl<'m> Solver<'m> {
     /// The interfaces of a split model, if any.
     pub fn separation(&self) -> Option<&Separation> {
         self.separation.as_ref()
+    }
+
+    /// Run with contact: each step, after the element and cohesive forces and before the
+    /// coincident sets are tied, the contact forces are added; the two faces of every interface
+    /// that fails join the contact surfaces in the step it fails.
+    ///
+    /// The time step is `TSSFAC min(element step, contact step)`, the contact step being
+    /// [`ContactSet::stable_dt`] of the initial surfaces: with the default SLSFAC the elements
+    /// control it; a stiffer penalty shortens it (see [`Solver::contact_time_step`]).
+    pub fn attach_contact(&mut self, contact: ContactSet) {
+        if contact.is_empty() {
+            return;
+        }
+        // a node of a rigid body moves with the body: its mass against a spring is the body's
+        let mass: Vec<f64> = (0..self.setup.mass.len())
+            .map(|i| match self.setup.node_rigid[i] {
+                crate::rigid::NOT_RIGID => self.setup.mass[i],
+                b => self.setup.rigid[b as usize].mass,
+            })
+            .collect();
+        self.dt_contact = contact.stable_dt(&mass);
+        self.contact = Some(contact);
+    }
+
+    /// The stable time step of the contact penalty springs, before TSSFAC (infinite without
+    /// contact).
+    pub fn contact_time_step(&self) -> f64 {
+        self.dt_contact
+    }
+
+    /// The contact definitions, if any.
+    pub fn contact(&self) -> Option<&ContactSet> {
+        self.contact.as_ref()
     }
 
     /// True once the state at the end time has been computed and observed.
@@ -199,10 +268,16 @@ impl<'m> Solver<'m> {
 
     /// The first part of a step: forces at t^n, the new time step, v^(n+1/2), energies at t^n.
     pub fn advance_to_half_step(&mut self) -> Result<(), SolverError> {
+        let t0 = Instant::now();
         let (dt_crit, dt_elem) = self.compute_element_forces()?;
+        let t1 = Instant::now();
         self.check_interfaces();
+        let t2 = Instant::now();
         self.assemble_forces();
         self.add_cohesive_forces();
+        let t3 = Instant::now();
+        self.add_contact_forces();
+        let t4 = Instant::now();
         self.tie_coincident_nodes();
         let dt_new = self.next_time_step(dt_crit, dt_elem)?;
         let dt_mid = 0.5 * (self.state.dt_prev + dt_new);
@@ -221,6 +296,12 @@ impl<'m> Solver<'m> {
             // E0 + W = the total at t = 0 (W holds the first half of the first impulses)
             self.state.initial_energy = self.state.energy.total() - self.state.energy.external_work;
         }
+        let t5 = Instant::now();
+        let tm = &mut self.times;
+        tm.elements += (t1 - t0).as_secs_f64();
+        tm.interfaces += (t2 - t1).as_secs_f64();
+        tm.contact += (t4 - t3).as_secs_f64();
+        tm.nodal += (t3 - t2).as_secs_f64() + (t5 - t4).as_secs_f64();
         Ok(())
     }
 
@@ -352,6 +433,33 @@ impl<'m> Solver<'m> {
         }
     }
 
+    /// Contact: the faces of the interfaces released this step join the surfaces (and the
+    /// candidate lists around them are renewed, since their ties broke); then the penalty and
+    /// friction forces at x^n are added. Their work over the last step goes to the contact
+    /// energy. Before the tie, so a coincident set shares the contact force of any member;
+    /// before the rigid bodies gather their nodes' forces.
+    fn add_contact_forces(&mut self) {
+        let Some(contact) = &mut self.contact else {
+            return;
+        };
+        let mut tie: &[u32] = &[];
+        if let Some(sep) = &self.separation {
+            if !sep.released().is_empty() {
+                self.new_faces.clear();
+                for &i in sep.released() {
+                    let face = &sep.faces()[i];
+                    self.new_faces.push((face.elems[0], face.faces[0]));
+                    self.new_faces.push((face.elems[1], face.faces[1]));
+                }
+                contact.activate(&self.new_faces);
+            }
+            tie = sep.sets().node_sets();
+        }
+        let s = &self.state;
+        let step = contact.compute(&s.x, &s.v, s.dt_prev, tie, &mut self.f);
+        self.state.energy.contact += step.energy;
+    }
+
     /// Each coincident set: f_i <- m_i sum f / sum m, so its nodes share one acceleration.
     fn tie_coincident_nodes(&mut self) {
         if let Some(sep) = &self.separation {
@@ -368,11 +476,11 @@ impl<'m> Solver<'m> {
         g
     }
 
-    /// dt^(n+1/2) = TSSFAC * min element time step (DTINIT caps the first), clamped so the
-    /// run ends exactly at ENDTIM.
+    /// dt^(n+1/2) = TSSFAC * min(element time step, contact time step) (DTINIT caps the
+    /// first), clamped so the run ends exactly at ENDTIM.
     fn next_time_step(&mut self, dt_crit: f64, dt_elem: u32) -> Result<f64, SolverError> {
         let c = &self.model.control;
-        let mut dt = c.tssfac * dt_crit;
+        let mut dt = c.tssfac * dt_crit.min(self.dt_contact);
         if c.dt_init > 0.0 && (self.state.step == 0 || !dt_crit.is_finite()) {
             // DTINIT caps the first step, and is the step of a model with no deformable element
             dt = dt.min(c.dt_init);
@@ -672,6 +780,7 @@ impl<'m> Solver<'m> {
 
     /// x^(n+1) = x^n + dt v^(n+1/2); rigid bodies commit their placement; t += dt.
     pub fn update_positions(&mut self) -> Result<(), SolverError> {
+        let t0 = Instant::now();
         let dt = self.state.dt;
         let State { x, v, .. } = &mut self.state;
         x.par_iter_mut().zip(v.par_iter()).for_each(|(xi, vi)| {
@@ -686,6 +795,7 @@ impl<'m> Solver<'m> {
         self.state.t += dt;
         self.state.dt_prev = dt;
         self.state.step += 1;
+        self.times.nodal += t0.elapsed().as_secs_f64();
         Ok(())
     }
 

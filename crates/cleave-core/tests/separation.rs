@@ -9,7 +9,9 @@ use cleave_core::model::{
 use cleave_core::separation::fragments::FragmentSummary;
 use cleave_core::separation::interfaces::{face_centroid, Separation, Status};
 use cleave_core::separation::split::split_model;
+mod common;
 use cleave_core::solver::{Observer, Solver};
+use common::Obs;
 
 struct Record<'a>(&'a mut Vec<Vec<[f64; 3]>>);
 impl Observer for Record<'_> {
@@ -126,13 +128,6 @@ fn split_mesh_moves_as_the_original_until_failure() {
 // ---------------------------------------------------------------------------------------------
 
 /// An observer from a closure.
-struct Obs<F: FnMut(&Solver)>(F);
-impl<F: FnMut(&Solver)> Observer for Obs<F> {
-    fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
-        (self.0)(s);
-        Ok(())
-    }
-}
 
 const RHO: f64 = 7800.0;
 const YOUNG: f64 = 200e9;

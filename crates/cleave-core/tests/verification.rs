@@ -15,28 +15,13 @@ use cleave_core::model::{
     BodyLoad, Material, MaterialKind, Model, MotionTarget, Part, PrescribedMotion, RigidWall,
     Section, Spc, Vad,
 };
-use cleave_core::solver::{Observer, Solver};
+mod common;
+use cleave_core::solver::Solver;
+use common::run;
 
 // ---------------------------------------------------------------------------------------------
 // helpers
 // ---------------------------------------------------------------------------------------------
-
-/// An observer from a closure.
-struct Obs<F: FnMut(&Solver)>(F);
-
-impl<F: FnMut(&Solver)> Observer for Obs<F> {
-    fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
-        (self.0)(s);
-        Ok(())
-    }
-}
-
-/// Run `m` to its end time, calling `f` with the state at every step t^n.
-fn run(m: &Model, f: impl FnMut(&Solver)) -> Solver<'_> {
-    let mut s = Solver::new(m).expect("setup");
-    s.run(&mut Obs(f)).expect("run");
-    s
-}
 
 const RHO: f64 = 7800.0;
 const YOUNG: f64 = 200e9;

@@ -82,19 +82,27 @@ pub struct ExampleArgs {
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// What to measure: `cube` (an elastic block).
+    /// What to measure: `cube` (an elastic block) or `ball` (the ceramic ball on a rigid
+    /// plate of `cleave example ball-impact`, with contact).
     pub what: String,
-    /// Number of elements (approximate for a cube: the nearest n^3).
-    #[arg(long, default_value_t = 100_000)]
-    pub elements: usize,
+    /// Number of elements: for a cube the nearest n^3 (default 100000); for the ball one of
+    /// the example's meshes (default 2800).
+    #[arg(long)]
+    pub elements: Option<usize>,
     /// Time steps to run.
     #[arg(long, default_value_t = 200)]
     pub steps: u64,
     /// Worker threads.
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
-    /// Put every element in a separation group (MODEL 1, a strength nothing reaches), so the
-    /// step carries the split nodes, the averaging and the failure check of every interface.
+    /// Cube: put every element in a separation group (MODEL 1, a strength nothing reaches), so
+    /// the step carries the split nodes, the averaging and the failure check of every interface.
     #[arg(long)]
     pub separation: bool,
+    /// Ball: simulated time to run (default 50 us: the impact and the first fractures).
+    #[arg(long = "end-time")]
+    pub end_time: Option<f64>,
+    /// Ball: drop the separation card (no fracture).
+    #[arg(long = "no-separation")]
+    pub no_separation: bool,
 }

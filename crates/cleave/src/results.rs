@@ -1,4 +1,4 @@
-//! The run's output: the observer that writes glstat, nodout, elout, rwforc, the ParaView
+//! The run's output: the observer that writes glstat, nodout, elout, rwforc, rcforc, the ParaView
 //! states, the fracture files ([`crate::fracture`]), and at the end the plots (file formats
 //! in `shared/spec/interface.md`).
 //!
@@ -76,6 +76,7 @@ pub struct RunOutput<'m> {
     nodout: Option<(Csv, Schedule)>,
     elout: Option<(Csv, Schedule)>,
     rwforc: Option<(Csv, Schedule)>,
+    rcforc: Option<(Csv, Schedule)>,
     states: (PvdWriter, Schedule),
     state_count: usize,
     part_ids: Vec<i32>,
@@ -165,6 +166,18 @@ impl<'m> RunOutput<'m> {
                 Schedule::new(or_default(o.rwforc_dt)),
             ))
         };
+        let rcforc = if model.contacts.is_empty() {
+            None
+        } else {
+            // the interface page's columns, then the total normal force and the number of
+            // node-face pairs in contact (the resultant of a single-surface contact between
+            // two touching bodies nearly cancels: see `ContactForce::force`)
+            let h = ["time", "contact", "fx", "fy", "fz", "normal_force", "pairs"];
+            Some((
+                csv(dir, "rcforc.csv", &h)?,
+                Schedule::new(or_default(o.rcforc_dt)),
+            ))
+        };
         let part_ids = model
             .elem_part
             .iter()
@@ -177,6 +190,7 @@ impl<'m> RunOutput<'m> {
             nodout,
             elout,
             rwforc,
+            rcforc,
             states: (
                 PvdWriter::new(dir.join("results.pvd")),
                 Schedule::new(o.d3plot_dt),
@@ -295,6 +309,24 @@ impl<'m> RunOutput<'m> {
         Ok(())
     }
 
+    fn write_rcforc(csv: &mut Csv, s: &Solver) -> std::io::Result<()> {
+        let Some(c) = s.contact() else {
+            return Ok(());
+        };
+        for f in c.forces() {
+            csv.row(&[
+                Field::F(s.state.t),
+                Field::I(f.id),
+                Field::F(f.force[0]),
+                Field::F(f.force[1]),
+                Field::F(f.force[2]),
+                Field::F(f.normal),
+                Field::I(f.pairs as i64),
+            ])?;
+        }
+        Ok(())
+    }
+
     fn write_state(&mut self, s: &Solver) -> std::io::Result<()> {
         let m = self.model;
         let name = format!("states/state_{:05}.vtu", self.state_count);
@@ -333,9 +365,14 @@ impl<'m> RunOutput<'m> {
     pub fn finish(&mut self) -> std::io::Result<()> {
         self.progress.finish();
         self.glstat.0.flush()?;
-        for f in [&mut self.nodout, &mut self.elout, &mut self.rwforc]
-            .into_iter()
-            .flatten()
+        for f in [
+            &mut self.nodout,
+            &mut self.elout,
+            &mut self.rwforc,
+            &mut self.rcforc,
+        ]
+        .into_iter()
+        .flatten()
         {
             f.0.flush()?;
         }
@@ -396,6 +433,11 @@ impl Observer for RunOutput<'_> {
         if let Some((csv, sch)) = &mut self.rwforc {
             if sch.due(t, last) {
                 Self::write_rwforc(csv, m, s)?;
+            }
+        }
+        if let Some((csv, sch)) = &mut self.rcforc {
+            if sch.due(t, last) {
+                Self::write_rcforc(csv, s)?;
             }
         }
         if self.states.1.due(t, last) {

@@ -3,9 +3,11 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use cleave_core::contact::ContactSet;
 use cleave_core::model::Model;
 use cleave_core::separation::interfaces::Separation;
 use cleave_core::separation::split::{copies_of, split_model, SharedFace};
+use cleave_core::setup::estimate_time_step;
 use cleave_core::solver::{RunError, Solver};
 use cleave_io::output::{peak_rss_mb, Summary};
 
@@ -41,12 +43,6 @@ pub fn load_model(
     if no_separation {
         model.separations.clear();
     }
-    if !model.contacts.is_empty() {
-        return Err(Failure::Input(format!(
-            "{}: *CONTACT_AUTOMATIC_... is read but contact is not implemented yet in this version",
-            deck.display()
-        )));
-    }
     Ok(model)
 }
 
@@ -58,6 +54,8 @@ pub type InterfaceTable = (Vec<SharedFace>, usize);
 pub struct Prepared {
     pub model: Model,
     pub interfaces: Option<InterfaceTable>,
+    /// Deck node of each solved node of a split model (`None`: not split).
+    pub origin: Option<Vec<u32>>,
     /// Each history node of the deck: its id and the solved nodes that are its copies.
     pub history_nodes: Vec<(i64, Vec<u32>)>,
     pub deck_nodes: usize,
@@ -73,6 +71,7 @@ pub fn prepare(deck: Model) -> Prepared {
         Prepared {
             model: deck,
             interfaces: None,
+            origin: None,
             history_nodes,
             deck_nodes,
         }
@@ -82,21 +81,38 @@ pub fn prepare(deck: Model) -> Prepared {
             history_nodes: history_copies(&deck, Some(&sp.origin)),
             model: sp.model,
             interfaces: Some((sp.faces, sp.interfaces)),
+            origin: Some(sp.origin),
             deck_nodes,
         }
     }
 }
 
-/// A solver for `model`, with its interfaces when it is split.
-pub fn start_solver(
-    model: &Model,
+/// A solver for `model`, with its interfaces when it is split (`origin`: the deck node of
+/// each solved node) and its contact definitions.
+///
+/// When the contact's penalty springs need a smaller time step than the elements, the run
+/// takes it and the returned warning says so; it goes to the terminal and to summary.json.
+pub fn start_solver<'m>(
+    model: &'m Model,
     interfaces: Option<InterfaceTable>,
-) -> Result<Solver<'_>, Failure> {
+    origin: Option<&[u32]>,
+) -> Result<(Solver<'m>, Vec<String>), Failure> {
     let mut solver = Solver::new(model)?;
+    let mut warnings = solver.setup.warnings.clone();
     if let Some((faces, n)) = interfaces {
         solver.attach_separation(Separation::from_parts(model, faces, n).map_err(Failure::Input)?);
     }
-    Ok(solver)
+    if !model.contacts.is_empty() {
+        solver.attach_contact(ContactSet::new(model, origin).map_err(Failure::Input)?);
+        let dt_contact = model.control.tssfac * solver.contact_time_step();
+        let dt_elem = estimate_time_step(model).map_or(model.control.dt_init, |(dt, _)| dt);
+        if dt_contact < dt_elem {
+            warnings.push(format!(
+                "the contact penalty springs limit the time step to {dt_contact:.3e} s, below the element step {dt_elem:.3e} s (lower SLSFAC on *CONTROL_CONTACT for the element step)"
+            ));
+        }
+    }
+    Ok((solver, warnings))
 }
 
 /// Each history node of the deck: its id and the solved nodes that are its copies (`origin`:
@@ -133,13 +149,15 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let Prepared {
         model,
         interfaces,
+        origin,
         history_nodes,
         deck_nodes,
     } = prepare(deck_model);
     let model = &model;
     let split = interfaces.is_some();
-    let mut solver = start_solver(model, interfaces)?;
-    for w in &solver.setup.warnings {
+    let (mut solver, warnings) = start_solver(model, interfaces, origin.as_deref())?;
+    drop(origin);
+    for w in &warnings {
         eprintln!("warning: {w}");
     }
     let progress = Progress::new(model.control.end_time, a.quiet);
@@ -169,6 +187,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         threads: pool.current_num_threads(),
         energy_ratio: last.map_or(1.0, |r| r.ratio),
         version: env!("CARGO_PKG_VERSION").to_string(),
+        warnings,
     };
     let summary_path = dir.join("summary.json");
     summary

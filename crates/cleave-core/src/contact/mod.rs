@@ -30,6 +30,18 @@
 //! coplanar side face, or the two faces of a crack at the moment it opens) are not contact, so
 //! round-off there cannot mask a real penetration. Far-side faces are excluded by the depth.
 //!
+//! Orientation: a node contacts a face only when its own surface faces it, `n_s . n < -FACING`
+//! with n_s the node's normal (the normalised sum of the area-weighted normals of the node's
+//! faces on its side) and n the face's. A node on the flat top of a plate, under a block
+//! sliding over it, lies within the depth of the block's leading face and projects onto it;
+//! the block's bottom, which it really touches, does not hold it when the block lifts by a
+//! few nanometres (a penalty spring vibrating), so without this test the leading face would
+//! push the block back. The same geometry, an edge node just beside a face of the other
+//! body, arises when two flush blocks meet face to face, and there it must be contact: the
+//! two cases differ only in the node's surface (plate top: perpendicular to the leading face;
+//! a block's front edge: facing the other block), hence the test on the node's normal. Edge
+//! and corner nodes (n_s . n = -0.71, -0.58 against a face square to one of their faces) pass.
+//!
 //! Forces: normal `f_n = -k g n` on the node, plus friction `f_t` ([`friction`]); the face's
 //! nodes get `-N_a(xi, eta) (f_n + f_t)`, N_a the bilinear shape functions at the contact point.
 //! k is the stiffness of the face (LS-DYNA: the master segment's).
@@ -78,6 +90,7 @@
 //! nearly all rejected by the bounds). With 5 interfaces failing every step (1000 over 200
 //! steps, 196 incremental searches, 5 full builds) the mean was 87%.
 
+pub mod engagement;
 pub mod friction;
 pub mod penalty;
 pub mod search;
@@ -87,8 +100,9 @@ use std::collections::HashSet;
 
 use rayon::prelude::*;
 
-use crate::math::{add, dot, norm, scale, sub, Vec3};
+use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{ContactDef, Model};
+use engagement::{engage, Previous};
 use friction::{tangential_force, Friction};
 use penalty::{normal_force, off_corners, project, FaceBounds, Projection, INSIDE_TOL};
 use search::{Aabb, BucketGrid};
@@ -102,6 +116,10 @@ pub const MARGIN_FRACTION: f64 = 0.3;
 
 /// Gaps above `-GAP_TOL r` (r the face's radius) are not contact (see the module docs).
 pub const GAP_TOL: f64 = 1e-9;
+
+/// A node contacts a face only if its surface faces the face: `n_s . n < -FACING`, n_s the
+/// node's normal (the mean of its faces' normals), n the face's (an angle over 101.5 degrees).
+pub const FACING: f64 = 0.2;
 
 /// Nodes per parallel task of the detection.
 const NODE_CHUNK: usize = 256;
@@ -339,8 +357,8 @@ impl ContactSet {
     /// contact is held by its own penalty spring k and, in the symmetric pass, by the spring of
     /// the node that penetrates it; two such masses joined by 2k vibrate at
     /// `omega^2 = 2k (1/m + 1/m) = 4k/m`, and central differences need `dt <= 2/omega`.
-    /// Infinite when there is no face. Rigid-body nodes count with their lumped mass
-    /// (conservative).
+    /// Infinite when there is no face. `mass` is the mass each node has against a spring: the
+    /// solver gives a rigid body's nodes the body's mass.
     pub fn stable_dt(&self, mass: &[f64]) -> f64 {
         self.contacts
             .iter()
@@ -431,6 +449,8 @@ struct Side {
     nodes: Vec<u32>,
     /// Index of each model node in `nodes`, or NONE.
     local: Vec<u32>,
+    /// The faces of each node of `nodes` (indices into `faces`).
+    node_faces: Vec<Vec<u32>>,
     /// Search box of each face, from the positions of the last full build.
     boxes: Vec<Aabb>,
     /// Faces `..base` are in the passes' main grids; later ones joined since the last full
@@ -465,6 +485,7 @@ impl Side {
             parts,
             nodes: Vec::new(),
             local: vec![NONE; num_nodes],
+            node_faces: Vec::new(),
             boxes: Vec::new(),
             base: 0,
             boxed: 0,
@@ -478,7 +499,19 @@ impl Side {
         for (i, &n) in s.nodes.iter().enumerate() {
             s.local[n as usize] = i as u32;
         }
+        s.node_faces = vec![Vec::new(); s.nodes.len()];
+        for f in 0..s.faces.len() {
+            s.link(f);
+        }
         s
+    }
+
+    /// Record face `f` as a face of each of its nodes.
+    fn link(&mut self, f: usize) {
+        self.node_faces.resize_with(self.nodes.len(), Vec::new);
+        for n in self.faces[f].nodes {
+            self.node_faces[self.local[n as usize] as usize].push(f as u32);
+        }
     }
 
     /// Add a face unless present (its new nodes are appended to `nodes`); true when added.
@@ -506,6 +539,7 @@ impl Side {
                 self.nodes.push(n);
             }
         }
+        self.link(self.faces.len() - 1);
         true
     }
 
@@ -553,6 +587,10 @@ struct Hit {
     f: Vec3,
     /// |f_n|.
     fn_mag: f64,
+    /// Stiffness of the face, engaged penetration and offset ([`engagement`]).
+    k: f64,
+    engaged: f64,
+    offset: f64,
 }
 
 impl Default for Hit {
@@ -562,6 +600,9 @@ impl Default for Hit {
             w: [0.0; 4],
             f: [0.0; 3],
             fn_mag: 0.0,
+            k: 0.0,
+            engaged: 0.0,
+            offset: 0.0,
         }
     }
 }
@@ -924,6 +965,8 @@ impl Contact {
             let Pass { cand, ft, hits, .. } = pass;
             let ctx = NodeCheck {
                 nodes: &ns.nodes,
+                node_side_faces: &ns.faces,
+                node_faces: &ns.node_faces,
                 faces: &fs.faces,
                 geo: &fs.geo,
                 cand,
@@ -934,13 +977,13 @@ impl Contact {
                 .zip(ft.par_iter_mut())
                 .enumerate()
                 .with_min_len(NODE_CHUNK)
-                .for_each(|(i, (hit, ft))| (*hit, *ft) = ctx.check(i, *ft));
+                .for_each(|(i, (hit, ft))| (*hit, *ft) = ctx.check(i, hit, *ft));
             // NOTE: serial scatter in node order: the sums do not depend on the threads.
             // Pass 0 has the slave nodes; pass 1 the master nodes, whose reactions act on the
             // slave faces.
             let sign = if p == 0 { 1.0 } else { -1.0 };
             for (i, hit) in hits.iter().enumerate() {
-                if hit.face == NONE {
+                if hit.face == NONE || hit.fn_mag == 0.0 {
                     continue;
                 }
                 let face = &fs.faces[hit.face as usize];
@@ -960,6 +1003,9 @@ impl Contact {
 /// What the check of one node reads.
 struct NodeCheck<'a> {
     nodes: &'a [u32],
+    /// The node side's faces, and the faces of each of its nodes.
+    node_side_faces: &'a [Face],
+    node_faces: &'a [Vec<u32>],
     faces: &'a [Face],
     geo: &'a [FaceGeo],
     cand: &'a [Vec<u32>],
@@ -968,14 +1014,33 @@ struct NodeCheck<'a> {
 }
 
 impl NodeCheck<'_> {
-    /// Contact of node `i` of the node side with its candidate faces; returns the hit and the
-    /// node's new tangential force (zero when out of contact: the history resets).
+    /// Unit normal of node `i`'s surface: the sum of its faces' area-weighted normals.
+    fn node_normal(&self, i: usize, x: &[Vec3]) -> Vec3 {
+        let mut n = [0.0; 3];
+        for &f in &self.node_faces[i] {
+            let p = self.node_side_faces[f as usize]
+                .nodes
+                .map(|a| x[a as usize]);
+            n = add(n, cross(sub(p[2], p[0]), sub(p[3], p[1])));
+        }
+        let l = norm(n);
+        if l > 0.0 {
+            scale(n, 1.0 / l)
+        } else {
+            n
+        }
+    }
+
+    /// Contact of node `i` of the node side with its candidate faces, after its hit of the
+    /// last step `prev`; returns the hit and the node's new tangential force (zero when out of
+    /// contact: the history resets).
     #[inline]
-    fn check(&self, i: usize, ft_prev: Vec3) -> (Hit, Vec3) {
+    fn check(&self, i: usize, prev: &Hit, ft_prev: Vec3) -> (Hit, Vec3) {
         let StepInput { x, v, dt_prev, .. } = *self.inp;
         let s = self.nodes[i];
         let xs = x[s as usize];
         let mut best: Option<(u32, Projection)> = None;
+        let mut node_normal: Option<Vec3> = None;
         // faces holding the node or a node tied to it are not candidates (see `Pass::query`)
         for &fi in &self.cand[i] {
             let FaceGeo { b, depth } = &self.geo[fi as usize];
@@ -994,6 +1059,11 @@ impl NodeCheck<'_> {
             if !(pr.gap < -gap_min && pr.gap > -face.depth) {
                 continue;
             }
+            // the node's surface must face the face (module docs)
+            let n_s = *node_normal.get_or_insert_with(|| self.node_normal(i, x));
+            if dot(n_s, pr.normal) > -FACING {
+                continue;
+            }
             // the nearest surface point: least penetration (module docs)
             if best.is_none_or(|(_, b)| pr.gap > b.gap) {
                 best = Some((fi, pr));
@@ -1003,14 +1073,35 @@ impl NodeCheck<'_> {
             return (Hit::default(), [0.0; 3]);
         };
         let face = &self.faces[fi as usize];
-        let f_n = normal_force(face.k, pr.gap, pr.normal);
-        let fn_mag = -face.k * pr.gap;
+        let v_face = (0..4).fold([0.0; 3], |acc, a| {
+            add(acc, scale(v[face.nodes[a] as usize], pr.w[a]))
+        });
+        let v_rel = sub(v[s as usize], v_face);
+        // the first step has no motion to explain a penetration: the deck's initial
+        // penetrations are pushed out in full
+        let approach = if dt_prev > 0.0 {
+            (-dot(v_rel, pr.normal)).max(0.0) * dt_prev
+        } else {
+            f64::INFINITY
+        };
+        let before = if prev.face == fi {
+            Previous::Same {
+                offset: prev.offset,
+            }
+        } else if prev.face == NONE {
+            Previous::Free
+        } else {
+            Previous::Other {
+                k: prev.k,
+                engaged: prev.engaged,
+            }
+        };
+        let e = engage(before, face.k, pr.gap, approach);
+
+        let f_n = normal_force(face.k, e.engaged, pr.normal);
+        let fn_mag = -face.k * e.engaged;
         let mut f_t = [0.0; 3];
-        if !self.friction.is_frictionless() {
-            let v_face = (0..4).fold([0.0; 3], |acc, a| {
-                add(acc, scale(v[face.nodes[a] as usize], pr.w[a]))
-            });
-            let v_rel = sub(v[s as usize], v_face);
+        if !self.friction.is_frictionless() && fn_mag > 0.0 {
             let v_t = sub(v_rel, scale(pr.normal, dot(v_rel, pr.normal)));
             let mu = self.friction.coefficient(norm(v_t));
             f_t = tangential_force(ft_prev, pr.normal, scale(v_t, dt_prev), face.k, mu * fn_mag).0;
@@ -1020,6 +1111,9 @@ impl NodeCheck<'_> {
             w: pr.w,
             f: add(f_n, f_t),
             fn_mag,
+            k: face.k,
+            engaged: e.engaged,
+            offset: e.offset,
         };
         (hit, f_t)
     }

@@ -197,6 +197,8 @@ fn friction_slides_and_sticks() {
         let v: Vec<Vec3> = (0..nn)
             .map(|i| if i >= 8 { [speed, 0.0, 0.0] } else { [0.0; 3] })
             .collect();
+        // the first step engages the overlap (no slip yet: dt_prev = 0)
+        assert_eq!(cs.compute(&m.x0, &v, 0.0, &[], &mut zeros(nn)).pairs, 4);
         for step in 1..=2 {
             let mut f = zeros(nn);
             let st = cs.compute(&m.x0, &v, dt, &[], &mut f);

@@ -137,6 +137,13 @@ impl CoincidentSets {
             .map(|&(s, l)| &self.members[s as usize..(s + l) as usize])
     }
 
+    /// The set of each node (`u32::MAX`: in no set); two nodes are tied when their entries are
+    /// equal and not `u32::MAX`. This is the `tie` argument of
+    /// [`crate::contact::ContactSet::compute`].
+    pub fn node_sets(&self) -> &[u32] {
+        &self.node_set
+    }
+
     /// The set holding node `n`, if any.
     pub fn set_of(&self, n: u32) -> Option<&[u32]> {
         let s = self.node_set[n as usize];

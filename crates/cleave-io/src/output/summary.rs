@@ -39,6 +39,9 @@ pub struct Summary {
     pub energy_ratio: f64,
     /// Version of cleave that wrote the file.
     pub version: String,
+    /// What the user should know of the run beyond the numbers (for example, a contact
+    /// stiffness that would need a smaller time step than the elements); empty when all is well.
+    pub warnings: Vec<String>,
 }
 
 impl Summary {

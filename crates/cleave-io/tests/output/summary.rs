@@ -17,11 +17,12 @@ fn sample() -> Summary {
         threads: 2,
         energy_ratio: 0.9987,
         version: "0.1.0".into(),
+        warnings: vec!["a warning".into()],
     }
 }
 
-/// The keys the interface page lists for `summary.json`.
-const KEYS: [&str; 14] = [
+/// The keys the interface page lists for `summary.json`, and `warnings`.
+const KEYS: [&str; 15] = [
     "elements",
     "nodes",
     "nodes_solved",
@@ -36,6 +37,7 @@ const KEYS: [&str; 14] = [
     "threads",
     "energy_ratio",
     "version",
+    "warnings",
 ];
 
 #[test]
@@ -55,6 +57,7 @@ fn json_has_every_key_and_parses_back() {
     assert_eq!(v["end_time"].as_f64(), Some(1e-3));
     assert_eq!(v["energy_ratio"].as_f64(), Some(0.9987));
     assert_eq!(v["version"].as_str(), Some("0.1.0"));
+    assert_eq!(v["warnings"][0].as_str(), Some("a warning"));
 }
 
 #[test]

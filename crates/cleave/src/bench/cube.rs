@@ -1,5 +1,3 @@
-//! `cleave bench`: time per element step and peak memory of reference problems.
-//!
 //! `cleave bench cube --elements N --steps S --threads T`: an elastic steel cube of about N
 //! elements (n^3), its top face moving at 1 m/s so every element deforms, with the default
 //! viscous hourglass control, bulk viscosity and the energy balance on. No output is written;
@@ -8,34 +6,15 @@
 //! with the coincident-set averaging and the failure check of every interface each step (run
 //! the two variants as separate processes: peak memory is per process).
 
-use std::time::Instant;
-
 use cleave_core::mesh::box_model;
 use cleave_core::model::{Material, MaterialKind, SeparationDef};
-use cleave_core::solver::{Observer, RunError, Solver};
 use cleave_io::output::peak_rss_mb;
 
 use crate::cli::BenchArgs;
 use crate::failure::Failure;
 
-struct Quiet;
-impl Observer for Quiet {
-    fn observe(&mut self, _: &Solver) -> std::io::Result<()> {
-        Ok(())
-    }
-}
-
-pub fn bench(a: &BenchArgs) -> Result<(), Failure> {
-    match a.what.as_str() {
-        "cube" => bench_cube(a),
-        other => Err(Failure::Input(format!(
-            "unknown benchmark '{other}'; available: cube"
-        ))),
-    }
-}
-
-fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
-    let n = ((a.elements as f64).cbrt().round() as usize).max(1);
+pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
+    let n = ((a.elements.unwrap_or(100_000) as f64).cbrt().round() as usize).max(1);
     let steel = Material {
         id: 1,
         density: 7850.0,
@@ -63,15 +42,13 @@ fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
         });
     }
     let prepared = crate::run::prepare(model);
-    let mut solver = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
-    let start = Instant::now();
-    pool.install(|| solver.run(&mut Quiet))
-        .map_err(|e| match e {
-            RunError::Solver(e) => Failure::from(e),
-            RunError::Output(e) => Failure::Other(e.to_string()),
-        })?;
+    let (mut solver, _) = crate::run::start_solver(
+        &prepared.model,
+        prepared.interfaces,
+        prepared.origin.as_deref(),
+    )?;
+    let secs = super::run_quiet(&pool, &mut solver)?;
     let result = solver.state.step;
-    let secs = start.elapsed().as_secs_f64();
     let ne = n * n * n;
     let us = 1e6 * secs / (result as f64 * ne as f64);
     let rss = peak_rss_mb();

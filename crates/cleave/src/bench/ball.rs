@@ -1,0 +1,91 @@
+//! `cleave bench ball --elements N [--end-time T] [--no-separation] --threads K`: the ceramic
+//! ball of `cleave example ball-impact` (section 4.1 of the paper) run in process over a fixed
+//! window of simulated time (default 50 us: it touches the plate at 1.3 us; the contact and
+//! the first fractures fall inside), with no output written. It reports the time per element
+//! step, the peak memory, and the share of each phase of the step, contact in particular (the
+//! issue's target: contact at most 30% of the step).
+
+use cleave_io::output::peak_rss_mb;
+
+use crate::cli::BenchArgs;
+use crate::example::ball_impact;
+use crate::failure::Failure;
+
+/// The default window of simulated time.
+pub const WINDOW: f64 = 50e-6;
+
+/// What one ball run measured.
+#[derive(Clone, Copy, Debug)]
+pub struct BallRun {
+    pub elements: usize,
+    pub nodes: usize,
+    pub nodes_solved: usize,
+    pub steps: u64,
+    pub us_per_element_step: f64,
+    pub peak_rss_mb: f64,
+    /// Shares of the step: elements, interfaces, contact, the rest.
+    pub shares: [f64; 4],
+    pub failed_interfaces: usize,
+}
+
+/// Run the ball model with `elements` elements for `end_time`.
+pub fn run_ball(
+    elements: usize,
+    end_time: f64,
+    separation: bool,
+    threads: usize,
+) -> Result<BallRun, Failure> {
+    let mut model = ball_impact(elements, end_time).map_err(Failure::Input)?;
+    if !separation {
+        model.separations.clear();
+    }
+    let nodes = model.num_nodes();
+    let pool = crate::run::thread_pool(Some(threads))?;
+    let prepared = crate::run::prepare(model);
+    let (mut solver, _) = crate::run::start_solver(
+        &prepared.model,
+        prepared.interfaces,
+        prepared.origin.as_deref(),
+    )?;
+    let secs = super::run_quiet(&pool, &mut solver)?;
+    let steps = solver.state.step + 1;
+    let ne = prepared.model.num_elements();
+    let t = solver.times;
+    let total = t.total();
+    Ok(BallRun {
+        elements: ne,
+        nodes,
+        nodes_solved: solver.state.x.len(),
+        steps,
+        us_per_element_step: 1e6 * secs / (steps as f64 * ne as f64),
+        peak_rss_mb: peak_rss_mb(),
+        shares: [t.elements, t.interfaces, t.contact, t.nodal].map(|x| x / total),
+        failed_interfaces: solver.separation().map_or(0, |s| s.num_failed()),
+    })
+}
+
+pub fn bench_ball(a: &BenchArgs) -> Result<(), Failure> {
+    let end = a.end_time.unwrap_or(WINDOW);
+    let r = run_ball(a.elements.unwrap_or(2800), end, !a.no_separation, a.threads)?;
+    println!(
+        "bench ball: {} elements (ball and plate), {} nodes, {} solved, {} steps to {end:e} s, {} thread(s), {}",
+        r.elements,
+        r.nodes,
+        r.nodes_solved,
+        r.steps,
+        a.threads,
+        if a.no_separation {
+            "no separation".to_string()
+        } else {
+            format!("{} interfaces failed", r.failed_interfaces)
+        }
+    );
+    println!("  {:.4} us per element step", r.us_per_element_step);
+    println!("  peak memory {:.1} MB", r.peak_rss_mb);
+    let [e, i, c, n] = r.shares.map(|x| 100.0 * x);
+    println!(
+        "  step shares: elements {e:.1}%, interface checks {i:.1}%, contact {c:.1}%, nodal and the rest {n:.1}%"
+    );
+    println!("  contact / element work: {:.2}", r.shares[2] / r.shares[0]);
+    Ok(())
+}

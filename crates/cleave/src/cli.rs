@@ -82,8 +82,9 @@ pub struct ExampleArgs {
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// What to measure: `cube` (an elastic block) or `ball` (the ceramic ball on a rigid
-    /// plate of `cleave example ball-impact`, with contact).
+    /// What to measure: `cube` (an elastic block), `ball` (the ceramic ball on a rigid plate
+    /// of `cleave example ball-impact`, with contact) or `paper-tables` (the paper's Tables II
+    /// and III: every ball mesh with and without fracture).
     pub what: String,
     /// Number of elements: for a cube the nearest n^3 (default 100000); for the ball one of
     /// the example's meshes (default 2800).
@@ -105,4 +106,10 @@ pub struct BenchArgs {
     /// Ball: drop the separation card (no fracture).
     #[arg(long = "no-separation")]
     pub no_separation: bool,
+    /// Ball: print the measurements as one JSON line (what `paper-tables` reads).
+    #[arg(long)]
+    pub json: bool,
+    /// paper-tables: directory for paper-tables.md and paper-tables.csv.
+    #[arg(short = 'o', long = "output", default_value = "paper-tables")]
+    pub output: std::path::PathBuf,
 }

@@ -1,7 +1,8 @@
-//! Fracture output: crack.csv (at the glstat interval), the crack surfaces as their own
-//! ParaView series (cracks.pvd with cracks/*.vtp, at the state interval), fragments.csv at the
-//! end, and the plots crack.png (crack area and fragments over time) and fragments.png (the
-//! fragment mass distribution).
+//! Fracture output: crack.csv (at the glstat interval; crack length and speed as
+//! [`crate::crack_growth`] defines them), the crack surfaces as their own ParaView series
+//! (cracks.pvd with cracks/*.vtp, at the state interval), fragments.csv at the end, and the
+//! plots crack.png (crack length and speed over time), crack_area.png (crack area and
+//! fragments over time) and fragments.png (the fragment mass distribution).
 //!
 //! Fragments are the connected components of elements through shared nodes and every face
 //! still holding (bonds, intact and softening interfaces); a model without separation has the
@@ -11,6 +12,7 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
+use crate::crack_growth::CrackGrowth;
 use cleave_core::math::Vec3;
 use cleave_core::separation::fragments::{FragmentSummary, Fragments};
 use cleave_core::separation::interfaces::{face_centroid, Status};
@@ -44,13 +46,21 @@ pub struct FractureOutput {
     crack: Csv,
     cracks: PvdWriter,
     count: usize,
-    /// (t, crack area, fragments) of every crack.csv row, for the plot.
-    history: Vec<(f64, f64, usize)>,
+    /// (t, crack area, fragments, crack speed) of every crack.csv row, for the plots.
+    history: Vec<(f64, f64, usize, f64)>,
+    growth: CrackGrowth,
+    centroids: Vec<Vec3>,
     final_masses: Vec<f64>,
 }
 
 impl FractureOutput {
-    pub fn create(dir: &Path) -> std::io::Result<Self> {
+    /// Crack speeds are slopes over the last `speed_window` of time; `thickness`: the axis
+    /// crack lengths leave out ([`crate::crack_growth::thickness_axis`]).
+    pub fn create(
+        dir: &Path,
+        speed_window: f64,
+        thickness: Option<usize>,
+    ) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir.join("cracks"))?;
         let crack = CsvWriter::create(
             dir.join("crack.csv"),
@@ -65,6 +75,8 @@ impl FractureOutput {
                 "max_y",
                 "min_z",
                 "max_z",
+                "crack_length",
+                "crack_speed",
             ],
         )?;
         Ok(Self {
@@ -73,20 +85,26 @@ impl FractureOutput {
             cracks: PvdWriter::new(dir.join("cracks.pvd")),
             count: 0,
             history: Vec::new(),
+            growth: CrackGrowth::new(speed_window, thickness),
+            centroids: Vec::new(),
             final_masses: Vec::new(),
         })
     }
 
-    /// One crack.csv row: failed interfaces, their reference area, the fragment count, and the
-    /// extent of the current centroids of the failed interfaces (empty while none has failed).
+    /// One crack.csv row: failed interfaces, their reference area, the fragment count, the
+    /// extent of the current centroids of the failed interfaces (empty while none has failed),
+    /// the crack length and speed.
     pub fn write_row(&mut self, s: &Solver, fragments: usize) -> std::io::Result<()> {
         let (failed, area) = s
             .separation()
             .map_or((0, 0.0), |sep| (sep.num_failed(), sep.crack_area()));
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
+        self.centroids.clear();
         if let Some(sep) = s.separation() {
             for i in sep.failed_interfaces() {
+                self.centroids
+                    .push(face_centroid(&sep.faces()[i], &s.model.x0));
                 let c = face_centroid(&sep.faces()[i], &s.state.x);
                 for d in 0..3 {
                     lo[d] = lo[d].min(c[d]);
@@ -109,7 +127,10 @@ impl FractureOutput {
                 row.push(Field::Empty);
             }
         }
-        self.history.push((s.state.t, area, fragments));
+        let (length, speed) = self.growth.record(s.state.t, &self.centroids);
+        row.push(Field::F(length));
+        row.push(Field::F(speed));
+        self.history.push((s.state.t, area, fragments, speed));
         self.crack.row(&row)
     }
 
@@ -182,14 +203,30 @@ impl FractureOutput {
         Ok(())
     }
 
-    /// Flush crack.csv; plot crack.png and, once fragments.csv is written, fragments.png.
+    /// Time of the first failure and mean crack speed after the slow start
+    /// ([`CrackGrowth`]).
+    pub fn growth(&self) -> &CrackGrowth {
+        &self.growth
+    }
+
+    /// Flush crack.csv; plot crack.png, crack_area.png and, once fragments.csv is written,
+    /// fragments.png.
     pub fn finish(&mut self) -> std::io::Result<()> {
         self.crack.flush()?;
         let area: Vec<(f64, f64)> = self.history.iter().map(|r| (r.0, r.1)).collect();
         let frags: Vec<(f64, f64)> = self.history.iter().map(|r| (r.0, r.2 as f64)).collect();
+        let speed: Vec<(f64, f64)> = self.history.iter().map(|r| (r.0, r.3)).collect();
         let io = |e: cleave_io::output::plot::PlotError| std::io::Error::other(e.to_string());
         plot_two_axes(
             &self.dir.join("crack.png"),
+            "Crack length and speed",
+            "time",
+            ("crack length", self.growth.lengths()),
+            ("crack speed", &speed),
+        )
+        .map_err(io)?;
+        plot_two_axes(
+            &self.dir.join("crack_area.png"),
             "Crack area and fragments",
             "time",
             ("crack area", &area),

@@ -6,6 +6,7 @@
 mod bench;
 mod check;
 mod cli;
+mod crack_growth;
 mod example;
 mod failure;
 mod fracture;

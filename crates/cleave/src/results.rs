@@ -82,7 +82,7 @@ pub struct RunOutput<'m> {
     part_ids: Vec<i32>,
     /// History nodes: deck id and the solved nodes that are its copies.
     history_nodes: Vec<(i64, Vec<u32>)>,
-    fracture: FractureOutput,
+    pub fracture: FractureOutput,
     /// Fragments of an unsplit mesh (fixed), or None to count them at each row.
     static_fragments: Option<usize>,
     pub energy: Vec<EnergyRow>,
@@ -198,7 +198,11 @@ impl<'m> RunOutput<'m> {
             state_count: 0,
             part_ids,
             history_nodes,
-            fracture: FractureOutput::create(dir)?,
+            fracture: FractureOutput::create(
+                dir,
+                model.control.end_time / 30.0,
+                crate::crack_growth::thickness_axis(&model.x0),
+            )?,
             static_fragments: (!split).then(|| cleave_core::setup::count_components(model)),
             energy: Vec::new(),
             fragments: 0,

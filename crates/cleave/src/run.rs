@@ -179,6 +179,8 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         interfaces: solver.separation().map_or(0, |s| s.num_interfaces()),
         failed_interfaces: solver.separation().map_or(0, |s| s.num_failed()),
         fragments: out.fragments,
+        crack_initiation_time: out.fracture.growth().initiation(),
+        crack_speed_mean: out.fracture.growth().mean_speed(),
         steps,
         end_time: solver.state.t,
         wall_seconds: started.elapsed().as_secs_f64(),

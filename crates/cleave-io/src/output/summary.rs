@@ -23,6 +23,11 @@ pub struct Summary {
     pub failed_interfaces: usize,
     /// Fragments at the end.
     pub fragments: usize,
+    /// Time of the first failed interface (`null`: none failed).
+    pub crack_initiation_time: Option<f64>,
+    /// Mean crack speed while the crack length grows from 10% to 90% of its final value (m/s;
+    /// `null` without a growing crack).
+    pub crack_speed_mean: Option<f64>,
     /// Time steps taken.
     pub steps: u64,
     /// Simulated time reached.

@@ -9,6 +9,8 @@ fn sample() -> Summary {
         interfaces: 7960,
         failed_interfaces: 412,
         fragments: 17,
+        crack_initiation_time: Some(1.34e-4),
+        crack_speed_mean: None,
         steps: 123_456_789_012,
         end_time: 1e-3,
         wall_seconds: 12.5,
@@ -21,14 +23,16 @@ fn sample() -> Summary {
     }
 }
 
-/// The keys the interface page lists for `summary.json`, and `warnings`.
-const KEYS: [&str; 15] = [
+/// The keys the interface page lists for `summary.json`, and the crack's and `warnings`.
+const KEYS: [&str; 17] = [
     "elements",
     "nodes",
     "nodes_solved",
     "interfaces",
     "failed_interfaces",
     "fragments",
+    "crack_initiation_time",
+    "crack_speed_mean",
     "steps",
     "end_time",
     "wall_seconds",

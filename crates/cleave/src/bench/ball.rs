@@ -17,6 +17,10 @@ pub const WINDOW: f64 = 50e-6;
 /// What one ball run measured.
 #[derive(Clone, Copy, Debug)]
 pub struct BallRun {
+    /// Elements and solved nodes of the ball alone (the paper's counts).
+    pub ball_elements: usize,
+    pub ball_nodes: usize,
+    /// Elements of the model (the ball and the plate's 25 bricks).
     pub elements: usize,
     pub nodes: usize,
     pub nodes_solved: usize,
@@ -50,9 +54,22 @@ pub fn run_ball(
     let secs = super::run_quiet(&pool, &mut solver)?;
     let steps = solver.state.step + 1;
     let ne = prepared.model.num_elements();
+    let pm = &prepared.model;
+    let mut in_ball = vec![false; pm.num_nodes()];
+    let mut ball_elements = 0;
+    for (c, &p) in pm.conn.iter().zip(&pm.elem_part) {
+        if p == 0 {
+            ball_elements += 1;
+            for &n in c {
+                in_ball[n as usize] = true;
+            }
+        }
+    }
     let t = solver.times;
     let total = t.total();
     Ok(BallRun {
+        ball_elements,
+        ball_nodes: in_ball.iter().filter(|&&b| b).count(),
         elements: ne,
         nodes,
         nodes_solved: solver.state.x.len(),
@@ -64,9 +81,50 @@ pub fn run_ball(
     })
 }
 
+impl BallRun {
+    /// The measurements as a JSON object.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "ball_elements": self.ball_elements,
+            "ball_nodes": self.ball_nodes,
+            "elements": self.elements,
+            "nodes": self.nodes,
+            "nodes_solved": self.nodes_solved,
+            "steps": self.steps,
+            "us_per_element_step": self.us_per_element_step,
+            "peak_rss_mb": self.peak_rss_mb,
+            "shares": self.shares,
+            "failed_interfaces": self.failed_interfaces,
+        })
+    }
+
+    /// Read back what [`BallRun::to_json`] wrote.
+    pub fn from_json(v: &serde_json::Value) -> Option<Self> {
+        let u = |k: &str| v[k].as_u64();
+        let f = |k: &str| v[k].as_f64();
+        let sh = v["shares"].as_array()?;
+        Some(Self {
+            ball_elements: u("ball_elements")? as usize,
+            ball_nodes: u("ball_nodes")? as usize,
+            elements: u("elements")? as usize,
+            nodes: u("nodes")? as usize,
+            nodes_solved: u("nodes_solved")? as usize,
+            steps: u("steps")?,
+            us_per_element_step: f("us_per_element_step")?,
+            peak_rss_mb: f("peak_rss_mb")?,
+            shares: [0, 1, 2, 3].map(|i| sh.get(i).and_then(|x| x.as_f64()).unwrap_or(f64::NAN)),
+            failed_interfaces: u("failed_interfaces")? as usize,
+        })
+    }
+}
+
 pub fn bench_ball(a: &BenchArgs) -> Result<(), Failure> {
     let end = a.end_time.unwrap_or(WINDOW);
     let r = run_ball(a.elements.unwrap_or(2800), end, !a.no_separation, a.threads)?;
+    if a.json {
+        println!("{}", r.to_json());
+        return Ok(());
+    }
     println!(
         "bench ball: {} elements (ball and plate), {} nodes, {} solved, {} steps to {end:e} s, {} thread(s), {}",
         r.elements,

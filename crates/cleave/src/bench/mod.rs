@@ -1,10 +1,12 @@
 //! `cleave bench`: time per element step and peak memory of reference problems.
 //!
 //! - `cube`: an elastic block, the element-pass throughput ([`cube`]);
-//! - `ball`: the paper's ceramic ball on a rigid plate, with the share of contact ([`ball`]).
+//! - `ball`: the paper's ceramic ball on a rigid plate, with the share of contact ([`ball`]);
+//! - `paper-tables`: the paper's Tables II and III ([`paper_tables`]).
 
 mod ball;
 mod cube;
+mod paper_tables;
 
 use cleave_core::solver::{Observer, RunError, Solver};
 
@@ -35,8 +37,9 @@ pub fn bench(a: &BenchArgs) -> Result<(), Failure> {
     match a.what.as_str() {
         "cube" => cube::bench_cube(a),
         "ball" => ball::bench_ball(a),
+        "paper-tables" => paper_tables::bench_paper_tables(a),
         other => Err(Failure::Input(format!(
-            "unknown benchmark '{other}'; available: cube, ball"
+            "unknown benchmark '{other}'; available: cube, ball, paper-tables"
         ))),
     }
 }

@@ -8,7 +8,7 @@
 //!
 //! The builders return the [`Model`]; `example` applies the options and writes the deck.
 
-mod ball_impact;
+pub mod ball_impact;
 mod taylor_bar;
 mod three_point_bend;
 

@@ -119,7 +119,8 @@ fn separation_deck_reports_the_crack() {
     assert!(rows[0][6] * rows[1][6] < 0.0, "moving apart");
 
     let (h, rows) = csv(&out.join("crack.csv"));
-    assert_eq!(h.len(), 10);
+    assert_eq!(h.len(), 12);
+    assert_eq!(&h[10..], ["crack_length", "crack_speed"]);
     let last = rows.last().unwrap();
     let area = (L / N as f64).powi(2);
     assert_eq!(last[1], 1.0);
@@ -127,6 +128,8 @@ fn separation_deck_reports_the_crack() {
     assert_eq!(last[3], 2.0);
     assert!((last[4] - L / 2.0).abs() < 1e-3 && (last[5] - L / 2.0).abs() < 1e-3);
     assert!(rows[0][4].is_nan(), "no extent before the crack");
+    // one interface: the crack is its origin, of length 0
+    assert_eq!(last[10], 0.0);
 
     let (h, rows) = csv(&out.join("glstat.csv"));
     assert_eq!(h[10], "failed_interfaces");
@@ -142,7 +145,7 @@ fn separation_deck_reports_the_crack() {
         .unwrap();
     let vtp = String::from_utf8_lossy(&std::fs::read(out.join(last_vtp)).unwrap()).to_string();
     assert!(vtp.contains("NumberOfPolys=\"2\""), "two crack faces");
-    for f in ["crack.png", "fragments.png", "energy.png"] {
+    for f in ["crack.png", "crack_area.png", "fragments.png", "energy.png"] {
         assert!(out.join(f).exists(), "{f}");
     }
 }

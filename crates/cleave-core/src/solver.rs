@@ -462,7 +462,7 @@ impl<'m> Solver<'m> {
 
     /// Each coincident set: f_i <- m_i sum f / sum m, so its nodes share one acceleration.
     fn tie_coincident_nodes(&mut self) {
-        if let Some(sep) = &self.separation {
+        if let Some(sep) = &mut self.separation {
             sep.tie(&mut self.f, &self.setup.mass);
         }
     }

@@ -9,7 +9,12 @@
 //! list of set ranges.
 
 use super::split::{FaceKind, SharedFace};
+use rayon::prelude::*;
+
 use crate::math::{add, scale, Vec3};
+
+/// Sets per parallel task of the averaging.
+const SET_CHUNK: usize = 1024;
 use crate::topology::UnionFind;
 
 const NONE: u32 = u32::MAX;
@@ -34,6 +39,8 @@ pub struct CoincidentSets {
     stack: Vec<u32>,
     piece: Vec<u32>,
     incident: Vec<u32>,
+    /// Mean acceleration of each set (scratch of `average_forces`; None: dead or massless).
+    accel: Vec<Option<Vec3>>,
 }
 
 const SHARED: u32 = u32::MAX - 1;
@@ -126,6 +133,7 @@ impl CoincidentSets {
             stack: Vec::new(),
             piece: Vec::new(),
             incident: Vec::new(),
+            accel: Vec::new(),
         }
     }
 
@@ -276,22 +284,45 @@ impl CoincidentSets {
 
     /// Give every set its mean acceleration: f_i <- m_i (sum f) / (sum m), sums in ascending
     /// member order. Massless sets are left alone.
-    pub fn average_forces(&self, f: &mut [Vec3], mass: &[f64]) {
-        for set in self.sets() {
-            let mut ft = [0.0; 3];
-            let mut mt = 0.0;
-            for &n in set {
-                ft = add(ft, f[n as usize]);
-                mt += mass[n as usize];
-            }
-            if mt <= 0.0 {
-                continue;
-            }
-            let a = scale(ft, 1.0 / mt);
-            for &n in set {
-                f[n as usize] = scale(a, mass[n as usize]);
-            }
+    pub fn average_forces(&mut self, f: &mut [Vec3], mass: &[f64]) {
+        // each set's mean acceleration (its members summed in ascending order), then each
+        // tied node's share: two parallel passes, the same numbers for any thread count
+        let (members, ranges) = (&self.members, &self.ranges);
+        self.accel.resize(ranges.len(), None);
+        {
+            let f: &[Vec3] = f;
+            self.accel
+                .par_iter_mut()
+                .zip(ranges.par_iter())
+                .with_min_len(SET_CHUNK)
+                .for_each(|(a, &(st, l))| {
+                    *a = None;
+                    if l < 2 {
+                        return;
+                    }
+                    let mut ft = [0.0; 3];
+                    let mut mt = 0.0;
+                    for &n in &members[st as usize..(st + l) as usize] {
+                        ft = add(ft, f[n as usize]);
+                        mt += mass[n as usize];
+                    }
+                    if mt > 0.0 {
+                        *a = Some(scale(ft, 1.0 / mt));
+                    }
+                });
         }
+        let (node_set, accel) = (&self.node_set, &self.accel);
+        f.par_iter_mut()
+            .enumerate()
+            .with_min_len(4 * SET_CHUNK)
+            .for_each(|(n, fi)| {
+                let s = node_set[n];
+                if s != NONE {
+                    if let Some(a) = accel[s as usize] {
+                        *fi = scale(a, mass[n]);
+                    }
+                }
+            });
     }
 }
 
@@ -402,7 +433,7 @@ mod tests {
     fn averaging_conserves_force() {
         let sm = split_block();
         let intact = vec![true; sm.faces.len()];
-        let cs = CoincidentSets::build(sm.model.num_nodes(), &sm.faces, &intact);
+        let mut cs = CoincidentSets::build(sm.model.num_nodes(), &sm.faces, &intact);
         let n = sm.model.num_nodes();
         let mass: Vec<f64> = (0..n).map(|i| 1.0 + (i % 3) as f64).collect();
         let mut f: Vec<Vec3> = (0..n).map(|i| [i as f64, -(i as f64) * 0.5, 1.0]).collect();

@@ -372,7 +372,7 @@ impl Separation {
     }
 
     /// Each coincident set gets its mean acceleration: f_i <- m_i sum f / sum m.
-    pub fn tie(&self, f: &mut [Vec3], mass: &[f64]) {
+    pub fn tie(&mut self, f: &mut [Vec3], mass: &[f64]) {
         self.sets.average_forces(f, mass);
     }
 

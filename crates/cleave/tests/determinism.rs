@@ -46,7 +46,10 @@ fn same_on_every_thread_count(name: &str, example: &[&str], end: &str, files: &[
             );
         }
     }
-    println!("{name}: {} identical on 1, 2 and 3 threads", files.join(", "));
+    println!(
+        "{name}: {} identical on 1, 2 and 3 threads",
+        files.join(", ")
+    );
 }
 
 #[test]

@@ -83,7 +83,7 @@ pub fn run_ball(
 
 impl BallRun {
     /// The measurements as a JSON object.
-    pub fn to_json(&self) -> serde_json::Value {
+    pub fn to_json(self) -> serde_json::Value {
         serde_json::json!({
             "ball_elements": self.ball_elements,
             "ball_nodes": self.ball_nodes,

@@ -4,8 +4,10 @@
 //! LS-DYNA theory manual (penalty method, SOFT = 0; friction).
 //!
 //! - [`surface`]: exterior faces, the faces of each side, penalty stiffness `k = SLSFAC K A^2/V`.
-//! - [`search`]: the bucket grid that finds each node's candidate faces.
-//! - [`penalty`]: closest point on a bilinear face, gap, normal force and its reaction.
+//! - [`search`]: the bucket grids that find each node's candidate faces.
+//! - [`schedule`]: when each candidate pair is tested again.
+//! - [`penalty`]: closest point on a bilinear face, gap, normal force and its reaction; the
+//!   bounds that reject a node before projecting it, and its clearance.
 //! - [`friction`]: `mu = FD + (FS - FD) exp(-DC |v_rel|)`, elastic trial force capped at
 //!   `mu |f_n|`.
 //!
@@ -47,26 +49,63 @@
 //! k is the stiffness of the face (LS-DYNA: the master segment's).
 //!
 //! Before projecting, a node is tested against cheap exact bounds of the face
-//! ([`penalty::FaceBounds`]: sphere, mean-plane slab, lateral distance, node on a corner), which
-//! reject nearly all candidates; the bounds are updated each step only for faces that are some
-//! node's candidate.
+//! ([`penalty::Cull`], from [`penalty::FaceBounds`]: sphere, mean-plane slab, lateral
+//! distance), then against the facing bound (below), then off the face's corners; together they
+//! reject most candidates. The bounds are updated each step for the faces that are some node's
+//! candidate.
 //!
 //! # Search
-//! Candidate faces of each node come from a bucket grid ([`search`]) over face boxes inflated by
+//! Candidate faces of each node come from bucket grids ([`search`]) over face boxes inflated by
 //! `depth + 4 INSIDE_TOL r + 1.1 margin`, built from the positions x_ref of that moment (a *full
-//! build*). They are reused until some node of the definition has moved more than `margin / 2`
-//! from x_ref: until then a node and a face it may touch have each moved less than margin/2,
-//! so the node's x_ref is still in the face's box (the 1.1 covers the tolerance band growing
-//! with the face). `margin` = [`MARGIN_FRACTION`] times the mean sqrt(area) of the definition's
-//! faces.
+//! build*); of those, a face is kept when the node's x_ref also lies in its search sphere, of
+//! radius `E (r + margin) + depth` about its centroid (E = [`penalty::WEIGHT_SUM`], r the
+//! largest centroid-corner distance). The lists are reused while the displacements since x_ref
+//! have spread by less than the margin: the diagonal of their box over all the definition's
+//! nodes (the *spread*) bounds how far any node has moved relative to any other. Until then a
+//! node and a face it may touch have moved less than the margin relative to each other, so the
+//! node's x_ref is still in the face's box (the contact point, `sum w_a x_a` with
+//! `sum |w_a| <= E`, moved by at most E margin relative to the node; the 1.1 covers that and
+//! the tolerance band growing with the face) and in its sphere (`min_w |s - sum w_a x_a|` is
+//! below depth at contact and changes by at most E times the relative motion, [`penalty::Cull`]).
+//! A translation of everything moves no node relative to another and needs no new build.
+//! `margin` = [`MARGIN_FRACTION`] times the mean sqrt(area) of the definition's faces.
 //!
 //! When interfaces fail ([`ContactSet::activate`]), the search is incremental: the new faces get
-//! boxes from x_ref, a small grid holds them and the nodes that joined, and only the nodes whose
-//! x_ref lies in a failed face's box get new lists (a broken tie or a new face only changes the
-//! lists of the nodes at its corners or within its box). The lists are then what a full build
-//! at x_ref with the new faces and ties would give, and stay valid under the same margin rule
-//! (new nodes are watched from x_ref on). When the faces or nodes that joined since the last
-//! full build exceed a quarter of those in it, a full build is made instead.
+//! boxes and spheres from x_ref, a small grid holds them and the nodes that joined, and only the
+//! nodes whose x_ref lies in a failed face's box get new lists (a broken tie or a new face only
+//! changes the lists of the nodes at its corners or within its box). The lists are then what a
+//! full build at x_ref with the new faces and ties would give, and stay valid under the same
+//! margin rule (new nodes are watched from x_ref on). When the faces or nodes that joined since
+//! the last full build exceed a quarter of those in it, a full build is made instead. The
+//! searches of the nodes run in parallel, each writing its own list.
+//!
+//! # Skipping
+//! A candidate pair is not tested every step. A test that finds the node apart from the face
+//! returns a *clearance* D: the pair cannot touch while the face's corners move by at most D
+//! relative to the node (the distance, below and above bounds of [`penalty::Cull`], and the
+//! facing bound below). Each step the definition's *motion bound* grows by the diagonal of the
+//! box of all its nodes' displacements over the step (from the positions, nodes that joined
+//! since the last step left out: their pairs are new), which bounds how far any node moved
+//! relative to any other in that step; the pair is due again when the bound has grown by D.
+//! [`schedule`] keeps each node's candidates so that those not due cost nothing: the ones due
+//! within [`HOT_STEPS`] steps are looked at every step, the others wait in a heap. The bound
+//! restarts at zero at each full build (a pair kept keeps what is left of its clearance). A pair
+//! whose bounds' clearance exceeds the margin plus the current spread leaves the node's list:
+//! until the next full build the face's corners move relative to the node by less than that
+//! (the relative displacement since x_ref is below the spread now and below the margin later),
+//! and that build lists the pair again if it comes near.
+//!
+//! Facing bound: with n_s the node's normal `S / |S|` and n the face's normals (within the cone
+//! of [`penalty::FaceBounds`] about n0), `n_s . n >= f0`, f0 the least over the cone
+//! (`cos_min n_s.n0` or `n_s.n0` when negative, less `sin_max |n_s x n0|`). A relative motion
+//! delta changes each diagonal d of the node's faces by at most delta, each of their cross
+//! products by `delta (|d1| + |d2|) + delta^2`, so S by `|S| (a delta + b delta^2)`; the face's
+//! normals N by `|N| (kn1 delta + kn2 delta^2)` ([`penalty::FaceBounds`]); and a vector that
+//! changes by at most r times its length (r <= 1) turns its direction by a chord of at most
+//! `sqrt(2) r`. So while `sqrt(2) ((a + kn1) delta + (b + kn2) delta^2) < f0 + FACING` the
+//! node's surface still turns away from every normal of the face (`n_s . n > -FACING`): no
+//! contact. That holds while the node's faces stay the same: a node that gets a face has all
+//! its candidates due at once.
 //!
 //! # Energy
 //! The contact energy increment of a step is the trapezoid of the work of the contact forces:
@@ -75,24 +114,37 @@
 //! springs and the frictional dissipation (both positive).
 //!
 //! # Determinism
-//! The per-node contact detection runs in parallel, but each node's result lands in its own slot;
-//! the forces are then scattered serially in a fixed order (definitions, passes, nodes). The
-//! results are bit-identical for any number of threads. After the first steps no buffer grows
-//! unless faces are added or the candidate lists get longer.
+//! The per-node contact detection runs in parallel, but each node's result lands in its own slot
+//! (a node's nearest face, of equal gaps the lowest index, does not depend on the order its
+//! candidates are tested in); the forces are then scattered serially in a fixed order:
+//! definitions, passes, and the nodes in the order they joined the side. A full build puts each
+//! side's nodes in space order (Morton order of x_ref: neighbours, which share candidates, are
+//! checked one after the other, for the caches); the scatter order does not change with it. The
+//! results are bit-identical for any number of threads, and to those of testing every
+//! candidate every step. After the first steps no buffer grows unless faces are added or the
+//! candidate lists get longer.
 //!
 //! # Cost (measured, 2 threads)
-//! A 2800-element ball split into 8-node copies (4600 elements with a 1800-element rigid plate,
-//! 25283 nodes), single surface over everything, against the solver's step of about 0.5 ms:
-//! with only the exterior faces, contact takes 6-10% of the step (4442 nodes, 1328 candidate
-//! pairs); after a random 10% of the interfaces failed (faces joined, ties broken) 40-50%
-//! (36k candidates), at 30% about twice the step (220k candidates): coincident crack faces
-//! give every crack node several zero-clearance candidates, tested each step (about 5 ns each,
-//! nearly all rejected by the bounds). With 5 interfaces failing every step (1000 over 200
-//! steps, 196 incremental searches, 5 full builds) the mean was 87%.
+//! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
+//! into 22472 nodes, 2457 steps to 50 us, 2396 interfaces failed; at the end the single surface
+//! has 5462 faces and 14258 nodes), on this project's 2-core machine, best of 3: 1.29 us per
+//! element step, contact 81% of the step (before, every candidate tested every step and the
+//! searches serial: 2.09 us, 89%); 1 thread 2.44 us, 84% (3.46 us, 89%); peak memory 29 MB
+//! (23 MB). Per step late in the run about 420k
+//! candidate pairs are listed and 37k tested: 8k fully (7.5k projections, of which about 2k
+//! find contact), the others rejected by the bounds with a new clearance; 39 full builds and 361
+//! incremental searches in all. The motion bound grows by about 5 um a step (fragments part at
+//! up to 240 m/s), so a pair 0.1 mm clear waits about 20 steps. What remains: the pairs a few
+//! steps clear (crack faces barely open, faces whose normals may turn: the bound is the same for
+//! all pairs, while neighbours move much less relative to each other), the crack nodes at the
+//! corners of the faces across their crack (no clearance: projected every step), and the cache
+//! misses on the per-node lists and face records. Without separation (`--no-separation`)
+//! contact takes about 14% of a 0.18 us element step, as before.
 
 pub mod engagement;
 pub mod friction;
 pub mod penalty;
+pub mod schedule;
 pub mod search;
 pub mod surface;
 
@@ -104,14 +156,17 @@ use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{ContactDef, Model};
 use engagement::{engage, Previous};
 use friction::{tangential_force, Friction};
-use penalty::{normal_force, off_corners, project, FaceBounds, Projection, INSIDE_TOL};
+use penalty::{
+    normal_force, off_corners, project, Cull, CullMore, FaceBounds, Projection, INSIDE_TOL,
+};
+use schedule::{Cand, Sched};
 use search::{Aabb, BucketGrid};
 use surface::{covered_parts, exterior_faces, face_nodes, side_faces, FaceId, FaceTable};
 
 const NONE: u32 = u32::MAX;
 
-/// Search margin as a fraction of the mean face size sqrt(A): candidates are rebuilt when a
-/// node has moved more than half of it.
+/// Search margin as a fraction of the mean face size sqrt(A): candidates are rebuilt when the
+/// nodes have moved by more than it relative to each other (module docs, Search).
 pub const MARGIN_FRACTION: f64 = 0.3;
 
 /// Gaps above `-GAP_TOL r` (r the face's radius) are not contact (see the module docs).
@@ -123,6 +178,15 @@ pub const FACING: f64 = 0.2;
 
 /// Nodes per parallel task of the detection.
 const NODE_CHUNK: usize = 256;
+
+/// A node's candidates due within about this many steps (at the last step's growth of the
+/// motion bound) are looked at every step; the others only when the earliest of them is due
+/// (module docs).
+pub const HOT_STEPS: f64 = 4.0;
+
+/// A full build is also made when the motion bound exceeds this many margins (nodes vibrating
+/// in place), so the f32 `due` values stay fine.
+const REBASE: f64 = 1.0e4;
 
 /// A face of a contact surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -375,8 +439,8 @@ impl ContactSet {
             s.candidates += c
                 .passes
                 .iter()
-                .flat_map(|p| &p.cand)
-                .map(Vec::len)
+                .flat_map(|p| p.cand.iter().zip(&p.sched))
+                .map(|(list, sched)| sched.len(list))
                 .sum::<usize>();
             s.rebuilds += c.rebuilds;
             s.updates += c.updates;
@@ -447,12 +511,28 @@ struct Side {
     parts: Vec<bool>,
     /// Nodes of the faces: ascending at the start, then in the order their faces joined.
     nodes: Vec<u32>,
+    /// Position of each node of `nodes` at the last step (the nodes `..tracked` have one) and
+    /// at the last full build (`Contact::x_ref`, kept here in the order of `nodes`).
+    trail: Vec<[Vec3; 2]>,
+    tracked: usize,
     /// Index of each model node in `nodes`, or NONE.
     local: Vec<u32>,
     /// The faces of each node of `nodes` (indices into `faces`).
     node_faces: Vec<Vec<u32>>,
-    /// Search box of each face, from the positions of the last full build.
+    /// Nodes (indices into `nodes`) that got faces since the last step: their normal changed.
+    renewed: Vec<u32>,
+    /// The order the nodes joined in: `rank[i]` of node i, and the node of each rank. A full
+    /// build puts `nodes` in space order (neighbours next to each other, for the caches);
+    /// forces are scattered by rank, so the sums do not depend on that order.
+    rank: Vec<u32>,
+    by_rank: Vec<u32>,
+    /// Scratch of the reordering.
+    order: Vec<(u64, u32)>,
+    seen: Vec<bool>,
+    /// Search box and search sphere (centre, radius^2) of each face, from the positions of
+    /// the last full build.
     boxes: Vec<Aabb>,
+    spheres: Vec<(Vec3, f64)>,
     /// Faces `..base` are in the passes' main grids; later ones joined since the last full
     /// build. Faces `..boxed` have their box.
     base: usize,
@@ -460,15 +540,11 @@ struct Side {
     /// Whether the face is some node's candidate: only those get their bounds each step.
     needed: Vec<bool>,
     /// Bounds of each needed face at the current positions.
-    geo: Vec<FaceGeo>,
-}
-
-/// What the check of a node against a face reads first, in one place: the face's bounds at the
-/// current positions and its depth limit.
-#[derive(Clone, Copy, Debug, Default)]
-struct FaceGeo {
-    b: FaceBounds,
-    depth: f64,
+    geo: Vec<Cull>,
+    geo_more: Vec<CullMore>,
+    /// Each face's diagonal cross product `d1 x d2` and `|d1| + |d2|` at the current
+    /// positions (for the normals of its nodes).
+    normals: Vec<(Vec3, f64)>,
 }
 
 impl Side {
@@ -484,13 +560,23 @@ impl Side {
             present: HashSet::with_capacity(ids.len()),
             parts,
             nodes: Vec::new(),
+            trail: Vec::new(),
+            tracked: 0,
             local: vec![NONE; num_nodes],
             node_faces: Vec::new(),
+            renewed: Vec::new(),
+            rank: Vec::new(),
+            by_rank: Vec::new(),
+            order: Vec::new(),
+            seen: Vec::new(),
             boxes: Vec::new(),
+            spheres: Vec::new(),
             base: 0,
             boxed: 0,
             needed: Vec::new(),
             geo: Vec::new(),
+            geo_more: Vec::new(),
+            normals: Vec::new(),
         };
         for &id in ids {
             s.add(id, conn, table);
@@ -499,10 +585,13 @@ impl Side {
         for (i, &n) in s.nodes.iter().enumerate() {
             s.local[n as usize] = i as u32;
         }
+        s.rank = (0..s.nodes.len() as u32).collect();
+        s.by_rank = s.rank.clone();
         s.node_faces = vec![Vec::new(); s.nodes.len()];
         for f in 0..s.faces.len() {
             s.link(f);
         }
+        s.renewed.clear();
         s
     }
 
@@ -510,7 +599,9 @@ impl Side {
     fn link(&mut self, f: usize) {
         self.node_faces.resize_with(self.nodes.len(), Vec::new);
         for n in self.faces[f].nodes {
-            self.node_faces[self.local[n as usize] as usize].push(f as u32);
+            let i = self.local[n as usize];
+            self.node_faces[i as usize].push(f as u32);
+            self.renewed.push(i);
         }
     }
 
@@ -531,38 +622,101 @@ impl Side {
             min: [0.0; 3],
             max: [0.0; 3],
         });
+        self.spheres.push(([0.0; 3], 0.0));
         self.needed.push(false);
-        self.geo.push(FaceGeo::default());
+        self.geo.push(Cull::default());
+        self.geo_more.push(CullMore::default());
+        self.normals.push(([0.0; 3], 0.0));
         for n in nodes {
             if self.local[n as usize] == NONE {
                 self.local[n as usize] = self.nodes.len() as u32;
+                self.rank.push(self.nodes.len() as u32);
+                self.by_rank.push(self.nodes.len() as u32);
                 self.nodes.push(n);
+                self.trail.push([[0.0; 3]; 2]);
             }
         }
         self.link(self.faces.len() - 1);
         true
     }
 
-    /// Boxes of the faces that have none yet, from positions `x_ref`.
+    /// The permutation that puts the nodes in space order (Morton order of their positions at
+    /// the last full build, `trail[..][1]`): `order[k].1` is the node to go to place k.
+    fn space_order(&mut self) {
+        let mut b = Aabb::empty();
+        for t in &self.trail {
+            if t[1].iter().all(|v| v.is_finite()) {
+                b.include(t[1]);
+            }
+        }
+        let h = b.extent() / ((1u64 << 21) - 1) as f64;
+        let cell = |v: f64, lo: f64| -> u64 {
+            let q = ((v - lo) / h).floor();
+            if q > 0.0 {
+                (q as u64).min((1 << 21) - 1)
+            } else {
+                0 // also NaN, and h = 0
+            }
+        };
+        self.order.clear();
+        for (k, t) in self.trail.iter().enumerate() {
+            let c: [u64; 3] = std::array::from_fn(|d| cell(t[1][d], b.min[d]));
+            let mut key = 0u64;
+            for bit in 0..21 {
+                for (d, &cd) in c.iter().enumerate() {
+                    key |= ((cd >> bit) & 1) << (3 * bit + d);
+                }
+            }
+            self.order.push((key, k as u32));
+        }
+        self.order.sort_unstable();
+    }
+
+    /// Apply `order` (place k gets node `order[k].1`) by cycles of swaps: `swap(a, b)` must
+    /// swap places a and b of every array of the side's nodes.
+    fn permute(order: &[(u64, u32)], seen: &mut Vec<bool>, mut swap: impl FnMut(usize, usize)) {
+        seen.clear();
+        seen.resize(order.len(), false);
+        for start in 0..order.len() {
+            let mut k = start;
+            while !seen[k] {
+                seen[k] = true;
+                let j = order[k].1 as usize;
+                if j == start {
+                    break;
+                }
+                swap(k, j);
+                k = j;
+            }
+        }
+    }
+
+    /// Boxes and spheres of the faces that have none yet, from positions `x_ref`.
     fn box_new_faces(&mut self, x_ref: &[Vec3], margin: f64) {
         for f in self.boxed..self.faces.len() {
             self.boxes[f] = search_box(&self.faces[f], x_ref, margin);
+            self.spheres[f] = search_sphere(&self.faces[f], x_ref, margin);
         }
         self.boxed = self.faces.len();
     }
 
-    /// Bounds of the needed faces at the current positions.
+    /// Bounds of the needed faces and the normals of all faces at the current positions.
     fn update_geometry(&mut self, x: &[Vec3]) {
         let (faces, needed) = (&self.faces, &self.needed);
         self.geo
             .par_iter_mut()
+            .zip(self.geo_more.par_iter_mut())
+            .zip(self.normals.par_iter_mut())
             .enumerate()
             .with_min_len(4 * NODE_CHUNK)
-            .for_each(|(f, g)| {
+            .for_each(|(f, ((g, gm), nf))| {
+                let face = &faces[f];
+                let p = face.nodes.map(|n| x[n as usize]);
+                let (d1, d2) = (sub(p[2], p[0]), sub(p[3], p[1]));
+                *nf = (cross(d1, d2), norm(d1) + norm(d2));
                 if needed[f] {
-                    let face = &faces[f];
-                    g.b = FaceBounds::new(&face.nodes.map(|n| x[n as usize]));
-                    g.depth = face.depth;
+                    let b = FaceBounds::new(&p);
+                    (*g, *gm) = Cull::new(&b, face.depth, GAP_TOL * b.r);
                 }
             });
     }
@@ -575,6 +729,16 @@ fn search_box(face: &Face, x: &[Vec3], margin: f64) -> Aabb {
     let c = scale(add(add(p[0], p[1]), add(p[2], p[3])), 0.25);
     let r = p.iter().map(|q| dist2(*q, c)).fold(0.0, f64::max).sqrt();
     Aabb::of_points(&p).inflated(face.depth + 4.0 * INSIDE_TOL * r + 1.1 * margin)
+}
+
+/// The search sphere of a face at positions `x`: centre c and radius^2 of
+/// `E (r + margin) + depth` (module docs), grown by 1e-9 for rounding.
+fn search_sphere(face: &Face, x: &[Vec3], margin: f64) -> (Vec3, f64) {
+    let p = face.nodes.map(|n| x[n as usize]);
+    let c = scale(add(add(p[0], p[1]), add(p[2], p[3])), 0.25);
+    let r = p.iter().map(|q| dist2(*q, c)).fold(0.0, f64::max).sqrt();
+    let reach = (penalty::WEIGHT_SUM * (r + margin) + face.depth) * (1.0 + 1e-9);
+    (c, reach * reach)
 }
 
 /// The result of one node's check.
@@ -618,8 +782,12 @@ struct Pass {
     nbase: usize,
     /// The faces and nodes that joined since (indices relative to `base` and `nbase`).
     extra: BucketGrid,
-    /// Candidate faces of each node of the node side, ascending.
-    cand: Vec<Vec<u32>>,
+    /// Candidate faces of each node of the node side: a few in its [`Sched`], the others here.
+    cand: Vec<Vec<Cand>>,
+    sched: Vec<Sched>,
+    /// Scratch: the nodes an incremental search renews; the nodes with a force this step.
+    mark: Vec<bool>,
+    active: Vec<bool>,
     /// Tangential force of the last step, per node of the node side.
     ft: Vec<Vec3>,
     hits: Vec<Hit>,
@@ -634,27 +802,77 @@ impl Pass {
             nbase: 0,
             extra: BucketGrid::default(),
             cand: vec![Vec::new(); nodes],
+            sched: vec![Sched::default(); nodes],
+            mark: vec![false; nodes],
+            active: vec![false; nodes],
             ft: vec![[0.0; 3]; nodes],
             hits: vec![Hit::default(); nodes],
         }
     }
+}
 
-    /// Node i's candidates from the grids: faces whose box (built from `x_ref`) holds the node's
-    /// `x_ref` position and that hold neither the node nor a node tied to it.
-    fn query(&mut self, i: usize, ns: &Side, fs: &Side, x_ref: &[Vec3], tie: &[u32]) {
-        let s = ns.nodes[i];
-        let p = x_ref[s as usize];
-        let keep = |f: u32| !fs.faces[f as usize].nodes.iter().any(|&a| tied(s, a, tie));
-        let list = &mut self.cand[i];
-        list.clear();
-        self.grid.faces_at(p, &fs.boxes, keep, list);
-        let start = list.len();
-        let extra = &fs.boxes[fs.base..];
-        self.extra
-            .faces_at(p, extra, |f| keep(f + fs.base as u32), list);
-        for f in &mut list[start..] {
-            *f += fs.base as u32;
-        }
+thread_local! {
+    /// Scratch of [`Query::run`]: a node's old candidates.
+    static OLD: std::cell::RefCell<Vec<Cand>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// What a search for candidates reads.
+struct Query<'a> {
+    grid: &'a BucketGrid,
+    extra: &'a BucketGrid,
+    /// The node side's nodes, the face side.
+    nodes: &'a [u32],
+    fs: &'a Side,
+    x_ref: &'a [Vec3],
+    tie: &'a [u32],
+    /// Subtracted from the `due` kept (a full build restarts the motion bound at zero).
+    rebase: f64,
+    /// Candidates due by this are hot.
+    hot_until: f64,
+}
+
+impl Query<'_> {
+    /// Node i's candidates from the grids: faces whose box and sphere (built from `x_ref`)
+    /// hold the node's `x_ref` position and that hold neither the node nor a node tied to it.
+    /// A face it had keeps its `due` (less `rebase`): the bound on a pair holds whether or not
+    /// the pair is listed; a new one is due at once.
+    fn run(&self, i: usize, list: &mut Vec<Cand>, sched: &mut Sched) {
+        let s = self.nodes[i];
+        let p = self.x_ref[s as usize];
+        let fs = self.fs;
+        // the node's coincident set (NONE: untied, then only its own faces are left out)
+        let set = self.tie.get(s as usize).copied().unwrap_or(NONE);
+        let keep = |f: u32| {
+            let (c, r2) = fs.spheres[f as usize];
+            dist2(p, c) <= r2
+                && !fs.faces[f as usize]
+                    .nodes
+                    .iter()
+                    .any(|&a| a == s || (set != NONE && self.tie[a as usize] == set))
+        };
+        sched.gather(list);
+        // the old list, by face, in this thread's scratch (sized by the first searches)
+        OLD.with_borrow_mut(|old| {
+            old.clear();
+            old.extend_from_slice(list);
+            old.sort_unstable_by_key(|c| c.face);
+            list.clear();
+            self.grid
+                .faces_at(p, &fs.boxes, keep, |f| list.push(Cand::new(f)));
+            let base = fs.base as u32;
+            self.extra.faces_at(
+                p,
+                &fs.boxes[fs.base..],
+                |f| keep(f + base),
+                |f| list.push(Cand::new(f + base)),
+            );
+            for c in list.iter_mut() {
+                if let Ok(j) = old.binary_search_by_key(&c.face, |c| c.face) {
+                    c.due = schedule::down(old[j].due as f64 - self.rebase);
+                }
+            }
+        });
+        sched.split(list, self.hot_until);
     }
 }
 
@@ -670,6 +888,14 @@ pub struct Contact {
     /// Positions of all model nodes at the last full build.
     x_ref: Vec<Vec3>,
     margin: f64,
+    /// Motion bound: the sum over the steps since the last full build of a bound on how far
+    /// any two nodes of the definition moved relative to each other in the step; and that
+    /// bound for the last step.
+    motion: f64,
+    step_motion: f64,
+    /// Diagonal of the box of the displacements since the last full build, this step (0 after a
+    /// full build in it).
+    spread: f64,
     /// A full build is due (first step, ties changed without faces named).
     dirty: bool,
     /// Faces of interfaces that failed since the last step: the nodes near them get new
@@ -680,6 +906,60 @@ pub struct Contact {
     region: Vec<Aabb>,
     rebuilds: u64,
     updates: u64,
+    /// Test every candidate every step and keep them all (tests compare with it).
+    #[cfg(test)]
+    exhaustive: bool,
+}
+
+/// The box of some displacements: `diag` bounds the distance between any two of them.
+#[derive(Clone, Copy, Debug)]
+struct Spread {
+    min: Vec3,
+    max: Vec3,
+    finite: bool,
+}
+
+impl Default for Spread {
+    fn default() -> Self {
+        Self {
+            min: [f64::INFINITY; 3],
+            max: [f64::NEG_INFINITY; 3],
+            finite: true,
+        }
+    }
+}
+
+impl Spread {
+    #[inline]
+    fn add(&mut self, d: Vec3) {
+        for ((lo, hi), v) in self.min.iter_mut().zip(&mut self.max).zip(d) {
+            *lo = lo.min(v);
+            *hi = hi.max(v);
+        }
+        // a NaN or infinite component makes the sum non-finite (min and max skip NaN)
+        self.finite &= (d[0] + d[1] + d[2]).is_finite();
+    }
+    fn join(mut self, o: Self) -> Self {
+        for k in 0..3 {
+            self.min[k] = self.min[k].min(o.min[k]);
+            self.max[k] = self.max[k].max(o.max[k]);
+        }
+        self.finite &= o.finite;
+        self
+    }
+    /// The box's diagonal (0 when empty, infinite when a displacement was not finite).
+    fn diag(&self) -> f64 {
+        if !self.finite {
+            return f64::INFINITY;
+        }
+        let mut d2 = 0.0;
+        for k in 0..3 {
+            if self.max[k] >= self.min[k] {
+                d2 += (self.max[k] - self.min[k]) * (self.max[k] - self.min[k]);
+            }
+        }
+        d2.sqrt()
+    }
 }
 
 impl Contact {
@@ -736,6 +1016,9 @@ impl Contact {
             passes,
             x_ref: vec![[0.0; 3]; nn],
             margin: MARGIN_FRACTION * size,
+            motion: 0.0,
+            step_motion: 0.0,
+            spread: 0.0,
             dirty: true,
             pending: Vec::new(),
             points: Vec::new(),
@@ -743,6 +1026,8 @@ impl Contact {
             region: Vec::new(),
             rebuilds: 0,
             updates: 0,
+            #[cfg(test)]
+            exhaustive: false,
         })
     }
 
@@ -756,6 +1041,7 @@ impl Contact {
         self.sides.len()
     }
 
+    /// Full candidate-list builds so far.
     /// Full candidate-list builds so far.
     pub fn rebuilds(&self) -> u64 {
         self.rebuilds
@@ -772,6 +1058,7 @@ impl Contact {
     ) -> usize {
         let mut added = 0;
         for (si, side) in self.sides.iter_mut().enumerate() {
+            let before = side.nodes.len();
             for &id in ids {
                 let part = elem_part[id.0 as usize] as usize;
                 if side.parts.get(part).copied().unwrap_or(false) && side.add(id, conn, table) {
@@ -779,8 +1066,14 @@ impl Contact {
                 }
             }
             let n = side.nodes.len();
+            for k in before..n {
+                side.trail[k][1] = self.x_ref[side.nodes[k] as usize];
+            }
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
                 pass.cand.resize_with(n, Vec::new);
+                pass.sched.resize(n, Sched::default());
+                pass.mark.resize(n, false);
+                pass.active.resize(n, false);
                 pass.ft.resize(n, [0.0; 3]);
                 pass.hits.resize(n, Hit::default());
             }
@@ -809,22 +1102,59 @@ impl Contact {
         dt
     }
 
-    /// True when some node of the surfaces (including nodes that joined since the last build)
-    /// has moved more than half the margin since the last full build.
-    fn moved_too_far(&self, x: &[Vec3]) -> bool {
-        let lim2 = 0.25 * self.margin * self.margin;
-        let x_ref = &self.x_ref;
-        self.sides.iter().any(|s| {
-            s.nodes
-                .par_iter()
-                .with_min_len(4 * NODE_CHUNK)
-                .any(|&n| dist2(x[n as usize], x_ref[n as usize]) > lim2)
-        })
+    /// One pass over the nodes of the sides: the motion bound grows by the diagonal of the
+    /// box of the nodes' displacements over the last step (nodes that joined since are not
+    /// counted: their pairs are new); returns the diagonal of the box of the displacements
+    /// since the last full build (nodes that joined since included, from `x_ref`).
+    fn track(&mut self, x: &[Vec3]) -> f64 {
+        let (mut step, mut since) = (Spread::default(), Spread::default());
+        for side in &mut self.sides {
+            let tracked = side.tracked;
+            let (a, b) = side
+                .nodes
+                .par_chunks(4 * NODE_CHUNK)
+                .zip(side.trail.par_chunks_mut(4 * NODE_CHUNK))
+                .enumerate()
+                .map(|(c, (nodes, trail))| {
+                    let first = c * 4 * NODE_CHUNK;
+                    let (mut a, mut b) = (Spread::default(), Spread::default());
+                    for (k, (&n, t)) in nodes.iter().zip(trail.iter_mut()).enumerate() {
+                        let p = x[n as usize];
+                        if first + k < tracked {
+                            a.add(sub(p, t[0]));
+                        }
+                        b.add(sub(p, t[1]));
+                        t[0] = p;
+                    }
+                    (a, b)
+                })
+                .reduce(
+                    || (Spread::default(), Spread::default()),
+                    |(a1, b1), (a2, b2)| (a1.join(a2), b1.join(b2)),
+                );
+            step = step.join(a);
+            since = since.join(b);
+            side.tracked = side.nodes.len();
+        }
+        // 1e-9: the rounding of the displacements and of the sum, with room to spare
+        self.step_motion = step.diag() * (1.0 + 1e-9);
+        self.motion += self.step_motion;
+        since.diag()
     }
 
-    /// New candidate lists of every node from the current positions.
+    /// New candidate lists of every node from the current positions; the motion bound starts
+    /// again at zero.
     fn rebuild(&mut self, x: &[Vec3], tie: &[u32]) {
         self.x_ref.copy_from_slice(x);
+        for side in &mut self.sides {
+            for (t, &n) in side.trail.iter_mut().zip(&side.nodes) {
+                t[1] = x[n as usize];
+            }
+        }
+        self.reorder();
+        let rebase = self.motion;
+        self.motion = 0.0;
+        let hot_until = HOT_STEPS * self.step_motion;
         let m = self.margin;
         for side in &mut self.sides {
             side.base = side.faces.len();
@@ -847,19 +1177,90 @@ impl Contact {
             pass.grid.build(&fs.boxes, points);
             pass.nbase = ns.nodes.len();
             pass.extra.build(&[], &[]);
-            for i in 0..ns.nodes.len() {
-                pass.query(i, ns, fs, x_ref, tie);
-            }
+            let Pass {
+                grid,
+                extra,
+                cand,
+                sched,
+                ..
+            } = pass;
+            let q = Query {
+                grid,
+                extra,
+                nodes: &ns.nodes,
+                fs,
+                x_ref,
+                tie,
+                rebase,
+                hot_until,
+            };
+            cand.par_iter_mut()
+                .zip(sched.par_iter_mut())
+                .enumerate()
+                .with_min_len(NODE_CHUNK / 4)
+                .for_each(|(i, (list, sched))| q.run(i, list, sched));
         }
         for pass in passes.iter() {
             let needed = &mut sides[pass.face_side].needed;
-            for &f in pass.cand.iter().flatten() {
-                needed[f as usize] = true;
+            for (list, sched) in pass.cand.iter().zip(&pass.sched) {
+                for f in sched.faces(list) {
+                    needed[f as usize] = true;
+                }
             }
         }
         self.pending.clear();
         self.dirty = false;
         self.rebuilds += 1;
+    }
+
+    /// Put each side's nodes in space order (with everything kept per node).
+    fn reorder(&mut self) {
+        for (si, side) in self.sides.iter_mut().enumerate() {
+            side.space_order();
+            // the renewed nodes by model number while the places move
+            for i in side.renewed.iter_mut() {
+                *i = side.nodes[*i as usize];
+            }
+            let Side {
+                nodes,
+                trail,
+                node_faces,
+                rank,
+                order,
+                seen,
+                ..
+            } = side;
+            Side::permute(order, seen, |a, b| {
+                nodes.swap(a, b);
+                trail.swap(a, b);
+                node_faces.swap(a, b);
+                rank.swap(a, b);
+            });
+            for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
+                let Pass {
+                    cand,
+                    sched,
+                    ft,
+                    hits,
+                    ..
+                } = pass;
+                Side::permute(order, seen, |a, b| {
+                    cand.swap(a, b);
+                    sched.swap(a, b);
+                    ft.swap(a, b);
+                    hits.swap(a, b);
+                });
+            }
+            for (k, &n) in side.nodes.iter().enumerate() {
+                side.local[n as usize] = k as u32;
+            }
+            for (k, &r) in side.rank.iter().enumerate() {
+                side.by_rank[r as usize] = k as u32;
+            }
+            for i in side.renewed.iter_mut() {
+                *i = side.local[*i as usize];
+            }
+        }
     }
 
     /// Faces joined or ties broke around the pending faces: the nodes whose reference position
@@ -878,6 +1279,7 @@ impl Contact {
             }
         }
         let m = self.margin;
+        let hot_until = self.motion + HOT_STEPS * self.step_motion;
         let Self {
             sides,
             passes,
@@ -921,12 +1323,49 @@ impl Contact {
             }
             scratch.sort_unstable();
             scratch.dedup();
-            for &i in scratch.iter() {
-                pass.query(i as usize, ns, fs, x_ref, tie);
+            let Pass {
+                grid,
+                extra,
+                cand,
+                sched,
+                mark,
+                ..
+            } = pass;
+            let q = Query {
+                grid,
+                extra,
+                nodes: &ns.nodes,
+                fs,
+                x_ref,
+                tie,
+                rebase: 0.0,
+                hot_until,
+            };
+            if scratch.len() < NODE_CHUNK {
+                for &i in scratch.iter() {
+                    let i = i as usize;
+                    q.run(i, &mut cand[i], &mut sched[i]);
+                }
+            } else {
+                for &i in scratch.iter() {
+                    mark[i as usize] = true;
+                }
+                cand.par_iter_mut()
+                    .zip(sched.par_iter_mut())
+                    .zip(mark.par_iter_mut())
+                    .enumerate()
+                    .with_min_len(NODE_CHUNK)
+                    .for_each(|(i, ((list, sched), mark))| {
+                        if *mark {
+                            *mark = false;
+                            q.run(i, list, sched);
+                        }
+                    });
             }
             let needed = &mut sides[pass.face_side].needed;
             for &i in scratch.iter() {
-                for &f in &pass.cand[i as usize] {
+                let i = i as usize;
+                for f in pass.sched[i].faces(&pass.cand[i]) {
                     needed[f as usize] = true;
                 }
             }
@@ -936,16 +1375,34 @@ impl Contact {
         true
     }
 
+    /// Nodes whose faces changed: their normal did, so the facing part of their clearances is
+    /// void; all their candidates are due.
+    fn renew(&mut self) {
+        for (si, side) in self.sides.iter_mut().enumerate() {
+            for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
+                for &i in &side.renewed {
+                    let i = i as usize;
+                    pass.sched[i].renew(&mut pass.cand[i]);
+                }
+            }
+            side.renewed.clear();
+        }
+    }
+
     /// One step of this definition: forces into `acc`; the resultants and whether the
     /// candidates were rebuilt in full.
     fn compute(&mut self, inp: &StepInput, acc: &mut NodalForces) -> (ContactForce, bool) {
-        let mut rebuilt = self.dirty || self.moved_too_far(inp.x);
+        self.spread = self.track(inp.x);
+        let mut rebuilt =
+            self.dirty || self.spread > self.margin || self.motion > REBASE * self.margin;
         if !rebuilt && !self.pending.is_empty() && !self.update(inp.tie, inp.conn, inp.table) {
             rebuilt = true;
         }
         if rebuilt {
             self.rebuild(inp.x, inp.tie);
+            self.spread = 0.0;
         }
+        self.renew();
         for side in &mut self.sides {
             side.update_geometry(inp.x);
         }
@@ -953,39 +1410,77 @@ impl Contact {
             id: self.id,
             ..Default::default()
         };
+        #[cfg(test)]
+        let exhaustive = self.exhaustive;
+        #[cfg(not(test))]
+        let exhaustive = false;
         let Self {
             sides,
             passes,
             friction,
+            motion,
+            step_motion,
+            margin,
+            spread,
             ..
         } = self;
         for (p, pass) in passes.iter_mut().enumerate() {
             let ns = &sides[pass.node_side];
             let fs = &sides[pass.face_side];
-            let Pass { cand, ft, hits, .. } = pass;
+            let Pass {
+                cand,
+                sched,
+                ft,
+                hits,
+                active,
+                ..
+            } = pass;
+            // exhaustive: every candidate is due and hot, none dropped
+            let (motion, hot_until, drop_beyond) = if exhaustive {
+                (f64::INFINITY, f64::INFINITY, f64::INFINITY)
+            } else {
+                (
+                    *motion,
+                    *motion + HOT_STEPS * *step_motion,
+                    *margin + *spread,
+                )
+            };
             let ctx = NodeCheck {
                 nodes: &ns.nodes,
-                node_side_faces: &ns.faces,
+                node_side_normals: &ns.normals,
                 node_faces: &ns.node_faces,
                 faces: &fs.faces,
                 geo: &fs.geo,
-                cand,
+                geo_more: &fs.geo_more,
+                motion,
+                hot_until,
+                drop_beyond,
                 friction: *friction,
                 inp,
             };
             hits.par_iter_mut()
                 .zip(ft.par_iter_mut())
+                .zip(cand.par_iter_mut())
+                .zip(sched.par_iter_mut())
+                .zip(active.par_iter_mut())
                 .enumerate()
                 .with_min_len(NODE_CHUNK)
-                .for_each(|(i, (hit, ft))| (*hit, *ft) = ctx.check(i, hit, *ft));
-            // NOTE: serial scatter in node order: the sums do not depend on the threads.
-            // Pass 0 has the slave nodes; pass 1 the master nodes, whose reactions act on the
-            // slave faces.
+                .for_each(|(i, ((((hit, ft), list), sched), active))| {
+                    if let Some(new) = ctx.check(i, list, sched, hit, *ft) {
+                        (*hit, *ft) = new;
+                    }
+                    *active = hit.face != NONE && hit.fn_mag != 0.0;
+                });
+            // NOTE: serial scatter in the order the nodes joined the side: the sums depend
+            // neither on the threads nor on the nodes' places. Pass 0 has the slave nodes;
+            // pass 1 the master nodes, whose reactions act on the slave faces.
             let sign = if p == 0 { 1.0 } else { -1.0 };
-            for (i, hit) in hits.iter().enumerate() {
-                if hit.face == NONE || hit.fn_mag == 0.0 {
+            for &i in &ns.by_rank {
+                let i = i as usize;
+                if !active[i] {
                     continue;
                 }
+                let hit = &hits[i];
                 let face = &fs.faces[hit.face as usize];
                 acc.add(ns.nodes[i], hit.f);
                 for a in 0..4 {
@@ -1003,74 +1498,177 @@ impl Contact {
 /// What the check of one node reads.
 struct NodeCheck<'a> {
     nodes: &'a [u32],
-    /// The node side's faces, and the faces of each of its nodes.
-    node_side_faces: &'a [Face],
+    /// The node side's face normals ([`Side::normals`]), and the faces of each of its nodes.
+    node_side_normals: &'a [(Vec3, f64)],
     node_faces: &'a [Vec<u32>],
     faces: &'a [Face],
-    geo: &'a [FaceGeo],
-    cand: &'a [Vec<u32>],
+    geo: &'a [Cull],
+    geo_more: &'a [CullMore],
+    /// The motion bound now; candidates due by `hot_until` stay hot; pairs whose bounds'
+    /// clearance exceeds `drop_beyond` leave the lists.
+    motion: f64,
+    hot_until: f64,
+    drop_beyond: f64,
     friction: Friction,
     inp: &'a StepInput<'a>,
 }
 
-impl NodeCheck<'_> {
-    /// Unit normal of node `i`'s surface: the sum of its faces' area-weighted normals.
-    fn node_normal(&self, i: usize, x: &[Vec3]) -> Vec3 {
+/// A node's surface normal, and how fast it can turn (module docs, facing clearance).
+#[derive(Clone, Copy, Debug)]
+struct NodeFrame {
+    /// Unit normal of the node's surface, n_s = S / |S| with S the sum of its faces'
+    /// diagonal cross products (zero when S is).
+    n: Vec3,
+    /// `sum (|d1| + |d2|) / |S|` and `faces / |S|` over the node's faces (infinite when S = 0).
+    a: f64,
+    b: f64,
+}
+
+impl NodeFrame {
+    /// From the node's faces' `(d1 x d2, |d1| + |d2|)` ([`Side::normals`]), in order.
+    fn of(faces: impl Iterator<Item = (Vec3, f64)>) -> Self {
         let mut n = [0.0; 3];
-        for &f in &self.node_faces[i] {
-            let p = self.node_side_faces[f as usize]
-                .nodes
-                .map(|a| x[a as usize]);
-            n = add(n, cross(sub(p[2], p[0]), sub(p[3], p[1])));
+        let mut a = 0.0;
+        let mut count = 0.0;
+        for (nf, len) in faces {
+            n = add(n, nf);
+            a += len;
+            count += 1.0;
         }
         let l = norm(n);
         if l > 0.0 {
-            scale(n, 1.0 / l)
+            NodeFrame {
+                n: scale(n, 1.0 / l),
+                a: a / l,
+                b: count / l,
+            }
         } else {
-            n
+            NodeFrame {
+                n,
+                a: f64::INFINITY,
+                b: f64::INFINITY,
+            }
         }
     }
 
-    /// Contact of node `i` of the node side with its candidate faces, after its hit of the
-    /// last step `prev`; returns the hit and the node's new tangential force (zero when out of
-    /// contact: the history resets).
+    /// The facing clearance of the node against a face with bounds `cull` (module docs): 0
+    /// unless the node's surface turns away from every normal of the face by a margin.
     #[inline]
-    fn check(&self, i: usize, prev: &Hit, ft_prev: Vec3) -> (Hit, Vec3) {
-        let StepInput { x, v, dt_prev, .. } = *self.inp;
-        let s = self.nodes[i];
-        let xs = x[s as usize];
-        let mut best: Option<(u32, Projection)> = None;
-        let mut node_normal: Option<Vec3> = None;
-        // faces holding the node or a node tied to it are not candidates (see `Pass::query`)
-        for &fi in &self.cand[i] {
-            let FaceGeo { b, depth } = &self.geo[fi as usize];
-            let gap_min = GAP_TOL * b.r;
-            if !b.may_touch(xs, *depth, gap_min) {
-                continue;
-            }
-            let face = &self.faces[fi as usize];
-            let p = face.nodes.map(|n| x[n as usize]);
-            if !off_corners(&p, xs, gap_min) {
-                continue;
-            }
-            let Some(pr) = project(&p, xs) else {
-                continue;
-            };
-            if !(pr.gap < -gap_min && pr.gap > -face.depth) {
-                continue;
-            }
-            // the node's surface must face the face (module docs)
-            let n_s = *node_normal.get_or_insert_with(|| self.node_normal(i, x));
-            if dot(n_s, pr.normal) > -FACING {
-                continue;
-            }
-            // the nearest surface point: least penetration (module docs)
-            if best.is_none_or(|(_, b)| pr.gap > b.gap) {
-                best = Some((fi, pr));
+    fn facing_clearance(&self, cull: &Cull, more: &CullMore) -> f64 {
+        if more.cos_min.is_nan() || more.cos_min <= 0.0 {
+            return 0.0;
+        }
+        let (cos_min, sin_max) = (more.cos_min as f64, more.sin_max as f64);
+        let c = dot(self.n, cull.n0());
+        let perp = (1.0 - c * c).max(0.0).sqrt();
+        let f0 = if c >= 0.0 { cos_min * c } else { c } - sin_max * perp;
+        // 1e-6: n0 in f32 and the rounding of the node normal
+        let m = (f0 + FACING - 1e-6) / std::f64::consts::SQRT_2;
+        if m.is_nan() || m <= 0.0 {
+            return 0.0;
+        }
+        let (l1, l2) = (self.a + more.kn1 as f64, self.b + more.kn2 as f64);
+        let d = 2.0 * m / (l1 + (l1 * l1 + 4.0 * l2 * m).sqrt());
+        if d > 0.0 {
+            d
+        } else {
+            0.0
+        }
+    }
+}
+
+impl NodeCheck<'_> {
+    /// Node `i`'s surface: its normal is the sum of its faces' area-weighted normals.
+    fn node_frame(&self, i: usize) -> NodeFrame {
+        NodeFrame::of(
+            self.node_faces[i]
+                .iter()
+                .map(|&f| self.node_side_normals[f as usize]),
+        )
+    }
+
+    /// Node `i` (at `xs`) against face `fi`: a contact nearer than `best` replaces it. Returns
+    /// the pair's clearance, the larger of the bounds' ([`Cull`]) and the facing one (module
+    /// docs), 0 when the pair was tested in full; and whether the bounds' clearance exceeds
+    /// `drop_beyond`, so the pair leaves the list until the next full build.
+    #[inline]
+    fn test(
+        &self,
+        i: usize,
+        fi: u32,
+        xs: Vec3,
+        best: &mut Option<(u32, Projection)>,
+        frame: &mut Option<NodeFrame>,
+    ) -> (f64, bool) {
+        let x = self.inp.x;
+        let cull = &self.geo[fi as usize];
+        let clear = cull.clearance(xs);
+        if let Some(d) = clear {
+            if d > self.hot_until - self.motion {
+                return (d, d > self.drop_beyond);
             }
         }
+        let more = &self.geo_more[fi as usize];
+        let facing = frame
+            .get_or_insert_with(|| self.node_frame(i))
+            .facing_clearance(cull, more);
+        if let Some(d) = clear {
+            return (d.max(facing), d > self.drop_beyond);
+        }
+        if facing > 0.0 {
+            return (facing, false);
+        }
+        let gap_min = more.gap_min;
+        let face = &self.faces[fi as usize];
+        let p = face.nodes.map(|n| x[n as usize]);
+        if !off_corners(&p, xs, gap_min) {
+            return (0.0, false);
+        }
+        let Some(pr) = project(&p, xs) else {
+            return (0.0, false);
+        };
+        if !(pr.gap < -gap_min && pr.gap > -face.depth) {
+            return (0.0, false);
+        }
+        // the node's surface must face the face (module docs)
+        let n_s = frame.get_or_insert_with(|| self.node_frame(i)).n;
+        if dot(n_s, pr.normal) > -FACING {
+            return (0.0, false);
+        }
+        // the nearest surface point: least penetration (module docs); of equal ones the
+        // lowest face index (the lists are not in face order)
+        if best.is_none_or(|(bf, b)| pr.gap > b.gap || (pr.gap == b.gap && fi < bf)) {
+            *best = Some((fi, pr));
+        }
+        (0.0, false)
+    }
+
+    /// Contact of node `i` of the node side with its candidate faces `list` (those due: see
+    /// [`Sched`]; each tested gets its next `due` from its clearance), after its hit of the
+    /// last step `prev`; returns the hit and the node's new tangential force (zero when out of
+    /// contact: the history resets), or `None` when both stay zero.
+    #[inline]
+    fn check(
+        &self,
+        i: usize,
+        list: &mut Vec<Cand>,
+        sched: &mut Sched,
+        prev: &Hit,
+        ft_prev: Vec3,
+    ) -> Option<(Hit, Vec3)> {
+        let StepInput { x, v, dt_prev, .. } = *self.inp;
+        let s = self.nodes[i];
+        let mut xs: Option<Vec3> = None;
+        let mut best: Option<(u32, Projection)> = None;
+        let mut frame: Option<NodeFrame> = None;
+        // faces holding the node or a node tied to it are not candidates (see `Query::run`)
+        sched.visit(list, self.motion, self.hot_until, |f| {
+            let xs = *xs.get_or_insert_with(|| x[s as usize]);
+            self.test(i, f, xs, &mut best, &mut frame)
+        });
         let Some((fi, pr)) = best else {
-            return (Hit::default(), [0.0; 3]);
+            // no contact (the hit and the tangential force are zero already when `prev` is)
+            return (prev.face != NONE).then(|| (Hit::default(), [0.0; 3]));
         };
         let face = &self.faces[fi as usize];
         let v_face = (0..4).fold([0.0; 3], |acc, a| {
@@ -1115,14 +1713,8 @@ impl NodeCheck<'_> {
             engaged: e.engaged,
             offset: e.offset,
         };
-        (hit, f_t)
+        Some((hit, f_t))
     }
-}
-
-/// Nodes a and b are tied: the same node, or members of one coincident set.
-#[inline]
-fn tied(a: u32, b: u32, tie: &[u32]) -> bool {
-    a == b || (!tie.is_empty() && tie[a as usize] != NONE && tie[a as usize] == tie[b as usize])
 }
 
 #[inline]

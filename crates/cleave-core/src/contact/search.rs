@@ -1,17 +1,20 @@
-//! Contact search: which faces each node may touch, by a uniform bucket grid.
+//! Contact search: which faces each node may touch, by uniform bucket grids.
 //!
 //! Each face is represented by its axis-aligned bounding box, inflated by how far a node may be
 //! from it and still be in contact plus a motion margin (the caller decides the inflation). A
-//! node's candidates are the faces whose inflated box contains it. The grid's cell size is the
-//! largest box extent, so a box covers at most 2 x 2 x 2 cells; every face is listed in each
-//! cell its box overlaps (counting sort: linear time, and each cell lists its faces in ascending
-//! order), and a node looks only at the faces listed in its own cell. The grid also lists the
-//! nodes of each cell, to find the nodes inside a box (when faces join a surface). Nothing
+//! node's candidates are the faces whose inflated box contains it. The boxes are sorted into
+//! size levels (a factor `LEVEL_RATIO` apart, from the median extent up), and each level has
+//! its own grid whose cell size is half the level's largest box extent, so a box covers at most
+//! 3 x 3 x 3 cells of its level; every face is listed in each cell of its level its box
+//! overlaps (counting sort: linear time, and each cell lists its faces in ascending order), and
+//! a node looks only at the faces listed in its own cell of each level. A separate grid lists
+//! the nodes of each cell, to find the nodes inside a box (when faces join a surface). Nothing
 //! compares all nodes with all faces. The number of cells is capped (a few per face or node),
 //! so a domain that grows (fragments flying apart) makes the cells larger, never the memory.
 //!
-//! The caller rebuilds the candidate lists only when some node has moved more than half the
-//! margin since the last build (see `contact::Contact`); in between, the lists are reused.
+//! The caller rebuilds the candidate lists only when the nodes have moved far enough relative
+//! to each other since the last build (see `contact::Contact`); in between, the lists are
+//! reused.
 
 use crate::math::Vec3;
 
@@ -23,12 +26,16 @@ pub struct Aabb {
 }
 
 impl Aabb {
-    /// The box of some points.
-    pub fn of_points(p: &[Vec3]) -> Self {
-        let mut b = Self {
+    /// The empty box (min +inf, max -inf).
+    pub fn empty() -> Self {
+        Self {
             min: [f64::INFINITY; 3],
             max: [f64::NEG_INFINITY; 3],
-        };
+        }
+    }
+    /// The box of some points.
+    pub fn of_points(p: &[Vec3]) -> Self {
+        let mut b = Self::empty();
         for q in p {
             b.include(*q);
         }
@@ -91,24 +98,54 @@ impl Candidates {
     }
 }
 
-/// A uniform bucket grid over face boxes; keeps its buffers between builds.
+/// Levels of box sizes: a box goes to level k >= 1 when its extent is in
+/// `(h0 LEVEL_RATIO^(k-1), h0 LEVEL_RATIO^k]` (h0 the median extent), to level 0 when at most h0.
+const LEVEL_RATIO: f64 = 4.0;
+
+/// Boxes larger than `h0 LEVEL_RATIO^MAX_LEVEL` (or of non-finite extent) share the last level.
+const MAX_LEVEL: usize = 16;
+
+/// A level's cells are this many times smaller than its largest box: a box then covers at most
+/// 3 x 3 x 3 cells, and a query looks at the faces of a cell whose boxes overlap a region
+/// (1 + 1/2)^3 = 3.4 box volumes large instead of 2^3 = 8 with cells as large as the boxes.
+const CELLS_PER_BOX: f64 = 2.0;
+
+/// Bucket grids over face boxes, one per size level, and one over points; keeps its buffers
+/// between builds.
+///
+/// A single grid with cells as large as the largest box degenerates when a few boxes are much
+/// larger than the rest (a coarse rigid plate under a finely meshed ball: its faces' boxes,
+/// inflated by its elements' depth, span the whole ball, and every cell then lists nearly every
+/// face). So each box goes to the grid of its size level, whose cells are half as large as
+/// that level's largest box; a query looks at its cell in every level. A box lies in one level and
+/// is listed in every cell of it that it overlaps, so the result is exact.
 #[derive(Clone, Debug, Default)]
 pub struct BucketGrid {
+    levels: Vec<Level>,
+    /// Levels `..used` hold this build's boxes.
+    used: usize,
+    points: Level,
+    /// Scratch: level of each box, extents.
+    level_of: Vec<u8>,
+    ext: Vec<f64>,
+    cursor: Vec<u32>,
+}
+
+/// One uniform grid: the items (box or point indices) of each cell, in ascending order.
+#[derive(Clone, Debug, Default)]
+struct Level {
     bounds: Option<Aabb>,
     h: f64,
     dims: [usize; 3],
-    /// Compressed rows: cell c's faces are `cell_faces[cell_start[c]..cell_start[c + 1]]`.
-    cell_start: Vec<u32>,
-    cell_faces: Vec<u32>,
-    /// Cell c's points are `cell_points[point_start[c]..point_start[c + 1]]`.
-    point_start: Vec<u32>,
-    cell_points: Vec<u32>,
-    cursor: Vec<u32>,
+    /// Compressed rows: cell c's items are `items[start[c]..start[c + 1]]`.
+    start: Vec<u32>,
+    items: Vec<u32>,
 }
 
 impl BucketGrid {
     /// Candidate faces of every point: the faces `f` whose box `boxes[f]` contains `points[i]`
-    /// and for which `keep(i, f)` holds (e.g. the node is not one of the face's own nodes).
+    /// and for which `keep(i, f)` holds (e.g. the node is not one of the face's own nodes),
+    /// ascending.
     pub fn candidates(
         &mut self,
         boxes: &[Aabb],
@@ -119,29 +156,30 @@ impl BucketGrid {
         self.build(boxes, &[]);
         out.reset();
         for (i, &p) in points.iter().enumerate() {
-            self.faces_at(p, boxes, |f| keep(i, f), &mut out.list);
+            let start = out.list.len();
+            self.faces_at(p, boxes, |f| keep(i, f), |f| out.list.push(f));
+            out.list[start..].sort_unstable();
             out.start.push(out.list.len() as u32);
         }
     }
 
-    /// Append to `out`, ascending, the faces `f` whose box (`boxes`, those of the build)
-    /// contains `p` and for which `keep(f)` holds.
+    /// Pass to `push` the faces `f` whose box (`boxes`, those of the build) contains `p` and
+    /// for which `keep(f)` holds: ascending within each size level, level after level.
     #[inline]
     pub fn faces_at(
         &self,
         p: Vec3,
         boxes: &[Aabb],
         keep: impl Fn(u32) -> bool,
-        out: &mut Vec<u32>,
+        mut push: impl FnMut(u32),
     ) {
-        if self.cell_start.is_empty() {
-            return;
-        }
-        if let Some(c) = self.cell_of(p) {
-            let range = self.cell_start[c] as usize..self.cell_start[c + 1] as usize;
-            for &f in &self.cell_faces[range] {
-                if boxes[f as usize].contains(p) && keep(f) {
-                    out.push(f);
+        for level in &self.levels[..self.used] {
+            if let Some(c) = level.cell_of(p) {
+                let range = level.start[c] as usize..level.start[c + 1] as usize;
+                for &f in &level.items[range] {
+                    if boxes[f as usize].contains(p) && keep(f) {
+                        push(f);
+                    }
                 }
             }
         }
@@ -150,21 +188,22 @@ impl BucketGrid {
     /// Append to `out` the points of the build (indices into its `points`, whose positions
     /// `pos(q)` gives) inside box `b`, in cell order.
     pub fn points_in(&self, b: &Aabb, pos: impl Fn(u32) -> Vec3, out: &mut Vec<u32>) {
-        let Some(bounds) = self.bounds.as_ref() else {
+        let g = &self.points;
+        let Some(bounds) = g.bounds.as_ref() else {
             return;
         };
-        if self.point_start.is_empty()
+        if g.start.is_empty()
             || (0..3).any(|d| b.max[d] < bounds.min[d] || b.min[d] > bounds.max[d])
         {
             return;
         }
-        let (lo, hi) = (self.index(b.min), self.index(b.max));
+        let (lo, hi) = (g.index(b.min), g.index(b.max));
         for k in lo[2]..=hi[2] {
             for j in lo[1]..=hi[1] {
                 for i in lo[0]..=hi[0] {
-                    let c = self.flat([i, j, k]);
-                    let range = self.point_start[c] as usize..self.point_start[c + 1] as usize;
-                    for &q in &self.cell_points[range] {
+                    let c = g.flat([i, j, k]);
+                    let range = g.start[c] as usize..g.start[c + 1] as usize;
+                    for &q in &g.items[range] {
                         if b.contains(pos(q)) {
                             out.push(q);
                         }
@@ -174,42 +213,126 @@ impl BucketGrid {
         }
     }
 
-    /// Size the grid to the boxes and points, list each box in the cells it overlaps and each
-    /// point in its cell.
+    /// Sort the boxes into size levels and list each in the cells of its level it overlaps;
+    /// list each point in its cell of the point grid (cells about as large as the smallest
+    /// level's).
     pub fn build(&mut self, boxes: &[Aabb], points: &[Vec3]) {
-        self.bounds = None;
-        self.cell_start.clear();
-        self.point_start.clear();
-        if boxes.is_empty() && points.is_empty() {
+        self.used = 0;
+        self.points.clear();
+        // median extent of the boxes of finite extent
+        self.ext.clear();
+        self.ext
+            .extend(boxes.iter().map(Aabb::extent).filter(|e| e.is_finite()));
+        let h0 = if self.ext.is_empty() {
+            0.0
+        } else {
+            let mid = self.ext.len() / 2;
+            *self.ext.select_nth_unstable_by(mid, f64::total_cmp).1
+        };
+        self.level_of.clear();
+        let mut counts = [0usize; MAX_LEVEL + 1];
+        for b in boxes {
+            let e = b.extent();
+            let k = if e <= h0 {
+                0
+            } else if e.is_finite() && h0 > 0.0 {
+                ((e / h0).ln() / LEVEL_RATIO.ln())
+                    .ceil()
+                    .clamp(1.0, MAX_LEVEL as f64) as usize
+            } else {
+                MAX_LEVEL
+            };
+            self.level_of.push(k as u8);
+            counts[k] += 1;
+        }
+        // levels in use, in order; an empty level is skipped
+        let mut slot = [usize::MAX; MAX_LEVEL + 1];
+        for (k, &n) in counts.iter().enumerate() {
+            if n > 0 {
+                slot[k] = self.used;
+                self.used += 1;
+            }
+        }
+        if self.levels.len() < self.used {
+            self.levels.resize_with(self.used, Level::default);
+        }
+        let mut h_points = 0.0f64;
+        for (k, &n) in counts.iter().enumerate() {
+            if n == 0 {
+                continue;
+            }
+            let members =
+                || (0..boxes.len() as u32).filter(|&f| self.level_of[f as usize] as usize == k);
+            let mut bounds = Aabb::empty();
+            let mut h: f64 = 0.0;
+            for f in members() {
+                let b = &boxes[f as usize];
+                bounds.include(b.min);
+                bounds.include(b.max);
+                h = h.max(b.extent());
+            }
+            let level = &mut self.levels[slot[k]];
+            level.size(bounds, h / CELLS_PER_BOX, (27 * n + 64) as f64);
+            level.fill(
+                members(),
+                |f| (boxes[f as usize].min, boxes[f as usize].max),
+                &mut self.cursor,
+            );
+            if h_points == 0.0 {
+                h_points = level.h;
+            }
+        }
+        if points.is_empty() {
             return;
         }
-        let mut bounds = Aabb {
-            min: [f64::INFINITY; 3],
-            max: [f64::NEG_INFINITY; 3],
-        };
-        let mut h: f64 = 0.0;
-        for b in boxes {
-            bounds.include(b.min);
-            bounds.include(b.max);
-            h = h.max(b.extent());
-        }
+        let mut bounds = Aabb::empty();
         for p in points {
             if p.iter().all(|v| v.is_finite()) {
                 bounds.include(*p);
             }
         }
+        if h_points == 0.0 || !h_points.is_finite() {
+            // points only: about one per cell
+            h_points = bounds.extent() / (points.len() as f64).cbrt();
+        }
+        self.points
+            .size(bounds, h_points, (points.len() + 64) as f64);
+        self.points.fill(
+            0..points.len() as u32,
+            |q| (points[q as usize], points[q as usize]),
+            &mut self.cursor,
+        );
+    }
+
+    /// Number of cells over all levels and the point grid.
+    #[cfg(test)]
+    fn cells(&self) -> usize {
+        self.levels[..self.used]
+            .iter()
+            .chain([&self.points])
+            .filter(|l| l.bounds.is_some())
+            .map(|l| l.dims.iter().product::<usize>())
+            .sum()
+    }
+}
+
+impl Level {
+    fn clear(&mut self) {
+        self.bounds = None;
+        self.start.clear();
+    }
+
+    /// Cells of size h over `bounds` (a point at the origin when empty), made larger until there
+    /// are at most `cap` of them (and never more than 2^21 per axis).
+    fn size(&mut self, mut bounds: Aabb, mut h: f64, cap: f64) {
         if !(0..3).all(|d| bounds.min[d] <= bounds.max[d]) {
-            // only non-finite points: one cell at the origin
+            // nothing finite: one cell at the origin
             bounds = Aabb {
                 min: [0.0; 3],
                 max: [0.0; 3],
             };
         }
         let ext = bounds.extent();
-        if boxes.is_empty() {
-            // points only: about one per cell
-            h = ext / (points.len() as f64).cbrt();
-        }
         if h.is_nan() || h <= 0.0 || !h.is_finite() {
             h = if ext > 0.0 && ext.is_finite() {
                 ext
@@ -217,8 +340,6 @@ impl BucketGrid {
                 1.0
             };
         }
-        // at most a few cells per face (and never more than 2^21 per axis)
-        let cap = (8 * boxes.len() + points.len() + 64) as f64;
         let mut dims = [1usize; 3];
         for _ in 0..64 {
             let n: [f64; 3] =
@@ -233,59 +354,50 @@ impl BucketGrid {
         self.bounds = Some(bounds);
         self.h = h;
         self.dims = dims;
-        let ncell = dims[0] * dims[1] * dims[2];
-        self.cell_start.clear();
-        self.cell_start.resize(ncell + 1, 0);
-        for b in boxes {
-            let (lo, hi) = (self.index(b.min), self.index(b.max));
+    }
+
+    /// List each item in the cells from its `span(item)` (min and max corner) (counting sort:
+    /// each cell lists its items in the order given).
+    fn fill(
+        &mut self,
+        items: impl Iterator<Item = u32> + Clone,
+        span: impl Fn(u32) -> (Vec3, Vec3),
+        cursor: &mut Vec<u32>,
+    ) {
+        let ncell = self.dims[0] * self.dims[1] * self.dims[2];
+        self.start.clear();
+        self.start.resize(ncell + 1, 0);
+        for q in items.clone() {
+            let (a, b) = span(q);
+            let (lo, hi) = (self.index(a), self.index(b));
             for k in lo[2]..=hi[2] {
                 for j in lo[1]..=hi[1] {
                     for i in lo[0]..=hi[0] {
                         let c = self.flat([i, j, k]);
-                        self.cell_start[c + 1] += 1;
+                        self.start[c + 1] += 1;
                     }
                 }
             }
         }
         for c in 0..ncell {
-            self.cell_start[c + 1] += self.cell_start[c];
+            self.start[c + 1] += self.start[c];
         }
-        self.cursor.clear();
-        self.cursor.extend_from_slice(&self.cell_start[..ncell]);
-        self.cell_faces.clear();
-        self.cell_faces.resize(self.cell_start[ncell] as usize, 0);
-        for (f, b) in boxes.iter().enumerate() {
-            let (lo, hi) = (self.index(b.min), self.index(b.max));
+        cursor.clear();
+        cursor.extend_from_slice(&self.start[..ncell]);
+        self.items.clear();
+        self.items.resize(self.start[ncell] as usize, 0);
+        for q in items {
+            let (a, b) = span(q);
+            let (lo, hi) = (self.index(a), self.index(b));
             for k in lo[2]..=hi[2] {
                 for j in lo[1]..=hi[1] {
                     for i in lo[0]..=hi[0] {
                         let c = self.flat([i, j, k]);
-                        self.cell_faces[self.cursor[c] as usize] = f as u32;
-                        self.cursor[c] += 1;
+                        self.items[cursor[c] as usize] = q;
+                        cursor[c] += 1;
                     }
                 }
             }
-        }
-        if points.is_empty() {
-            return;
-        }
-        self.point_start.clear();
-        self.point_start.resize(ncell + 1, 0);
-        for p in points {
-            let c = self.flat(self.index(*p));
-            self.point_start[c + 1] += 1;
-        }
-        for c in 0..ncell {
-            self.point_start[c + 1] += self.point_start[c];
-        }
-        self.cursor.clear();
-        self.cursor.extend_from_slice(&self.point_start[..ncell]);
-        self.cell_points.clear();
-        self.cell_points.resize(points.len(), 0);
-        for (q, p) in points.iter().enumerate() {
-            let c = self.flat(self.index(*p));
-            self.cell_points[self.cursor[c] as usize] = q as u32;
-            self.cursor[c] += 1;
         }
     }
 
@@ -309,7 +421,7 @@ impl BucketGrid {
         c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
     }
 
-    /// The cell holding `p`, or `None` outside every box.
+    /// The cell holding `p`, or `None` outside the level's bounds (then no box of it holds p).
     #[inline]
     fn cell_of(&self, p: Vec3) -> Option<usize> {
         let b = self.bounds.as_ref()?;
@@ -423,8 +535,8 @@ pub(crate) mod tests {
         grid.candidates(&boxes, &pts, |_, _| true, &mut a);
         brute_force_candidates(&boxes, &pts, |_, _| true, &mut b);
         assert_eq!(a, b);
-        let cells = grid.dims.iter().product::<usize>();
-        assert!(cells <= 8 * boxes.len() + pts.len() + 64, "{cells} cells");
+        let cells = grid.cells();
+        assert!(cells <= 27 * boxes.len() + 64 * grid.used, "{cells} cells");
     }
 
     /// The points a box query finds are exactly the points inside the box (brute force), for
@@ -471,7 +583,7 @@ pub(crate) mod tests {
         a.sort_unstable();
         assert_eq!(a, vec![3, 4, 5]);
         let mut f = Vec::new();
-        grid.faces_at(pts[0], &[], |_| true, &mut f);
+        grid.faces_at(pts[0], &[], |_| true, |q| f.push(q));
         assert!(f.is_empty());
     }
 

@@ -327,7 +327,7 @@ fn own_nodes_never_contact() {
     let c = &cs.contacts()[0];
     let side = &c.sides[0];
     for (i, &n) in side.nodes.iter().enumerate() {
-        for &f in &c.passes[0].cand[i] {
+        for f in c.passes[0].sched[i].faces(&c.passes[0].cand[i]) {
             assert!(!side.faces[f as usize].nodes.contains(&n));
         }
     }
@@ -538,4 +538,280 @@ fn incremental_vs_full(single: bool) {
     assert!(pairs > 200, "single {single}: {pairs} pairs");
     assert!(st.updates >= 10, "single {single}: {st:?}");
     assert!(st.rebuilds < 20, "single {single}: {st:?}");
+}
+
+/// Skipping candidates by their clearance changes nothing: the forces, energy and pairs of
+/// every step are those of a run that tests every candidate every step and drops none, over
+/// 80 steps of block B coming down on block A and sliding over it (with a little noise on
+/// every node), for both contact types; and the skipping run does leave candidates untested.
+#[test]
+fn skipping_equals_testing_every_candidate() {
+    for single in [true, false] {
+        let (mut m, na) = jitter_model(single);
+        // B starts 0.03 above A
+        for p in m.x0[na..].iter_mut() {
+            p[2] += 0.04;
+        }
+        let mut r = Rng(9);
+        let mut x = m.x0.clone();
+        let mut xs = vec![x.clone()];
+        for _ in 0..80 {
+            for (i, p) in x.iter_mut().enumerate() {
+                let (dx, dz) = if i >= na { (0.002, -0.001) } else { (0.0, 0.0) };
+                *p = add(
+                    *p,
+                    [
+                        dx + r.range(-3e-4, 3e-4),
+                        r.range(-3e-4, 3e-4),
+                        dz + r.range(-3e-4, 3e-4),
+                    ],
+                );
+            }
+            xs.push(x.clone());
+        }
+        let mut lazy = ContactSet::new(&m, None).unwrap();
+        let mut full = ContactSet::new(&m, None).unwrap();
+        for c in &mut full.contacts {
+            c.exhaustive = true;
+        }
+        let a = run_jitter(&mut lazy, &xs, false);
+        let b = run_jitter(&mut full, &xs, false);
+        assert_eq!(a, b, "single {single}");
+        assert!(a.iter().map(|s| s.2).sum::<usize>() > 100);
+        let c = &lazy.contacts[0];
+        let waiting: usize = c
+            .passes
+            .iter()
+            .flat_map(|p| p.cand.iter().zip(&p.sched))
+            .map(|(list, sched)| sched.waiting(list, c.motion))
+            .sum();
+        assert!(
+            waiting > 100,
+            "single {single}: {waiting} candidates waiting"
+        );
+    }
+}
+
+/// The same with interfaces failing (faces joining, ties breaking, the incremental search)
+/// and every node jittering: the skipping run equals one that rebuilds and tests everything
+/// every step.
+#[test]
+fn skipping_equals_testing_every_candidate_as_faces_join() {
+    use crate::separation::coincident::CoincidentSets;
+    use crate::separation::split::split_model;
+    let mut deck = single_part_model(BoxMesh::new([4, 4, 2], [1.0, 1.0, 0.5]), mat(), 1.0);
+    deck.separations.push(crate::model::SeparationDef {
+        material: 0,
+        model: 1,
+        sigmax: 1.0,
+        beta: 1.0,
+        gc: 0.0,
+        bond: 1,
+    });
+    deck.contacts.push(def(true, 0.3, 0.2, 0.5));
+    let sm = split_model(&deck);
+    let m = &sm.model;
+    let nn = m.num_nodes();
+    let mut intact = vec![true; sm.faces.len()];
+    let mut lazy = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    let mut full = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    full.contacts[0].exhaustive = true;
+    let mut r = Rng(31);
+    let mut x = m.x0.clone();
+    let dt = 1e-3;
+    let mut pairs = 0;
+    for step in 0..60 {
+        let mut failed = Vec::new();
+        if step % 4 == 1 {
+            for (k, ok) in intact.iter_mut().enumerate().take(sm.interfaces) {
+                if *ok && r.unit() < 0.06 {
+                    *ok = false;
+                    let f = &sm.faces[k];
+                    failed.push((f.elems[0], f.faces[0]));
+                    failed.push((f.elems[1], f.faces[1]));
+                }
+            }
+        }
+        let sets = CoincidentSets::build(nn, &sm.faces, &intact);
+        let tie: Vec<u32> = (0..nn as u32)
+            .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
+            .collect();
+        assert_eq!(lazy.activate(&failed), full.activate(&failed));
+        full.ties_changed();
+        // a slow drift of each node with a little noise: pairs approach and part
+        let v: Vec<Vec3> = (0..nn)
+            .map(|i| {
+                let w = (i % 7) as f64 - 3.0;
+                [w * 0.3 + r.range(-0.2, 0.2), r.range(-0.2, 0.2), -w * 0.2]
+            })
+            .collect();
+        if step > 0 {
+            for (xi, vi) in x.iter_mut().zip(&v) {
+                *xi = add(*xi, scale(*vi, 0.002));
+            }
+        }
+        let (mut fa, mut fb) = (zeros(nn), zeros(nn));
+        let sa = lazy.compute(&x, &v, dt, &tie, &mut fa);
+        let sb = full.compute(&x, &v, dt, &tie, &mut fb);
+        assert_eq!(
+            (fa, sa.energy, sa.pairs),
+            (fb, sb.energy, sb.pairs),
+            "step {step}"
+        );
+        pairs += sa.pairs;
+    }
+    assert!(pairs > 100, "{pairs} pairs");
+    let st = lazy.stats();
+    assert!(st.updates >= 5, "{st:?}");
+}
+
+/// The facing clearance is never crossed: random node surfaces (2 to 4 faces around the node)
+/// and random faces, and whenever the clearance is positive, random motions of all the points
+/// by at most half of it (so any two move relative to each other by at most the clearance):
+/// the node's normal and every normal of the face (a grid over the extended face and the
+/// triangle normals) still fail the facing test.
+#[test]
+fn facing_clearance_is_never_crossed() {
+    let mut r = Rng(41);
+    let quad = |r: &mut Rng, a: Vec3, size: f64| -> [Vec3; 4] {
+        let u = [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)];
+        let w = [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)];
+        let jig = |r: &mut Rng| {
+            scale(
+                [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)],
+                0.1 * size,
+            )
+        };
+        [
+            a,
+            add(add(a, scale(u, size)), jig(r)),
+            add(add(a, scale(add(u, w), size)), jig(r)),
+            add(add(a, scale(w, size)), jig(r)),
+        ]
+    };
+    let parts = |faces: &[[Vec3; 4]]| -> Vec<(Vec3, f64)> {
+        faces
+            .iter()
+            .map(|p| {
+                let (d1, d2) = (sub(p[2], p[0]), sub(p[3], p[1]));
+                (cross(d1, d2), norm(d1) + norm(d2))
+            })
+            .collect()
+    };
+    let (mut positive, mut big) = (0, 0);
+    for _ in 0..20_000 {
+        let s = [0.0; 3];
+        let own: Vec<[Vec3; 4]> = (0..2 + (r.unit() * 3.0) as usize)
+            .map(|_| quad(&mut r, s, 1.0))
+            .collect();
+        let c = [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)];
+        let size = r.range(0.3, 1.5);
+        let f = quad(&mut r, c, size);
+        let frame = NodeFrame::of(parts(&own).into_iter());
+        let b = FaceBounds::new(&f);
+        let (cull, more) = Cull::new(&b, 0.2, 1e-9 * b.r);
+        let d = frame.facing_clearance(&cull, &more);
+        if d <= 0.0 {
+            continue;
+        }
+        positive += 1;
+        big += (d > 0.01) as usize;
+        for _ in 0..4 {
+            let mut jolt = |p: Vec3| {
+                let m = [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)];
+                add(p, scale(m, 0.5 * d * r.unit() / norm(m).max(1e-300)))
+            };
+            let own2: Vec<[Vec3; 4]> = own.iter().map(|q| q.map(&mut jolt)).collect();
+            let f2 = f.map(&mut jolt);
+            let n_s = NodeFrame::of(parts(&own2).into_iter()).n;
+            let [a0, a1, a2, a3] = {
+                let [x1, x2, x3, x4] = f2;
+                let q = |k: [f64; 4]| -> Vec3 {
+                    std::array::from_fn(|i| {
+                        0.25 * (k[0] * x1[i] + k[1] * x2[i] + k[2] * x3[i] + k[3] * x4[i])
+                    })
+                };
+                [
+                    q([1.0, 1.0, 1.0, 1.0]),
+                    q([-1.0, 1.0, 1.0, -1.0]),
+                    q([-1.0, -1.0, 1.0, 1.0]),
+                    q([1.0, -1.0, 1.0, -1.0]),
+                ]
+            };
+            let _ = a0;
+            let e = 1.0 + penalty::INSIDE_TOL;
+            for i in 0..=8 {
+                for j in 0..=8 {
+                    let (xi, eta) = (e * (i as f64 / 4.0 - 1.0), e * (j as f64 / 4.0 - 1.0));
+                    let n = cross(add(a1, scale(a3, eta)), add(a2, scale(a3, xi)));
+                    let n = scale(n, 1.0 / norm(n));
+                    assert!(
+                        dot(n_s, n) > -FACING,
+                        "facing after moving by {d}: {own:?} {f:?} -> {own2:?} {f2:?}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(positive > 2000 && big > 500, "{positive} {big}");
+}
+
+/// A node that gets a face (an interface at it fails) has a new normal, so the facing part of
+/// its clearances is void: at the next step all its candidates are due at once.
+#[test]
+fn nodes_with_new_faces_are_due_at_once() {
+    use crate::separation::split::split_model;
+    let mut deck = single_part_model(BoxMesh::new([2, 2, 2], [1.0, 1.0, 1.0]), mat(), 1.0);
+    deck.separations.push(crate::model::SeparationDef {
+        material: 0,
+        model: 1,
+        sigmax: 1.0,
+        beta: 1.0,
+        gc: 0.0,
+        bond: 1,
+    });
+    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
+    let sm = split_model(&deck);
+    let m = &sm.model;
+    let nn = m.num_nodes();
+    let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    let tie: Vec<u32> = vec![u32::MAX; nn];
+    let mut f = zeros(nn);
+    let v = zeros(nn);
+    // two steps at rest: every candidate is tested once and then waits (nothing moves)
+    cs.compute(&m.x0, &v, 0.0, &tie, &mut f);
+    cs.compute(&m.x0, &v, 1e-3, &tie, &mut f);
+    let c = &cs.contacts[0];
+    let waiting = |c: &Contact| -> usize {
+        c.passes[0]
+            .cand
+            .iter()
+            .zip(&c.passes[0].sched)
+            .map(|(l, s)| s.waiting(l, c.motion))
+            .sum()
+    };
+    assert!(waiting(c) > 0);
+    let k = 0;
+    let sf = &sm.faces[k];
+    let new = [(sf.elems[0], sf.faces[0]), (sf.elems[1], sf.faces[1])];
+    assert_eq!(cs.activate(&new), 2);
+    let c = &mut cs.contacts[0];
+    let side = &c.sides[0];
+    let mut renewed: Vec<u32> = side.renewed.clone();
+    renewed.sort_unstable();
+    renewed.dedup();
+    assert_eq!(renewed.len(), 8, "the 8 corners of the two faces");
+    let waiting_of = |c: &Contact| -> usize {
+        renewed
+            .iter()
+            .map(|&i| {
+                let i = i as usize;
+                c.passes[0].sched[i].waiting(&c.passes[0].cand[i], c.motion)
+            })
+            .sum()
+    };
+    assert!(waiting_of(c) > 10, "{}", waiting_of(c));
+    c.renew();
+    assert_eq!(waiting_of(c), 0);
+    assert!(c.sides[0].renewed.is_empty());
 }

@@ -1,5 +1,7 @@
 //! Helpers shared by the core's integration tests.
 
+#![allow(dead_code)] // each test file uses its own subset of the helpers
+
 use cleave_core::contact::ContactSet;
 use cleave_core::model::Model;
 use cleave_core::solver::{Observer, Solver};

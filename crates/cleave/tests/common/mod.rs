@@ -1,5 +1,7 @@
 //! Helpers shared by the end-to-end tests: run the binary, a fresh scratch folder, read a CSV.
 
+#![allow(dead_code)] // each test file uses its own subset of the helpers
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

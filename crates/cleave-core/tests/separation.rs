@@ -127,8 +127,6 @@ fn split_mesh_moves_as_the_original_until_failure() {
 // Fracture: a bar pulled from both ends, and a free stretching block
 // ---------------------------------------------------------------------------------------------
 
-/// An observer from a closure.
-
 const RHO: f64 = 7800.0;
 const YOUNG: f64 = 200e9;
 const BAR_L: f64 = 0.1;

@@ -66,13 +66,10 @@ impl CrackGrowth {
                 .fold(0.0, f64::max)
         });
         self.rows.push((t, length));
-        let recent: Vec<(f64, f64)> = self
-            .rows
-            .iter()
-            .copied()
-            .filter(|r| r.0 >= t - self.window * (1.0 + 1e-9))
-            .collect();
-        (length, slope(&recent).unwrap_or(0.0))
+        // rows are in time order: the window is a tail of them
+        let from = t - self.window * (1.0 + 1e-9);
+        let start = self.rows.partition_point(|r| r.0 < from);
+        (length, slope(&self.rows[start..]).unwrap_or(0.0))
     }
 
     /// Time of the first row with a failed interface.

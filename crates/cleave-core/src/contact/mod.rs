@@ -44,6 +44,18 @@
 //! a block's front edge: facing the other block), hence the test on the node's normal. Edge
 //! and corner nodes (n_s . n = -0.71, -0.58 against a face square to one of their faces) pass.
 //!
+//! # Coincident copies
+//! The copies of a deck node in a split model that are still tied (one coincident set) sit at
+//! one point and move as one. Only one of them, the set's *lead* on the side (the member with
+//! the lowest model number), is checked against faces; its normal is that of the faces of all
+//! the set's members on the side (the deck node's surface), and its force goes to the set
+//! through the tie (`a = sum f / sum m`). So until an interface fails, a split model gets
+//! exactly the contact forces of the same mesh unsplit: one penalty spring per surface point,
+//! not one per copy (a deck node on a face of the ball's surface has four copies there, which
+//! would otherwise make its spring four times as stiff), and the work is that of the deck's
+//! nodes. When a set splits, each part has its lead. Leads are found at each search
+//! ([`Side::regroup`]); a node whose lead changed is searched again.
+//!
 //! Forces: normal `f_n = -k g n` on the node, plus friction `f_t` ([`friction`]); the face's
 //! nodes get `-N_a(xi, eta) (f_n + f_t)`, N_a the bilinear shape functions at the contact point.
 //! k is the stiffness of the face (LS-DYNA: the master segment's).
@@ -124,22 +136,19 @@
 //! candidate every step. After the first steps no buffer grows unless faces are added or the
 //! candidate lists get longer.
 //!
-//! # Cost (measured, 2 threads)
+//! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
-//! into 22472 nodes, 2457 steps to 50 us, 2396 interfaces failed; at the end the single surface
-//! has 5462 faces and 14258 nodes), on this project's 2-core machine, best of 3: 1.29 us per
-//! element step, contact 81% of the step (before, every candidate tested every step and the
-//! searches serial: 2.09 us, 89%); 1 thread 2.44 us, 84% (3.46 us, 89%); peak memory 29 MB
-//! (23 MB). Per step late in the run about 420k
-//! candidate pairs are listed and 37k tested: 8k fully (7.5k projections, of which about 2k
-//! find contact), the others rejected by the bounds with a new clearance; 39 full builds and 361
-//! incremental searches in all. The motion bound grows by about 5 um a step (fragments part at
-//! up to 240 m/s), so a pair 0.1 mm clear waits about 20 steps. What remains: the pairs a few
-//! steps clear (crack faces barely open, faces whose normals may turn: the bound is the same for
-//! all pairs, while neighbours move much less relative to each other), the crack nodes at the
-//! corners of the faces across their crack (no clearance: projected every step), and the cache
-//! misses on the per-node lists and face records. Without separation (`--no-separation`)
-//! contact takes about 14% of a 0.18 us element step, as before.
+//! into 22472 nodes, 2457 steps to 50 us, 1771 interfaces failed), on this project's 2-core
+//! machine: 0.60 us per element step on 2 threads and 1.10 on 1, contact 64% and 65% of the
+//! step. Before the coincident copies were checked once per set: 1.29 and 2.44 us (with 2396
+//! interfaces failed, at a 4x stiffer contact), contact 81% and 84%; before the skipping
+//! and the parallel searches: 2.09 and 3.46 us, 89%. Per step late in the run about 2.8k leads
+//! have a candidate due, 11.5k pairs are tested and 3.1k projected: mostly the pairs across
+//! barely open cracks, whose nodes sit at the corners of the faces opposite and ring at speeds
+//! near the impact's, so no motion bound keeps them waiting (bounds per region of space were
+//! tried: a region's relative motion summed over the steps grew at 95% of the global one).
+//! The rest is the bounds of the listed faces (15% of the contact) and the searches (15%).
+//! Without separation (`--no-separation`) contact takes about 14% of a 0.18 us element step.
 
 pub mod engagement;
 pub mod friction;
@@ -422,7 +431,9 @@ impl ContactSet {
     /// the node that penetrates it; two such masses joined by 2k vibrate at
     /// `omega^2 = 2k (1/m + 1/m) = 4k/m`, and central differences need `dt <= 2/omega`.
     /// Infinite when there is no face. `mass` is the mass each node has against a spring: the
-    /// solver gives a rigid body's nodes the body's mass.
+    /// solver gives a rigid body's nodes the body's mass. A node copy of a split model counts
+    /// with its own mass, the least its coincident set can be left with. (Against a rigid face
+    /// the bound could be sqrt(2) larger; tried, the stick of the friction test then creeps.)
     pub fn stable_dt(&self, mass: &[f64]) -> f64 {
         self.contacts
             .iter()
@@ -519,6 +530,12 @@ struct Side {
     local: Vec<u32>,
     /// The faces of each node of `nodes` (indices into `faces`).
     node_faces: Vec<Vec<u32>>,
+    /// The *lead* of each node's coincident set on this side (an index into `nodes`: the
+    /// member with the lowest model number; the node itself when untied), and the chain of the
+    /// other members from each lead (`next`, NONE-terminated). Only leads are checked
+    /// (module docs, Coincident copies); valid after each search.
+    group: Vec<u32>,
+    next: Vec<u32>,
     /// Nodes (indices into `nodes`) that got faces since the last step: their normal changed.
     renewed: Vec<u32>,
     /// The order the nodes joined in: `rank[i]` of node i, and the node of each rank. A full
@@ -564,6 +581,8 @@ impl Side {
             tracked: 0,
             local: vec![NONE; num_nodes],
             node_faces: Vec::new(),
+            group: Vec::new(),
+            next: Vec::new(),
             renewed: Vec::new(),
             rank: Vec::new(),
             by_rank: Vec::new(),
@@ -602,6 +621,48 @@ impl Side {
             let i = self.local[n as usize];
             self.node_faces[i as usize].push(f as u32);
             self.renewed.push(i);
+        }
+    }
+
+    /// The leads and member chains of the nodes' coincident sets under `tie` (`set_lead`:
+    /// scratch, NONE everywhere, left so); the nodes whose lead changed are pushed to
+    /// `changed`.
+    fn regroup(&mut self, tie: &[u32], set_lead: &mut Vec<u32>, changed: &mut Vec<u32>) {
+        let n = self.nodes.len();
+        self.group.resize(n, NONE);
+        self.next.clear();
+        self.next.resize(n, NONE);
+        let set = |i: usize| tie.get(self.nodes[i] as usize).copied().unwrap_or(NONE);
+        for i in 0..n {
+            let t = set(i) as usize;
+            if t != NONE as usize {
+                if set_lead.len() <= t {
+                    set_lead.resize(t + 1, NONE);
+                }
+                set_lead[t] = set_lead[t].min(self.nodes[i]);
+            }
+        }
+        for i in 0..n {
+            let t = set(i);
+            let lead = if t == NONE {
+                i as u32
+            } else {
+                self.local[set_lead[t as usize] as usize]
+            };
+            if self.group[i] != lead {
+                self.group[i] = lead;
+                changed.push(i as u32);
+            }
+            if lead != i as u32 {
+                self.next[i] = self.next[lead as usize];
+                self.next[lead as usize] = i as u32;
+            }
+        }
+        for i in 0..n {
+            let t = set(i);
+            if t != NONE {
+                set_lead[t as usize] = NONE;
+            }
         }
     }
 
@@ -822,6 +883,8 @@ struct Query<'a> {
     extra: &'a BucketGrid,
     /// The node side's nodes, the face side.
     nodes: &'a [u32],
+    /// The lead of each node's coincident set ([`Side::group`]).
+    group: &'a [u32],
     fs: &'a Side,
     x_ref: &'a [Vec3],
     tie: &'a [u32],
@@ -836,7 +899,13 @@ impl Query<'_> {
     /// hold the node's `x_ref` position and that hold neither the node nor a node tied to it.
     /// A face it had keeps its `due` (less `rebase`): the bound on a pair holds whether or not
     /// the pair is listed; a new one is due at once.
+    /// A node that is not its set's lead gets no candidates.
     fn run(&self, i: usize, list: &mut Vec<Cand>, sched: &mut Sched) {
+        sched.gather(list);
+        if self.group[i] != i as u32 {
+            list.clear();
+            return;
+        }
         let s = self.nodes[i];
         let p = self.x_ref[s as usize];
         let fs = self.fs;
@@ -850,7 +919,6 @@ impl Query<'_> {
                     .iter()
                     .any(|&a| a == s || (set != NONE && self.tie[a as usize] == set))
         };
-        sched.gather(list);
         // the old list, by face, in this thread's scratch (sized by the first searches)
         OLD.with_borrow_mut(|old| {
             old.clear();
@@ -904,6 +972,10 @@ pub struct Contact {
     points: Vec<Vec3>,
     scratch: Vec<u32>,
     region: Vec<Aabb>,
+    /// Scratch of [`Side::regroup`]: the lead of each coincident set, and the nodes whose lead
+    /// changed, per side.
+    set_lead: Vec<u32>,
+    regrouped: Vec<Vec<u32>>,
     rebuilds: u64,
     updates: u64,
     /// Test every candidate every step and keep them all (tests compare with it).
@@ -1024,6 +1096,8 @@ impl Contact {
             points: Vec::new(),
             scratch: Vec::new(),
             region: Vec::new(),
+            set_lead: Vec::new(),
+            regrouped: Vec::new(),
             rebuilds: 0,
             updates: 0,
             #[cfg(test)]
@@ -1152,6 +1226,7 @@ impl Contact {
             }
         }
         self.reorder();
+        self.regroup(tie);
         let rebase = self.motion;
         self.motion = 0.0;
         let hot_until = HOT_STEPS * self.step_motion;
@@ -1188,6 +1263,7 @@ impl Contact {
                 grid,
                 extra,
                 nodes: &ns.nodes,
+                group: &ns.group,
                 fs,
                 x_ref,
                 tie,
@@ -1211,6 +1287,15 @@ impl Contact {
         self.pending.clear();
         self.dirty = false;
         self.rebuilds += 1;
+    }
+
+    /// The coincident sets' leads of every side under `tie` ([`Side::regroup`]).
+    fn regroup(&mut self, tie: &[u32]) {
+        self.regrouped.resize_with(self.sides.len(), Vec::new);
+        for (side, changed) in self.sides.iter_mut().zip(&mut self.regrouped) {
+            changed.clear();
+            side.regroup(tie, &mut self.set_lead, changed);
+        }
     }
 
     /// Put each side's nodes in space order (with everything kept per node).
@@ -1278,6 +1363,7 @@ impl Contact {
                 return false;
             }
         }
+        self.regroup(tie);
         let m = self.margin;
         let hot_until = self.motion + HOT_STEPS * self.step_motion;
         let Self {
@@ -1288,6 +1374,7 @@ impl Contact {
             points,
             scratch,
             region,
+            regrouped,
             ..
         } = self;
         for side in sides.iter_mut() {
@@ -1321,6 +1408,9 @@ impl Contact {
                     *q += nbase as u32;
                 }
             }
+            // nodes that became or stopped being leads (all at the failed faces' corners, so
+            // in their boxes already; listed again for safety)
+            scratch.extend_from_slice(&regrouped[pass.node_side]);
             scratch.sort_unstable();
             scratch.dedup();
             let Pass {
@@ -1335,6 +1425,7 @@ impl Contact {
                 grid,
                 extra,
                 nodes: &ns.nodes,
+                group: &ns.group,
                 fs,
                 x_ref,
                 tie,
@@ -1381,7 +1472,8 @@ impl Contact {
         for (si, side) in self.sides.iter_mut().enumerate() {
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
                 for &i in &side.renewed {
-                    let i = i as usize;
+                    // (a node without a lead yet gets one, and new lists, at the next search)
+                    let i = side.group.get(i as usize).copied().unwrap_or(i) as usize;
                     pass.sched[i].renew(&mut pass.cand[i]);
                 }
             }
@@ -1449,6 +1541,7 @@ impl Contact {
                 nodes: &ns.nodes,
                 node_side_normals: &ns.normals,
                 node_faces: &ns.node_faces,
+                next: &ns.next,
                 faces: &fs.faces,
                 geo: &fs.geo,
                 geo_more: &fs.geo_more,
@@ -1501,6 +1594,8 @@ struct NodeCheck<'a> {
     /// The node side's face normals ([`Side::normals`]), and the faces of each of its nodes.
     node_side_normals: &'a [(Vec3, f64)],
     node_faces: &'a [Vec<u32>],
+    /// The chain of the other members of each lead's coincident set ([`Side::next`]).
+    next: &'a [u32],
     faces: &'a [Face],
     geo: &'a [Cull],
     geo_more: &'a [CullMore],
@@ -1578,13 +1673,17 @@ impl NodeFrame {
 }
 
 impl NodeCheck<'_> {
-    /// Node `i`'s surface: its normal is the sum of its faces' area-weighted normals.
+    /// Lead `i`'s surface: its normal is the sum of the area-weighted normals of the faces
+    /// of its coincident set's members on the side (those of the deck node it copies).
     fn node_frame(&self, i: usize) -> NodeFrame {
-        NodeFrame::of(
-            self.node_faces[i]
+        let members = std::iter::successors(Some(i as u32), |&k| {
+            Some(self.next[k as usize]).filter(|&n| n != NONE)
+        });
+        NodeFrame::of(members.flat_map(|k| {
+            self.node_faces[k as usize]
                 .iter()
-                .map(|&f| self.node_side_normals[f as usize]),
-        )
+                .map(|&f| self.node_side_normals[f as usize])
+        }))
     }
 
     /// Node `i` (at `xs`) against face `fi`: a contact nearer than `best` replaces it. Returns

@@ -138,17 +138,18 @@
 //!
 //! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
-//! into 22472 nodes, 2457 steps to 50 us, 1771 interfaces failed), on this project's 2-core
-//! machine: 0.60 us per element step on 2 threads and 1.10 on 1, contact 64% and 65% of the
-//! step. Before the coincident copies were checked once per set: 1.29 and 2.44 us (with 2396
-//! interfaces failed, at a 4x stiffer contact), contact 81% and 84%; before the skipping
-//! and the parallel searches: 2.09 and 3.46 us, 89%. Per step late in the run about 2.8k leads
-//! have a candidate due, 11.5k pairs are tested and 3.1k projected: mostly the pairs across
-//! barely open cracks, whose nodes sit at the corners of the faces opposite and ring at speeds
-//! near the impact's, so no motion bound keeps them waiting (bounds per region of space were
-//! tried: a region's relative motion summed over the steps grew at 95% of the global one).
-//! The rest is the bounds of the listed faces (15% of the contact) and the searches (15%).
-//! Without separation (`--no-separation`) contact takes about 14% of a 0.18 us element step.
+//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us, 2047 interfaces failed), on this
+//! project's 2-core machine: 0.64 us per element step on 2 threads and 1.17 on 1, contact 65%
+//! and 69% of the step. Checking every copy of a set (before): 1.29 and 2.44 us, contact 81%
+//! and 84% (SLSFAC 0.1, whose four springs per surface point were about as stiff); before the
+//! skipping and the parallel searches: 2.09 and 3.46 us, 89%. Per step late in the run about
+//! 2.8k leads have a candidate due, 11.5k pairs are tested and 3.1k projected: mostly pairs
+//! across barely open cracks, whose nodes sit at the corners of the faces opposite and ring at
+//! speeds near the impact's, so no motion bound keeps them waiting (bounds per region of
+//! space were tried: a region's relative motion summed over the steps grew at 95% of the
+//! global one). The rest is the bounds of the listed faces (15% of the contact) and the
+//! searches (15%). Without separation (`--no-separation`) contact takes 14% of a 0.17 us
+//! element step (2 threads).
 
 pub mod engagement;
 pub mod friction;

@@ -580,7 +580,6 @@ fn crack_faces_contact_when_a_broken_bar_is_pushed_back() {
 /// four times as stiff.
 #[test]
 fn split_sphere_hits_the_plate_as_the_unsplit_one() {
-    use cleave_core::model::SeparationDef;
     use cleave_core::separation::interfaces::Separation;
     use cleave_core::separation::split::split_model;
     let mut a = Assembly::new("split sphere", 1.0);
@@ -602,14 +601,7 @@ fn split_sphere_hits_the_plate_as_the_unsplit_one() {
     deck.contacts
         .push(contact(ContactSurface::All, None, 0.5, 0.3));
     let mut grouped = deck.clone();
-    grouped.separations.push(SeparationDef {
-        material: 0,
-        model: 1,
-        sigmax: 1e30,
-        beta: 1.0,
-        gc: 0.0,
-        bond: 1,
-    });
+    grouped.separations.push(common::unbreakable(0));
     let split = split_model(&grouped);
     assert!(split.model.num_nodes() > 4 * deck.num_nodes());
 
@@ -639,23 +631,17 @@ fn split_sphere_hits_the_plate_as_the_unsplit_one() {
 
     assert_eq!(hist_a.len(), hist_b.len(), "same number of steps");
     let f_peak = hist_a.iter().map(|h| h.1).fold(0.0, f64::max);
-    let scale = hist_a
-        .last()
-        .unwrap()
-        .0
+    let scale = common::motion_scale(&hist_a.last().unwrap().0, &deck.x0);
+    let dx = common::copy_deviation(
+        hist_a.iter().map(|h| &h.0),
+        hist_b.iter().map(|h| &h.0),
+        origin,
+    );
+    let df = hist_a
         .iter()
-        .zip(&deck.x0)
-        .map(|(x, x0)| (0..3).map(|d| (x[d] - x0[d]).abs()).fold(0.0, f64::max))
+        .zip(&hist_b)
+        .map(|(a, b)| (b.1 - a.1).abs())
         .fold(0.0, f64::max);
-    let (mut dx, mut df) = (0.0f64, 0.0f64);
-    for ((xa, fa), (xb, fb)) in hist_a.iter().zip(&hist_b) {
-        for (i, &o) in origin.iter().enumerate() {
-            for d in 0..3 {
-                dx = dx.max((xb[i][d] - xa[o as usize][d]).abs());
-            }
-        }
-        df = df.max((fb - fa).abs());
-    }
     println!(
         "split sphere: {} steps, peak contact force {f_peak:.4e} N, max |f_split - f| {df:.3e} N, max |x_copy - x| {dx:.3e} m of motion {scale:.3e} m",
         hist_a.len()

@@ -72,14 +72,7 @@ fn deck() -> Model {
 fn split_mesh_moves_as_the_original_until_failure() {
     let original = deck();
     let mut grouped = deck();
-    grouped.separations.push(SeparationDef {
-        material: 0,
-        model: 1,
-        sigmax: 1e30,
-        beta: 1.0,
-        gc: 0.0,
-        bond: 1,
-    });
+    grouped.separations.push(common::unbreakable(0));
     let split = split_model(&grouped);
     assert_eq!(split.model.num_nodes(), 8 * original.num_elements());
 
@@ -93,22 +86,9 @@ fn split_mesh_moves_as_the_original_until_failure() {
     b.run(&mut Record(&mut hist_b)).unwrap();
 
     assert_eq!(hist_a.len(), hist_b.len(), "same number of steps");
-    let scale = hist_a
-        .last()
-        .unwrap()
-        .iter()
-        .zip(&original.x0)
-        .map(|(x, x0)| (0..3).map(|d| (x[d] - x0[d]).abs()).fold(0.0, f64::max))
-        .fold(0.0, f64::max);
+    let scale = common::motion_scale(hist_a.last().unwrap(), &original.x0);
     assert!(scale > 1e-5, "the block moves: {scale}");
-    let mut worst = 0.0f64;
-    for (xa, xb) in hist_a.iter().zip(&hist_b) {
-        for (i, &o) in split.origin.iter().enumerate() {
-            for d in 0..3 {
-                worst = worst.max((xb[i][d] - xa[o as usize][d]).abs());
-            }
-        }
-    }
+    let worst = common::copy_deviation(&hist_a, &hist_b, &split.origin);
     eprintln!(
         "continuity: max |x_copy - x_orig| = {worst:.3e} m, motion scale {scale:.3e} m, {} steps",
         hist_a.len()

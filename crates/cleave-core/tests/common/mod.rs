@@ -26,3 +26,42 @@ pub fn run(m: &Model, f: impl FnMut(&Solver)) -> Solver<'_> {
     s.run(&mut Obs(f)).expect("run");
     s
 }
+
+/// A separation group on material `material` that nothing breaks (MODEL 1, SIGMAX 1e30): the
+/// mesh is split and every interface is checked, but none fails.
+pub fn unbreakable(material: usize) -> cleave_core::model::SeparationDef {
+    cleave_core::model::SeparationDef {
+        material,
+        model: 1,
+        sigmax: 1e30,
+        beta: 1.0,
+        gc: 0.0,
+        bond: 1,
+    }
+}
+
+/// The largest displacement component of `last` from `x0` (the scale of a run's motion).
+pub fn motion_scale(last: &[[f64; 3]], x0: &[[f64; 3]]) -> f64 {
+    last.iter()
+        .zip(x0)
+        .map(|(x, x0)| (0..3).map(|d| (x[d] - x0[d]).abs()).fold(0.0, f64::max))
+        .fold(0.0, f64::max)
+}
+
+/// The largest |x_copy - x_deck| over the steps, components and copies of a split run's
+/// positions `split` against the unsplit run's `deck` (`origin`: the deck node of each copy).
+pub fn copy_deviation<'a>(
+    deck: impl IntoIterator<Item = &'a Vec<[f64; 3]>>,
+    split: impl IntoIterator<Item = &'a Vec<[f64; 3]>>,
+    origin: &[u32],
+) -> f64 {
+    let mut worst = 0.0f64;
+    for (xa, xb) in deck.into_iter().zip(split) {
+        for (i, &o) in origin.iter().enumerate() {
+            for d in 0..3 {
+                worst = worst.max((xb[i][d] - xa[o as usize][d]).abs());
+            }
+        }
+    }
+    worst
+}

@@ -878,16 +878,6 @@ thread_local! {
     static OLD: std::cell::RefCell<Vec<Cand>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// Room for `n` old candidates in the [`OLD`] scratch of this thread and of every thread of
-/// the current pool, before searches whose nodes have at most `n` candidates. Which thread
-/// searches which node depends on the scheduling, so each thread gets the room any might need:
-/// the scratch then grows only when the lists do, the same on every run.
-fn reserve_old(n: usize) {
-    let reserve = || OLD.with_borrow_mut(|old| old.reserve(n.saturating_sub(old.len())));
-    reserve();
-    rayon::broadcast(|_| reserve());
-}
-
 /// What a search for candidates reads.
 struct Query<'a> {
     grid: &'a BucketGrid,
@@ -1281,13 +1271,6 @@ impl Contact {
                 rebase,
                 hot_until,
             };
-            reserve_old(
-                cand.iter()
-                    .zip(sched.iter())
-                    .map(|(l, s)| s.len(l))
-                    .max()
-                    .unwrap_or(0),
-            );
             cand.par_iter_mut()
                 .zip(sched.par_iter_mut())
                 .enumerate()
@@ -1450,13 +1433,6 @@ impl Contact {
                 rebase: 0.0,
                 hot_until,
             };
-            reserve_old(
-                scratch
-                    .iter()
-                    .map(|&i| sched[i as usize].len(&cand[i as usize]))
-                    .max()
-                    .unwrap_or(0),
-            );
             if scratch.len() < NODE_CHUNK {
                 for &i in scratch.iter() {
                     let i = i as usize;

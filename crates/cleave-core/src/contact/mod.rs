@@ -537,6 +537,8 @@ struct Side {
     /// (module docs, Coincident copies); valid after each search.
     group: Vec<u32>,
     next: Vec<u32>,
+    /// `group` before the last [`Side::regroup`] (NONE for the nodes new to the side).
+    prev_group: Vec<u32>,
     /// Nodes (indices into `nodes`) that got faces since the last step: their normal changed.
     renewed: Vec<u32>,
     /// The order the nodes joined in: `rank[i]` of node i, and the node of each rank. A full
@@ -584,6 +586,7 @@ impl Side {
             node_faces: Vec::new(),
             group: Vec::new(),
             next: Vec::new(),
+            prev_group: Vec::new(),
             renewed: Vec::new(),
             rank: Vec::new(),
             by_rank: Vec::new(),
@@ -627,10 +630,12 @@ impl Side {
 
     /// The leads and member chains of the nodes' coincident sets under `tie` (`set_lead`:
     /// scratch, NONE everywhere, left so); the nodes whose lead changed are pushed to
-    /// `changed`.
-    fn regroup(&mut self, tie: &[u32], set_lead: &mut Vec<u32>, changed: &mut Vec<u32>) {
+    /// `changed`, each with its lead before (NONE for a node new to the side).
+    fn regroup(&mut self, tie: &[u32], set_lead: &mut Vec<u32>, changed: &mut Vec<(u32, u32)>) {
         let n = self.nodes.len();
         self.group.resize(n, NONE);
+        self.prev_group.clear();
+        self.prev_group.extend_from_slice(&self.group);
         self.next.clear();
         self.next.resize(n, NONE);
         let set = |i: usize| tie.get(self.nodes[i] as usize).copied().unwrap_or(NONE);
@@ -651,8 +656,8 @@ impl Side {
                 self.local[set_lead[t as usize] as usize]
             };
             if self.group[i] != lead {
+                changed.push((i as u32, self.group[i]));
                 self.group[i] = lead;
-                changed.push(i as u32);
             }
             if lead != i as u32 {
                 self.next[i] = self.next[lead as usize];
@@ -976,7 +981,7 @@ pub struct Contact {
     /// Scratch of [`Side::regroup`]: the lead of each coincident set, and the nodes whose lead
     /// changed, per side.
     set_lead: Vec<u32>,
-    regrouped: Vec<Vec<u32>>,
+    regrouped: Vec<Vec<(u32, u32)>>,
     rebuilds: u64,
     updates: u64,
     /// Test every candidate every step and keep them all (tests compare with it).
@@ -1293,9 +1298,37 @@ impl Contact {
     /// The coincident sets' leads of every side under `tie` ([`Side::regroup`]).
     fn regroup(&mut self, tie: &[u32]) {
         self.regrouped.resize_with(self.sides.len(), Vec::new);
-        for (side, changed) in self.sides.iter_mut().zip(&mut self.regrouped) {
+        for (si, (side, changed)) in self.sides.iter_mut().zip(&mut self.regrouped).enumerate() {
             changed.clear();
             side.regroup(tie, &mut self.set_lead, changed);
+            for &(i, old) in changed.iter() {
+                // the set's normal changed: the facing part of its clearances is void
+                side.renewed.push(i);
+                if old != NONE {
+                    side.renewed.push(old);
+                }
+                if side.group[i as usize] != i {
+                    continue;
+                }
+                // a new lead carries on its set's contact (engagement and friction history):
+                // it sits where the set's lead before sat (that of any member that was on the
+                // side: the node itself may have just joined), on the same faces
+                let members = std::iter::successors(Some(i), |&k| {
+                    Some(side.next[k as usize]).filter(|&n| n != NONE)
+                });
+                let Some(from) = members
+                    .map(|k| side.prev_group[k as usize])
+                    .find(|&g| g != NONE)
+                else {
+                    continue;
+                };
+                if from != i {
+                    for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
+                        pass.hits[i as usize] = pass.hits[from as usize];
+                        pass.ft[i as usize] = pass.ft[from as usize];
+                    }
+                }
+            }
         }
     }
 
@@ -1303,15 +1336,20 @@ impl Contact {
     fn reorder(&mut self) {
         for (si, side) in self.sides.iter_mut().enumerate() {
             side.space_order();
-            // the renewed nodes by model number while the places move
+            // the renewed nodes and the leads by model number while the places move
             for i in side.renewed.iter_mut() {
                 *i = side.nodes[*i as usize];
+            }
+            side.group.resize(side.nodes.len(), NONE);
+            for g in side.group.iter_mut().filter(|g| **g != NONE) {
+                *g = side.nodes[*g as usize];
             }
             let Side {
                 nodes,
                 trail,
                 node_faces,
                 rank,
+                group,
                 order,
                 seen,
                 ..
@@ -1321,6 +1359,7 @@ impl Contact {
                 trail.swap(a, b);
                 node_faces.swap(a, b);
                 rank.swap(a, b);
+                group.swap(a, b);
             });
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
                 let Pass {
@@ -1345,6 +1384,9 @@ impl Contact {
             }
             for i in side.renewed.iter_mut() {
                 *i = side.local[*i as usize];
+            }
+            for g in side.group.iter_mut().filter(|g| **g != NONE) {
+                *g = side.local[*g as usize];
             }
         }
     }
@@ -1411,7 +1453,7 @@ impl Contact {
             }
             // nodes that became or stopped being leads (all at the failed faces' corners, so
             // in their boxes already; listed again for safety)
-            scratch.extend_from_slice(&regrouped[pass.node_side]);
+            scratch.extend(regrouped[pass.node_side].iter().map(|&(i, _)| i));
             scratch.sort_unstable();
             scratch.dedup();
             let Pass {

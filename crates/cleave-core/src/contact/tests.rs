@@ -815,3 +815,176 @@ fn nodes_with_new_faces_are_due_at_once() {
     assert_eq!(waiting_of(c), 0);
     assert!(c.sides[0].renewed.is_empty());
 }
+
+/// A set that splits while in contact keeps its spring: a block of two split elements
+/// (2 x 1 x 1) pressed 0.01 into a lower block, held still. Intact, its 6 bottom deck nodes are 6
+/// surface points, each one lead with one spring (6 pairs, 6 k delta). When the interface
+/// between its two elements fails, the 2 deck nodes on it become 2 points each: 8 pairs. The
+/// copies that become leads take over their set's engagement, so the force is 8 k delta at
+/// once and stays so (a lead starting afresh would count only the last step's approach, zero
+/// here, and push nothing back until the node moved out and in again). The same holds when a
+/// lower-numbered copy joins the surface and takes over the lead of a set still tied: the
+/// set's force does not change.
+#[test]
+fn a_new_lead_carries_on_its_sets_contact() {
+    use crate::separation::coincident::CoincidentSets;
+    use crate::separation::split::split_model;
+    let delta = 0.01;
+    let mut deck = two_blocks(
+        [2, 1, 1],
+        [2.0, 1.0, 1.0],
+        [1, 1, 1],
+        [3.0, 3.0, 1.0],
+        [-0.5, -1.0, -1.0],
+    );
+    deck.materials.push(mat());
+    deck.parts[1].material = 1;
+    deck.separations.push(crate::model::SeparationDef {
+        material: 0,
+        model: 1,
+        sigmax: 1e30,
+        beta: 1.0,
+        gc: 0.0,
+        bond: 1,
+    });
+    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
+    let sm = split_model(&deck);
+    let m = &sm.model;
+    let nn = m.num_nodes();
+    let upper = |i: usize| sm.origin[i] < 12; // the deck nodes of the 2 x 1 x 1 block
+    let tie_of = |intact: &[bool]| -> Vec<u32> {
+        let sets = CoincidentSets::build(nn, &sm.faces, intact);
+        (0..nn as u32)
+            .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
+            .collect()
+    };
+    let x: Vec<Vec3> = (0..nn)
+        .map(|i| {
+            if upper(i) {
+                sub(m.x0[i], [0.0, 0.0, delta])
+            } else {
+                m.x0[i]
+            }
+        })
+        .collect();
+    let v = zeros(nn);
+    let mut intact = vec![true; sm.faces.len()];
+    let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    // stiffness of the lower block's top face: SLSFAC K A^2 / V = 0.1 K 9^2 / 9
+    let k = 0.9 * K;
+    let mut tie = tie_of(&intact);
+    for (step, dt) in [0.0, 1e-3, 1e-3].into_iter().enumerate() {
+        let st = cs.compute(&x, &v, dt, &tie, &mut zeros(nn));
+        assert_eq!(st.pairs, 6, "intact, step {step}");
+        assert!(rel(cs.forces()[0].normal, 6.0 * k * delta) < 1e-12);
+    }
+    // the interface between the two elements fails
+    let (inner, _) = sm.faces[..sm.interfaces]
+        .iter()
+        .enumerate()
+        .find(|(_, f)| f.elems.iter().all(|&e| e < 2))
+        .unwrap();
+    intact[inner] = false;
+    let f = &sm.faces[inner];
+    cs.activate(&[(f.elems[0], f.faces[0]), (f.elems[1], f.faces[1])]);
+    tie = tie_of(&intact);
+    for step in 0..3 {
+        let mut fa = zeros(nn);
+        let st = cs.compute(&x, &v, 1e-3, &tie, &mut fa);
+        assert_eq!(st.pairs, 8, "split, step {step}");
+        assert!(
+            rel(cs.forces()[0].normal, 8.0 * k * delta) < 1e-12,
+            "split, step {step}: {} against {}",
+            cs.forces()[0].normal,
+            8.0 * k * delta
+        );
+        let up: f64 = (0..nn).filter(|&i| upper(i)).map(|i| fa[i][2]).sum();
+        assert!(rel(up, 8.0 * k * delta) < 1e-12, "{up}");
+    }
+}
+
+/// The other way a lead changes: a 2 x 2 x 2 block with one corner element removed, split,
+/// and a unit block pressed 0.01 into the notch, onto the deck node at the block's centre. The
+/// interface between elements 0 and 1 fails: its faces join the surface, and with them a copy
+/// of the centre node with a lower number than the lead of its set, which stays tied. That
+/// copy becomes the lead and carries on the set's contact: the pairs and the force do not
+/// change.
+#[test]
+fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
+    use crate::separation::coincident::CoincidentSets;
+    use crate::separation::split::split_model;
+    let delta = 0.01;
+    let mut deck = two_blocks(
+        [2, 2, 2],
+        [2.0, 2.0, 2.0],
+        [1, 1, 1],
+        [1.0, 1.0, 1.0],
+        [1.0, 1.0, 1.0 - delta],
+    );
+    deck.conn.remove(7);
+    deck.elem_part.remove(7);
+    deck.elem_ids = (1..=deck.conn.len() as i64).collect();
+    deck.materials.push(mat());
+    deck.parts[1].material = 1;
+    deck.separations.push(crate::model::SeparationDef {
+        material: 0,
+        model: 1,
+        sigmax: 1e30,
+        beta: 1.0,
+        gc: 0.0,
+        bond: 1,
+    });
+    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
+    let sm = split_model(&deck);
+    let m = &sm.model;
+    let nn = m.num_nodes();
+    let tie_of = |intact: &[bool]| -> Vec<u32> {
+        let sets = CoincidentSets::build(nn, &sm.faces, intact);
+        (0..nn as u32)
+            .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
+            .collect()
+    };
+    let mut intact = vec![true; sm.faces.len()];
+    let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    let x = m.x0.clone();
+    let v = zeros(nn);
+    let tie = tie_of(&intact);
+    let mut before = (0, 0.0);
+    for dt in [0.0, 1e-3, 1e-3] {
+        let st = cs.compute(&x, &v, dt, &tie, &mut zeros(nn));
+        before = (st.pairs, cs.forces()[0].normal);
+    }
+    assert!(before.0 > 0 && before.1 > 0.0, "{before:?}");
+    let k = sm.faces[..sm.interfaces]
+        .iter()
+        .position(|f| {
+            let mut e = f.elems;
+            e.sort_unstable();
+            e == [0, 1]
+        })
+        .unwrap();
+    intact[k] = false;
+    let f = &sm.faces[k];
+    let leads_before = cs.contacts()[0].sides[0].group.clone();
+    cs.activate(&[(f.elems[0], f.faces[0]), (f.elems[1], f.faces[1])]);
+    let tie = tie_of(&intact);
+    for step in 0..3 {
+        let st = cs.compute(&x, &v, 1e-3, &tie, &mut zeros(nn));
+        let after = (st.pairs, cs.forces()[0].normal);
+        assert_eq!(after.0, before.0, "step {step}");
+        assert!(
+            rel(after.1, before.1) < 1e-12,
+            "step {step}: {after:?} {before:?}"
+        );
+    }
+    // a lead did change (the case this test is for)
+    let side = &cs.contacts()[0].sides[0];
+    let changed = leads_before
+        .iter()
+        .enumerate()
+        .filter(|&(i, &g)| {
+            g != NONE && side.nodes[g as usize] != side.nodes[side.group[i] as usize]
+        })
+        .count();
+    assert!(changed > 0);
+}

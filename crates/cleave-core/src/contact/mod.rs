@@ -139,8 +139,9 @@
 //! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
 //! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us, 2047 interfaces failed), on this
-//! project's 2-core machine: 0.64 us per element step on 2 threads and 1.17 on 1, contact 65%
-//! and 69% of the step. Checking every copy of a set (before): 1.29 and 2.44 us, contact 81%
+//! project's 2-core machine, with the first build that checked one copy per set (0ccfa64):
+//! 0.64 us per element step on 2 threads and 1.17 on 1, contact 65% and 69% of the step
+//! (BENCHMARKS.md has later runs). Checking every copy of a set (before): 1.29 and 2.44 us, contact 81%
 //! and 84% (SLSFAC 0.1, whose four springs per surface point were about as stiff); before the
 //! skipping and the parallel searches: 2.09 and 3.46 us, 89%. Per step late in the run about
 //! 2.8k leads have a candidate due, 11.5k pairs are tested and 3.1k projected: mostly pairs

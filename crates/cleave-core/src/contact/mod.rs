@@ -54,7 +54,11 @@
 //! not one per copy (a deck node on a face of the ball's surface has four copies there, which
 //! would otherwise make its spring four times as stiff), and the work is that of the deck's
 //! nodes. When a set splits, each part has its lead. Leads are found at each search
-//! ([`Side::regroup`]); a node whose lead changed is searched again.
+//! ([`Contact::regroup`]); a node whose lead changed is searched again, and a new lead takes
+//! over the contact history of its set's lead before (the engagement and the friction force:
+//! it sits at the same point, on the same faces), so a set that splits, or whose lead changes,
+//! while in contact keeps pushing back; a set whose members changed has all its candidates due
+//! (its normal changed).
 //!
 //! Forces: normal `f_n = -k g n` on the node, plus friction `f_t` ([`friction`]); the face's
 //! nodes get `-N_a(xi, eta) (f_n + f_t)`, N_a the bilinear shape functions at the contact point.

@@ -677,6 +677,20 @@ impl Side {
         }
     }
 
+    /// Lead `i`'s surface at the positions of the last [`Side::update_geometry`]: its normal
+    /// is the sum of the area-weighted normals of the faces of its coincident set's members on
+    /// the side (the surface of the deck node it copies), in the order of the member chain.
+    fn frame(&self, i: usize) -> NodeFrame {
+        let members = std::iter::successors(Some(i as u32), |&k| {
+            Some(self.next[k as usize]).filter(|&n| n != NONE)
+        });
+        NodeFrame::of(members.flat_map(|k| {
+            self.node_faces[k as usize]
+                .iter()
+                .map(|&f| self.normals[f as usize])
+        }))
+    }
+
     /// Add a face unless present (its new nodes are appended to `nodes`); true when added.
     fn add(&mut self, id: FaceId, conn: &[[u32; 8]], table: &FaceTable) -> bool {
         if !self.present.insert(id) {
@@ -1587,9 +1601,7 @@ impl Contact {
             };
             let ctx = NodeCheck {
                 nodes: &ns.nodes,
-                node_side_normals: &ns.normals,
-                node_faces: &ns.node_faces,
-                next: &ns.next,
+                node_side: ns,
                 faces: &fs.faces,
                 geo: &fs.geo,
                 geo_more: &fs.geo_more,
@@ -1639,11 +1651,8 @@ impl Contact {
 /// What the check of one node reads.
 struct NodeCheck<'a> {
     nodes: &'a [u32],
-    /// The node side's face normals ([`Side::normals`]), and the faces of each of its nodes.
-    node_side_normals: &'a [(Vec3, f64)],
-    node_faces: &'a [Vec<u32>],
-    /// The chain of the other members of each lead's coincident set ([`Side::next`]).
-    next: &'a [u32],
+    /// The node side (for the nodes' normals, [`Side::frame`]).
+    node_side: &'a Side,
     faces: &'a [Face],
     geo: &'a [Cull],
     geo_more: &'a [CullMore],
@@ -1721,17 +1730,8 @@ impl NodeFrame {
 }
 
 impl NodeCheck<'_> {
-    /// Lead `i`'s surface: its normal is the sum of the area-weighted normals of the faces
-    /// of its coincident set's members on the side (those of the deck node it copies).
     fn node_frame(&self, i: usize) -> NodeFrame {
-        let members = std::iter::successors(Some(i as u32), |&k| {
-            Some(self.next[k as usize]).filter(|&n| n != NONE)
-        });
-        NodeFrame::of(members.flat_map(|k| {
-            self.node_faces[k as usize]
-                .iter()
-                .map(|&f| self.node_side_normals[f as usize])
-        }))
+        self.node_side.frame(i)
     }
 
     /// Node `i` (at `xs`) against face `fi`: a contact nearer than `best` replaces it. Returns

@@ -988,3 +988,60 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
         .count();
     assert!(changed > 0);
 }
+
+/// A lead's normal is its deck node's: a 2 x 2 x 2 unit block with its top corner element
+/// (x, y, z > 1) removed and every element split. The centre deck node (1, 1, 1) is on the
+/// notch's three faces, each on a different copy: the floor (+z, on the element below the
+/// notch), and the two walls (+x, +y). Its lead's normal sums all three, (1, 1, 1)/sqrt 3; the
+/// lead's own faces alone would give one axis.
+#[test]
+fn a_leads_normal_is_its_deck_nodes() {
+    use crate::separation::coincident::CoincidentSets;
+    use crate::separation::split::split_model;
+    let mut deck = single_part_model(BoxMesh::new([2, 2, 2], [2.0; 3]), mat(), 1.0);
+    deck.conn.remove(7);
+    deck.elem_part.remove(7);
+    deck.elem_ids = (1..=deck.conn.len() as i64).collect();
+    deck.separations.push(crate::model::SeparationDef {
+        material: 0,
+        model: 1,
+        sigmax: 1e30,
+        beta: 1.0,
+        gc: 0.0,
+        bond: 1,
+    });
+    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
+    let centre = deck.x0.iter().position(|p| *p == [1.0; 3]).unwrap() as u32;
+    let sm = split_model(&deck);
+    let m = &sm.model;
+    let nn = m.num_nodes();
+    let sets = CoincidentSets::build(nn, &sm.faces, &vec![true; sm.faces.len()]);
+    let tie: Vec<u32> = (0..nn as u32)
+        .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
+        .collect();
+    let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    cs.compute(&m.x0, &zeros(nn), 0.0, &tie, &mut zeros(nn));
+    let side = &cs.contacts()[0].sides[0];
+    let on_side: Vec<usize> = (0..side.nodes.len())
+        .filter(|&i| sm.origin[side.nodes[i] as usize] == centre)
+        .collect();
+    assert_eq!(on_side.len(), 3, "the copies with a face on the notch");
+    let lead = side.group[on_side[0]] as usize;
+    assert!(on_side.iter().all(|&i| side.group[i] as usize == lead));
+    let n = side.frame(lead).n;
+    let d = 1.0 / 3f64.sqrt();
+    for v in n {
+        assert!((v - d).abs() < 1e-12, "{n:?}");
+    }
+    // each copy's own faces point along one axis only
+    let own = NodeFrame::of(
+        side.node_faces[lead]
+            .iter()
+            .map(|&f| side.normals[f as usize]),
+    );
+    assert!(
+        own.n.iter().filter(|v| v.abs() > 0.99).count() == 1,
+        "{:?}",
+        own.n
+    );
+}

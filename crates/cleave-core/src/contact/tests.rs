@@ -69,6 +69,40 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
+/// A separation group on material 0: MODEL 1 of strength `sigmax`.
+fn separation_group(sigmax: f64) -> crate::model::SeparationDef {
+    crate::model::SeparationDef {
+        material: 0,
+        model: 1,
+        sigmax,
+        beta: 1.0,
+        gc: 0.0,
+        bond: 1,
+    }
+}
+
+/// The coincident set of each node of a split model whose interfaces are `intact` or not
+/// (u32::MAX: untied), as the solver gives it to `compute`.
+fn ties(sm: &crate::separation::split::SplitModel, intact: &[bool]) -> Vec<u32> {
+    let sets = crate::separation::coincident::CoincidentSets::build(
+        sm.model.num_nodes(),
+        &sm.faces,
+        intact,
+    );
+    (0..sm.model.num_nodes() as u32)
+        .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
+        .collect()
+}
+
+/// Remove element e from a deck (the elements after it are renumbered; nodes stay). Element 7
+/// of a 2 x 2 x 2 block is its top corner (x, y, z > 1): a notch whose three faces meet at the
+/// block's centre.
+fn remove_element(deck: &mut Model, e: usize) {
+    deck.conn.remove(e);
+    deck.elem_part.remove(e);
+    deck.elem_ids = (1..=deck.conn.len() as i64).collect();
+}
+
 /// Two 2x2x2 blocks of unit size, B overlapping A's top by delta = 0.01 and shifted by a
 /// quarter side so no nodes coincide: 4 nodes of each block penetrate the other's faces, each
 /// by delta, with k = 0.1 K A^2/V = 0.05 K (A = 0.25, V = 0.125). Both contact types give 8 pairs
@@ -469,40 +503,78 @@ fn incremental_activation_equals_full_rebuild() {
 }
 
 fn incremental_vs_full(single: bool) {
-    use crate::separation::coincident::CoincidentSets;
+    let (pairs, st) = failing_block(
+        FailingBlock {
+            single,
+            two_parts: true,
+            seed: 21,
+            steps: 40,
+            fail_every: 3,
+            fail_p: 0.08,
+            step_dt: 0.004,
+        },
+        |r, _| [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)],
+        |_| {},
+    );
+    assert!(pairs > 200, "single {single}: {pairs} pairs");
+    assert!(st.updates >= 10, "single {single}: {st:?}");
+    assert!(st.rebuilds < 20, "single {single}: {st:?}");
+}
+
+/// How [`failing_block`] runs.
+struct FailingBlock {
+    single: bool,
+    /// The upper layer is a second part (one material), for a surface-to-surface definition
+    /// between the layers.
+    two_parts: bool,
+    seed: u64,
+    steps: usize,
+    /// Every `fail_every` steps each intact interface fails with probability `fail_p`.
+    fail_every: usize,
+    fail_p: f64,
+    /// Each step moves every node by `step_dt` times its velocity.
+    step_dt: f64,
+}
+
+/// A fully split 4 x 4 x 2 block (MODEL 1, SIGMAX 1) whose interfaces fail at random while its
+/// nodes move with `velocity(rng, node)`: a lazy contact set (incremental searches, skipping)
+/// against a reference, set up by `reference` and told at every step that the ties changed
+/// (a full rebuild). Their forces, energy and pairs are equal at every step. Returns the
+/// pairs summed over the steps and the lazy set's statistics.
+fn failing_block(
+    run: FailingBlock,
+    mut velocity: impl FnMut(&mut Rng, usize) -> Vec3,
+    reference: impl FnOnce(&mut ContactSet),
+) -> (usize, ContactStats) {
     use crate::separation::split::split_model;
     let mut deck = single_part_model(BoxMesh::new([4, 4, 2], [1.0, 1.0, 0.5]), mat(), 1.0);
-    deck.separations.push(crate::model::SeparationDef {
-        material: 0,
-        model: 1,
-        sigmax: 1.0,
-        beta: 1.0,
-        gc: 0.0,
-        bond: 1,
-    });
-    deck.parts.push(Part {
-        id: 2,
-        title: "upper".into(),
-        section: 0,
-        material: 0,
-    });
-    deck.elem_part = (0..32).map(|e| (e >= 16) as u32).collect();
-    deck.contacts.push(def(single, 0.3, 0.2, 0.5));
+    deck.separations.push(separation_group(1.0));
+    if run.two_parts {
+        deck.parts.push(Part {
+            id: 2,
+            title: "upper".into(),
+            section: 0,
+            material: 0,
+        });
+        deck.elem_part = (0..32).map(|e| (e >= 16) as u32).collect();
+    }
+    deck.contacts.push(def(run.single, 0.3, 0.2, 0.5));
     let sm = split_model(&deck);
     let m = &sm.model;
     let nn = m.num_nodes();
     let mut intact = vec![true; sm.faces.len()];
     let mut lazy = ContactSet::new(m, Some(&sm.origin)).unwrap();
-    let mut eager = ContactSet::new(m, Some(&sm.origin)).unwrap();
-    let mut r = Rng(21);
+    let mut full = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    reference(&mut full);
+    let mut r = Rng(run.seed);
     let mut x = m.x0.clone();
     let dt = 1e-3;
     let mut pairs = 0;
-    for step in 0..40 {
+    for step in 0..run.steps {
         let mut failed = Vec::new();
-        if step % 3 == 1 {
+        if step % run.fail_every == 1 {
             for (k, ok) in intact.iter_mut().enumerate().take(sm.interfaces) {
-                if *ok && r.unit() < 0.08 {
+                if *ok && r.unit() < run.fail_p {
                     *ok = false;
                     let f = &sm.faces[k];
                     failed.push((f.elems[0], f.faces[0]));
@@ -510,34 +582,27 @@ fn incremental_vs_full(single: bool) {
                 }
             }
         }
-        let sets = CoincidentSets::build(nn, &sm.faces, &intact);
-        let tie: Vec<u32> = (0..nn as u32)
-            .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
-            .collect();
-        assert_eq!(lazy.activate(&failed), eager.activate(&failed));
-        eager.ties_changed();
-        let v: Vec<Vec3> = (0..nn)
-            .map(|_| [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)])
-            .collect();
+        let tie = ties(&sm, &intact);
+        assert_eq!(lazy.activate(&failed), full.activate(&failed));
+        full.ties_changed();
+        let v: Vec<Vec3> = (0..nn).map(|i| velocity(&mut r, i)).collect();
         if step > 0 {
             for (xi, vi) in x.iter_mut().zip(&v) {
-                *xi = add(*xi, scale(*vi, 0.004 * dt / dt));
+                *xi = add(*xi, scale(*vi, run.step_dt));
             }
         }
         let (mut fa, mut fb) = (zeros(nn), zeros(nn));
         let sa = lazy.compute(&x, &v, dt, &tie, &mut fa);
-        let sb = eager.compute(&x, &v, dt, &tie, &mut fb);
+        let sb = full.compute(&x, &v, dt, &tie, &mut fb);
         assert_eq!(
             (fa, sa.energy, sa.pairs),
             (fb, sb.energy, sb.pairs),
-            "step {step}"
+            "single {}, step {step}",
+            run.single
         );
         pairs += sa.pairs;
     }
-    let st = lazy.stats();
-    assert!(pairs > 200, "single {single}: {pairs} pairs");
-    assert!(st.updates >= 10, "single {single}: {st:?}");
-    assert!(st.rebuilds < 20, "single {single}: {st:?}");
+    (pairs, lazy.stats())
 }
 
 /// Skipping candidates by their clearance changes nothing: the forces, energy and pairs of
@@ -597,71 +662,24 @@ fn skipping_equals_testing_every_candidate() {
 /// every step.
 #[test]
 fn skipping_equals_testing_every_candidate_as_faces_join() {
-    use crate::separation::coincident::CoincidentSets;
-    use crate::separation::split::split_model;
-    let mut deck = single_part_model(BoxMesh::new([4, 4, 2], [1.0, 1.0, 0.5]), mat(), 1.0);
-    deck.separations.push(crate::model::SeparationDef {
-        material: 0,
-        model: 1,
-        sigmax: 1.0,
-        beta: 1.0,
-        gc: 0.0,
-        bond: 1,
-    });
-    deck.contacts.push(def(true, 0.3, 0.2, 0.5));
-    let sm = split_model(&deck);
-    let m = &sm.model;
-    let nn = m.num_nodes();
-    let mut intact = vec![true; sm.faces.len()];
-    let mut lazy = ContactSet::new(m, Some(&sm.origin)).unwrap();
-    let mut full = ContactSet::new(m, Some(&sm.origin)).unwrap();
-    full.contacts[0].exhaustive = true;
-    let mut r = Rng(31);
-    let mut x = m.x0.clone();
-    let dt = 1e-3;
-    let mut pairs = 0;
-    for step in 0..60 {
-        let mut failed = Vec::new();
-        if step % 4 == 1 {
-            for (k, ok) in intact.iter_mut().enumerate().take(sm.interfaces) {
-                if *ok && r.unit() < 0.06 {
-                    *ok = false;
-                    let f = &sm.faces[k];
-                    failed.push((f.elems[0], f.faces[0]));
-                    failed.push((f.elems[1], f.faces[1]));
-                }
-            }
-        }
-        let sets = CoincidentSets::build(nn, &sm.faces, &intact);
-        let tie: Vec<u32> = (0..nn as u32)
-            .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
-            .collect();
-        assert_eq!(lazy.activate(&failed), full.activate(&failed));
-        full.ties_changed();
+    let (pairs, st) = failing_block(
+        FailingBlock {
+            single: true,
+            two_parts: false,
+            seed: 31,
+            steps: 60,
+            fail_every: 4,
+            fail_p: 0.06,
+            step_dt: 0.002,
+        },
         // a slow drift of each node with a little noise: pairs approach and part
-        let v: Vec<Vec3> = (0..nn)
-            .map(|i| {
-                let w = (i % 7) as f64 - 3.0;
-                [w * 0.3 + r.range(-0.2, 0.2), r.range(-0.2, 0.2), -w * 0.2]
-            })
-            .collect();
-        if step > 0 {
-            for (xi, vi) in x.iter_mut().zip(&v) {
-                *xi = add(*xi, scale(*vi, 0.002));
-            }
-        }
-        let (mut fa, mut fb) = (zeros(nn), zeros(nn));
-        let sa = lazy.compute(&x, &v, dt, &tie, &mut fa);
-        let sb = full.compute(&x, &v, dt, &tie, &mut fb);
-        assert_eq!(
-            (fa, sa.energy, sa.pairs),
-            (fb, sb.energy, sb.pairs),
-            "step {step}"
-        );
-        pairs += sa.pairs;
-    }
+        |r, i| {
+            let w = (i % 7) as f64 - 3.0;
+            [w * 0.3 + r.range(-0.2, 0.2), r.range(-0.2, 0.2), -w * 0.2]
+        },
+        |full| full.contacts[0].exhaustive = true,
+    );
     assert!(pairs > 100, "{pairs} pairs");
-    let st = lazy.stats();
     assert!(st.updates >= 5, "{st:?}");
 }
 
@@ -762,14 +780,7 @@ fn facing_clearance_is_never_crossed() {
 fn nodes_with_new_faces_are_due_at_once() {
     use crate::separation::split::split_model;
     let mut deck = single_part_model(BoxMesh::new([2, 2, 2], [1.0, 1.0, 1.0]), mat(), 1.0);
-    deck.separations.push(crate::model::SeparationDef {
-        material: 0,
-        model: 1,
-        sigmax: 1.0,
-        beta: 1.0,
-        gc: 0.0,
-        bond: 1,
-    });
+    deck.separations.push(separation_group(1.0));
     deck.contacts.push(def(true, 0.0, 0.0, 0.0));
     let sm = split_model(&deck);
     let m = &sm.model;
@@ -827,7 +838,6 @@ fn nodes_with_new_faces_are_due_at_once() {
 /// set's force does not change.
 #[test]
 fn a_new_lead_carries_on_its_sets_contact() {
-    use crate::separation::coincident::CoincidentSets;
     use crate::separation::split::split_model;
     let delta = 0.01;
     let mut deck = two_blocks(
@@ -839,25 +849,12 @@ fn a_new_lead_carries_on_its_sets_contact() {
     );
     deck.materials.push(mat());
     deck.parts[1].material = 1;
-    deck.separations.push(crate::model::SeparationDef {
-        material: 0,
-        model: 1,
-        sigmax: 1e30,
-        beta: 1.0,
-        gc: 0.0,
-        bond: 1,
-    });
+    deck.separations.push(separation_group(1e30));
     deck.contacts.push(def(true, 0.0, 0.0, 0.0));
     let sm = split_model(&deck);
     let m = &sm.model;
     let nn = m.num_nodes();
     let upper = |i: usize| sm.origin[i] < 12; // the deck nodes of the 2 x 1 x 1 block
-    let tie_of = |intact: &[bool]| -> Vec<u32> {
-        let sets = CoincidentSets::build(nn, &sm.faces, intact);
-        (0..nn as u32)
-            .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
-            .collect()
-    };
     let x: Vec<Vec3> = (0..nn)
         .map(|i| {
             if upper(i) {
@@ -872,7 +869,7 @@ fn a_new_lead_carries_on_its_sets_contact() {
     let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
     // stiffness of the lower block's top face: SLSFAC K A^2 / V = 0.1 K 9^2 / 9
     let k = 0.9 * K;
-    let mut tie = tie_of(&intact);
+    let mut tie = ties(&sm, &intact);
     for (step, dt) in [0.0, 1e-3, 1e-3].into_iter().enumerate() {
         let st = cs.compute(&x, &v, dt, &tie, &mut zeros(nn));
         assert_eq!(st.pairs, 6, "intact, step {step}");
@@ -887,7 +884,7 @@ fn a_new_lead_carries_on_its_sets_contact() {
     intact[inner] = false;
     let f = &sm.faces[inner];
     cs.activate(&[(f.elems[0], f.faces[0]), (f.elems[1], f.faces[1])]);
-    tie = tie_of(&intact);
+    tie = ties(&sm, &intact);
     for step in 0..3 {
         let mut fa = zeros(nn);
         let st = cs.compute(&x, &v, 1e-3, &tie, &mut fa);
@@ -911,7 +908,6 @@ fn a_new_lead_carries_on_its_sets_contact() {
 /// change.
 #[test]
 fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
-    use crate::separation::coincident::CoincidentSets;
     use crate::separation::split::split_model;
     let delta = 0.01;
     let mut deck = two_blocks(
@@ -921,34 +917,19 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
         [1.0, 1.0, 1.0],
         [1.0, 1.0, 1.0 - delta],
     );
-    deck.conn.remove(7);
-    deck.elem_part.remove(7);
-    deck.elem_ids = (1..=deck.conn.len() as i64).collect();
+    remove_element(&mut deck, 7);
     deck.materials.push(mat());
     deck.parts[1].material = 1;
-    deck.separations.push(crate::model::SeparationDef {
-        material: 0,
-        model: 1,
-        sigmax: 1e30,
-        beta: 1.0,
-        gc: 0.0,
-        bond: 1,
-    });
+    deck.separations.push(separation_group(1e30));
     deck.contacts.push(def(true, 0.0, 0.0, 0.0));
     let sm = split_model(&deck);
     let m = &sm.model;
     let nn = m.num_nodes();
-    let tie_of = |intact: &[bool]| -> Vec<u32> {
-        let sets = CoincidentSets::build(nn, &sm.faces, intact);
-        (0..nn as u32)
-            .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
-            .collect()
-    };
     let mut intact = vec![true; sm.faces.len()];
     let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
     let x = m.x0.clone();
     let v = zeros(nn);
-    let tie = tie_of(&intact);
+    let tie = ties(&sm, &intact);
     let mut before = (0, 0.0);
     for dt in [0.0, 1e-3, 1e-3] {
         let st = cs.compute(&x, &v, dt, &tie, &mut zeros(nn));
@@ -967,7 +948,7 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
     let f = &sm.faces[k];
     let leads_before = cs.contacts()[0].sides[0].group.clone();
     cs.activate(&[(f.elems[0], f.faces[0]), (f.elems[1], f.faces[1])]);
-    let tie = tie_of(&intact);
+    let tie = ties(&sm, &intact);
     for step in 0..3 {
         let st = cs.compute(&x, &v, 1e-3, &tie, &mut zeros(nn));
         let after = (st.pairs, cs.forces()[0].normal);
@@ -996,29 +977,16 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
 /// lead's own faces alone would give one axis.
 #[test]
 fn a_leads_normal_is_its_deck_nodes() {
-    use crate::separation::coincident::CoincidentSets;
     use crate::separation::split::split_model;
     let mut deck = single_part_model(BoxMesh::new([2, 2, 2], [2.0; 3]), mat(), 1.0);
-    deck.conn.remove(7);
-    deck.elem_part.remove(7);
-    deck.elem_ids = (1..=deck.conn.len() as i64).collect();
-    deck.separations.push(crate::model::SeparationDef {
-        material: 0,
-        model: 1,
-        sigmax: 1e30,
-        beta: 1.0,
-        gc: 0.0,
-        bond: 1,
-    });
+    remove_element(&mut deck, 7);
+    deck.separations.push(separation_group(1e30));
     deck.contacts.push(def(true, 0.0, 0.0, 0.0));
     let centre = deck.x0.iter().position(|p| *p == [1.0; 3]).unwrap() as u32;
     let sm = split_model(&deck);
     let m = &sm.model;
     let nn = m.num_nodes();
-    let sets = CoincidentSets::build(nn, &sm.faces, &vec![true; sm.faces.len()]);
-    let tie: Vec<u32> = (0..nn as u32)
-        .map(|i| sets.set_of(i).map_or(u32::MAX, |s| s[0]))
-        .collect();
+    let tie = ties(&sm, &vec![true; sm.faces.len()]);
     let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
     cs.compute(&m.x0, &zeros(nn), 0.0, &tie, &mut zeros(nn));
     let side = &cs.contacts()[0].sides[0];

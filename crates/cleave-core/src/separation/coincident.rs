@@ -8,14 +8,14 @@
 //! pieces are written back in place: no set is rebuilt from scratch, nothing grows but the
 //! list of set ranges.
 
-use super::split::{FaceKind, SharedFace};
 use rayon::prelude::*;
 
+use super::split::{FaceKind, SharedFace};
 use crate::math::{add, scale, Vec3};
+use crate::topology::UnionFind;
 
 /// Sets per parallel task of the averaging.
 const SET_CHUNK: usize = 1024;
-use crate::topology::UnionFind;
 
 const NONE: u32 = u32::MAX;
 

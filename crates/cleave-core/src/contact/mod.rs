@@ -677,14 +677,18 @@ impl Side {
         }
     }
 
+    /// Lead `i` and the other members of its coincident set on the side ([`Side::next`]).
+    fn members(&self, i: u32) -> impl Iterator<Item = u32> + '_ {
+        std::iter::successors(Some(i), |&k| {
+            Some(self.next[k as usize]).filter(|&n| n != NONE)
+        })
+    }
+
     /// Lead `i`'s surface at the positions of the last [`Side::update_geometry`]: its normal
     /// is the sum of the area-weighted normals of the faces of its coincident set's members on
     /// the side (the surface of the deck node it copies), in the order of the member chain.
     fn frame(&self, i: usize) -> NodeFrame {
-        let members = std::iter::successors(Some(i as u32), |&k| {
-            Some(self.next[k as usize]).filter(|&n| n != NONE)
-        });
-        NodeFrame::of(members.flat_map(|k| {
+        NodeFrame::of(self.members(i as u32).flat_map(|k| {
             self.node_faces[k as usize]
                 .iter()
                 .map(|&f| self.normals[f as usize])
@@ -1332,10 +1336,8 @@ impl Contact {
                 // a new lead carries on its set's contact (engagement and friction history):
                 // it sits where the set's lead before sat (that of any member that was on the
                 // side: the node itself may have just joined), on the same faces
-                let members = std::iter::successors(Some(i), |&k| {
-                    Some(side.next[k as usize]).filter(|&n| n != NONE)
-                });
-                let Some(from) = members
+                let Some(from) = side
+                    .members(i)
                     .map(|k| side.prev_group[k as usize])
                     .find(|&g| g != NONE)
                 else {

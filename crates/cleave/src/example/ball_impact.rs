@@ -49,7 +49,7 @@ pub const RADIUS: f64 = 0.005;
 /// at 0.2 it breaks up (README). Stiffer springs shorten the step (the summary says so): at
 /// 0.2 the 2800-element ball takes 2457 steps to 50 us where its elements would need about
 /// 1900; at 0.3, 4254. The coarse balls are softer still: at 0.2 the 648-element one cracks
-/// (122 interfaces by 40 us) but stays whole.
+/// (125 interfaces by 40 us) but stays whole.
 pub const SLSFAC: f64 = 0.2;
 /// Gap between the ball and the plate (m).
 pub const GAP: f64 = 1e-4;

@@ -46,9 +46,9 @@ pub const RADIUS: f64 = 0.005;
 /// --no-separation`, `cleave run --end-time 50e-6`), the peak contact force against Hertz's
 /// 83.4 kN (rigid plate, E* = E/(1 - nu^2)): 53.0 kN at 0.1, 64.6 kN at 0.3, 79.6 kN at 1.0.
 /// With separation, the 2800-element ball at 0.1 stays whole (121 interfaces fail by 150 us);
-/// at 0.2 it breaks up (README). Stiffer springs shorten the step (the summary says so): at
-/// 0.2 the 2800-element ball takes 2457 steps to 50 us where its elements would need about
-/// 1900; at 0.3, 4254. The coarse balls are softer still: at 0.2 the 648-element one cracks
+/// at 0.2 it breaks up (README). Stiffer springs shorten the step (the summary says so): the
+/// 2800-element ball takes 2457 steps to 50 us at 0.1, 3473 at 0.2 and 4254 at 0.3, where its
+/// elements alone would need about 1900. The coarse balls are softer still: at 0.2 the 648-element one cracks
 /// (125 interfaces by 40 us) but stays whole.
 pub const SLSFAC: f64 = 0.2;
 /// Gap between the ball and the plate (m).

@@ -23,7 +23,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::contact::ContactSet;
+use crate::contact::{ContactSet, Crack};
 use crate::element::kernel::{hex8_step, KernelControls};
 use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
@@ -133,8 +133,8 @@ pub struct Solver<'m> {
     separation: Option<Separation>,
     /// Contact definitions of the model.
     contact: Option<ContactSet>,
-    /// Scratch: the faces of this step's failed interfaces, for the contact surfaces.
-    new_faces: Vec<(u32, u8)>,
+    /// Scratch: this step's failed interfaces (faces and node pairs), for the contact.
+    new_cracks: Vec<Crack>,
     /// Stable time step of the contact penalty springs (infinite without contact).
     dt_contact: f64,
     /// Time spent in each phase.
@@ -198,7 +198,7 @@ impl<'m> Solver<'m> {
             pending_work: 0.0,
             separation: None,
             contact: None,
-            new_faces: Vec::new(),
+            new_cracks: Vec::new(),
             dt_contact: f64::INFINITY,
             times: PhaseTimes::default(),
         })
@@ -445,13 +445,21 @@ impl<'m> Solver<'m> {
         let mut tie: &[u32] = &[];
         if let Some(sep) = &self.separation {
             if !sep.released().is_empty() {
-                self.new_faces.clear();
+                self.new_cracks.clear();
                 for &i in sep.released() {
                     let face = &sep.faces()[i];
-                    self.new_faces.push((face.elems[0], face.faces[0]));
-                    self.new_faces.push((face.elems[1], face.faces[1]));
+                    self.new_cracks.push(Crack {
+                        faces: [
+                            (face.elems[0], face.faces[0]),
+                            (face.elems[1], face.faces[1]),
+                        ],
+                        nodes: [
+                            std::array::from_fn(|k| face.nodes[k]),
+                            std::array::from_fn(|k| face.nodes[4 + k]),
+                        ],
+                    });
                 }
-                contact.activate(&self.new_faces);
+                contact.activate_cracks(&self.new_cracks);
             }
             tie = sep.sets().node_sets();
         }

@@ -17,9 +17,10 @@
 //! against its own faces; surface to surface, the slave nodes against the master faces, then
 //! the master nodes against the slave faces (symmetric, as LS-DYNA's automatic contacts).
 //! A node is never checked against a face that holds it or holds a node tied to it (the
-//! coincident copies of a split model: `tie[a] == tie[b] != u32::MAX`): such faces are left out
-//! of its candidate list when the list is made. Faces of separation groups join the surfaces
-//! when their interface fails ([`ContactSet::activate`]).
+//! coincident copies of a split model: `tie[a] == tie[b] != u32::MAX`), or a copy chained to
+//! it across closed cracks (below): such faces are left out of its candidate list when the
+//! list is made. Faces of separation groups join the surfaces when their interface fails
+//! ([`ContactSet::activate_cracks`]).
 //!
 //! # Contact of a node with a face
 //! The node `s` projects on the face at `x_c` with normal `n` ([`penalty::project`]); it is in
@@ -140,22 +141,32 @@
 //! candidate every step. After the first steps no buffer grows unless faces are added or the
 //! candidate lists get longer.
 //!
+//! # Closed cracks
+//! The two faces of a failed interface start flush, each node on a corner of the face
+//! opposite, where the node-to-face search finds no clearance. While they still lie on each
+//! other, the crack is *closed* ([`closure`]): its node pairs carry a penalty on their normal
+//! opening (with friction), and the search leaves out every face that holds a copy *chained*
+//! to the node: tied to it, or joined to it through closed cracks ([`closure::Chains`], which
+//! also covers the copies diagonal across an edge, held apart by the closed cracks of the
+//! elements between). A crack whose faces slide apart by a fifth of an edge, or turn apart by
+//! 30 degrees, is released for good and its faces go back to the search around them
+//! ([`ContactSet::activate_cracks`]).
+//!
 //! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
-//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us, 2047 interfaces failed), on this
-//! project's 2-core machine, with the first build that checked one copy per set (0ccfa64):
-//! 0.64 us per element step on 2 threads and 1.17 on 1, contact 65% and 69% of the step
-//! (BENCHMARKS.md has later runs). Checking every copy of a set (before): 1.29 and 2.44 us, contact 81%
-//! and 84% (SLSFAC 0.1, whose four springs per surface point were about as stiff); before the
-//! skipping and the parallel searches: 2.09 and 3.46 us, 89%. Per step late in the run about
-//! 2.8k leads have a candidate due, 11.5k pairs are tested and 3.1k projected: mostly pairs
-//! across barely open cracks, whose nodes sit at the corners of the faces opposite and ring at
-//! speeds near the impact's, so no motion bound keeps them waiting (bounds per region of
-//! space were tried: a region's relative motion summed over the steps grew at 95% of the
-//! global one). The rest is the bounds of the listed faces (15% of the contact) and the
-//! searches (15%). Without separation (`--no-separation`) contact takes 14% of a 0.17 us
-//! element step (2 threads).
+//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us), on this project's 2-core machine. With
+//! closed cracks (this build): 0.52-0.58 us per element step on 2 threads, contact 57-59% of
+//! the step; at the end about 1600 cracks are closed and 340-450 were released. Before them,
+//! on the same machine the same hour: 0.68 us and 70%, when the pairs tested in full were 29
+//! million over the run, 26 million of them a node within a quarter of the depth of a corner
+//! of the face (across a barely open crack); with them about 2.1 million, 19 thousand near a corner.
+//! What remains is the per-step work over all listed pairs and faces (the schedule, the face
+//! bounds, the motion tracking) and the searches. Earlier builds: checking every copy of a set
+//! (before 0ccfa64): 1.29 and 2.44 us on 2 and 1 threads, contact 81% and 84%; before the
+//! skipping and the parallel searches: 2.09 and 3.46 us, 89%. Without separation
+//! (`--no-separation`) contact takes 14% of a 0.17 us element step (2 threads).
 
+pub mod closure;
 pub mod engagement;
 pub mod friction;
 pub mod penalty;
@@ -163,12 +174,14 @@ pub mod schedule;
 pub mod search;
 pub mod surface;
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 
 use rayon::prelude::*;
 
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{ContactDef, Model};
+pub use closure::Crack;
+use closure::{Chains, Closure};
 use engagement::{engage, Previous};
 use friction::{tangential_force, Friction};
 use penalty::{
@@ -258,6 +271,9 @@ pub struct ContactStats {
     pub rebuilds: u64,
     /// Incremental searches around activated faces so far.
     pub updates: u64,
+    /// Closed cracks now, and those released to the search so far ([`closure`]).
+    pub closed: usize,
+    pub released: u64,
 }
 
 /// All contact definitions of a model, with the scratch they share.
@@ -354,11 +370,27 @@ impl ContactSet {
         added
     }
 
+    /// Interfaces failed: as [`ContactSet::activate`] with their faces, and each definition
+    /// that tests one face's nodes against the other face *closes* the crack: the node pairs
+    /// resist interpenetration until the faces slide apart ([`closure`]). Returns what
+    /// `activate` returns.
+    pub fn activate_cracks(&mut self, cracks: &[Crack]) -> usize {
+        let faces: Vec<FaceId> = cracks.iter().flat_map(|c| c.faces).collect();
+        let added = self.activate(&faces);
+        for c in &mut self.contacts {
+            for crack in cracks {
+                c.close(crack, &self.conn, &self.table);
+            }
+        }
+        added
+    }
+
     /// Ties changed in some other way than by failed interfaces named to
     /// [`ContactSet::activate`]: rebuild all candidate lists at the next `compute`.
     pub fn ties_changed(&mut self) {
         for c in &mut self.contacts {
             c.dirty = true;
+            c.chains.touch_all();
         }
     }
 
@@ -461,6 +493,8 @@ impl ContactSet {
                 .sum::<usize>();
             s.rebuilds += c.rebuilds;
             s.updates += c.updates;
+            s.closed += c.closures.len();
+            s.released += c.released;
         }
         s
     }
@@ -523,7 +557,8 @@ struct StepInput<'a> {
 #[derive(Clone, Debug)]
 struct Side {
     faces: Vec<Face>,
-    present: HashSet<FaceId>,
+    /// Index of each face in `faces`.
+    present: HashMap<FaceId, u32>,
     /// Parts whose failed interfaces add faces to this side.
     parts: Vec<bool>,
     /// Nodes of the faces: ascending at the start, then in the order their faces joined.
@@ -582,7 +617,7 @@ impl Side {
     ) -> Self {
         let mut s = Self {
             faces: Vec::with_capacity(ids.len()),
-            present: HashSet::with_capacity(ids.len()),
+            present: HashMap::with_capacity(ids.len()),
             parts,
             nodes: Vec::new(),
             trail: Vec::new(),
@@ -697,9 +732,10 @@ impl Side {
 
     /// Add a face unless present (its new nodes are appended to `nodes`); true when added.
     fn add(&mut self, id: FaceId, conn: &[[u32; 8]], table: &FaceTable) -> bool {
-        if !self.present.insert(id) {
+        if self.present.contains_key(&id) {
             return false;
         }
+        self.present.insert(id, self.faces.len() as u32);
         let nodes = face_nodes(&conn[id.0 as usize], id.1);
         self.faces.push(Face {
             elem: id.0,
@@ -917,6 +953,7 @@ struct Query<'a> {
     fs: &'a Side,
     x_ref: &'a [Vec3],
     tie: &'a [u32],
+    chains: &'a Chains,
     /// Subtracted from the `due` kept (a full build restarts the motion bound at zero).
     rebase: f64,
     /// Candidates due by this are hot.
@@ -925,7 +962,8 @@ struct Query<'a> {
 
 impl Query<'_> {
     /// Node i's candidates from the grids: faces whose box and sphere (built from `x_ref`)
-    /// hold the node's `x_ref` position and that hold neither the node nor a node tied to it.
+    /// hold the node's `x_ref` position and that hold neither the node nor a node tied to it,
+    /// nor a node it is chained to through closed cracks ([`closure::Chains`]).
     /// A face it had keeps its `due` (less `rebase`): the bound on a pair holds whether or not
     /// the pair is listed; a new one is due at once.
     /// A node that is not its set's lead gets no candidates.
@@ -942,11 +980,10 @@ impl Query<'_> {
         let set = self.tie.get(s as usize).copied().unwrap_or(NONE);
         let keep = |f: u32| {
             let (c, r2) = fs.spheres[f as usize];
-            dist2(p, c) <= r2
-                && !fs.faces[f as usize]
-                    .nodes
-                    .iter()
-                    .any(|&a| a == s || (set != NONE && self.tie[a as usize] == set))
+            let held = |a: u32| {
+                a == s || (set != NONE && self.tie[a as usize] == set) || self.chains.held(a, s)
+            };
+            dist2(p, c) <= r2 && !fs.faces[f as usize].nodes.iter().any(|&a| held(a))
         };
         // the old list, by face, in this thread's scratch (sized by the first searches)
         OLD.with_borrow_mut(|old| {
@@ -998,6 +1035,10 @@ pub struct Contact {
     /// Faces of interfaces that failed since the last step: the nodes near them get new
     /// candidate lists at the next step.
     pending: Vec<FaceId>,
+    /// Closed cracks ([`closure`]), in the order their interfaces failed, and the copies
+    /// they chain together.
+    closures: Vec<Closure>,
+    chains: Chains,
     points: Vec<Vec3>,
     scratch: Vec<u32>,
     region: Vec<Aabb>,
@@ -1007,6 +1048,7 @@ pub struct Contact {
     regrouped: Vec<Vec<(u32, u32)>>,
     rebuilds: u64,
     updates: u64,
+    released: u64,
     /// Test every candidate every step and keep them all (tests compare with it).
     #[cfg(test)]
     exhaustive: bool,
@@ -1122,6 +1164,8 @@ impl Contact {
             spread: 0.0,
             dirty: true,
             pending: Vec::new(),
+            closures: Vec::new(),
+            chains: Chains::new(b.origin),
             points: Vec::new(),
             scratch: Vec::new(),
             region: Vec::new(),
@@ -1129,6 +1173,7 @@ impl Contact {
             regrouped: Vec::new(),
             rebuilds: 0,
             updates: 0,
+            released: 0,
             #[cfg(test)]
             exhaustive: false,
         })
@@ -1183,6 +1228,75 @@ impl Contact {
         }
         self.pending.extend_from_slice(ids);
         added
+    }
+
+    /// Close a crack whose faces are both on this definition's surfaces where a pass tests
+    /// one's nodes against the other ([`closure`]): its node pairs are chained. Call after its
+    /// faces were activated. Its deck nodes are relabelled at the next step either way (their
+    /// ties broke).
+    fn close(&mut self, crack: &Crack, conn: &[[u32; 8]], table: &FaceTable) {
+        for &n in &crack.nodes[0] {
+            self.chains.touch(n);
+        }
+        let [fa, fb] = crack.faces;
+        let tested = self.passes.iter().any(|p| {
+            let (ns, fs) = (&self.sides[p.node_side], &self.sides[p.face_side]);
+            (ns.present.contains_key(&fa) && fs.present.contains_key(&fb))
+                || (ns.present.contains_key(&fb) && fs.present.contains_key(&fa))
+        });
+        if !tested {
+            return;
+        }
+        // A's nodes in its outward order, each with its partner on B
+        let a = face_nodes(&conn[fa.0 as usize], fa.1);
+        let mut b = [NONE; 4];
+        for (j, &n) in a.iter().enumerate() {
+            if let Some(k) = crack.nodes[0].iter().position(|&m| m == n) {
+                b[j] = crack.nodes[1][k];
+            }
+        }
+        if b.contains(&NONE) {
+            return; // not the nodes of face A: no pairs to close
+        }
+        for k in 0..4 {
+            self.chains.link(a[k], b[k], true);
+        }
+        let k = table.stiffness(fa) + table.stiffness(fb);
+        self.closures.push(Closure::new(crack.faces, a, b, k));
+    }
+
+    /// The closed cracks at this step ([`closure`]), in parallel: those whose faces no longer
+    /// lie on each other are released (their faces go back to the search, which renews the
+    /// lists around them at this step); the others get their forces.
+    fn step_closures(&mut self, inp: &StepInput) {
+        let Self {
+            closures,
+            chains,
+            pending,
+            released,
+            friction,
+            scratch,
+            ..
+        } = self;
+        scratch.clear();
+        scratch.resize(closures.len(), 0);
+        closures
+            .par_iter_mut()
+            .zip(scratch.par_iter_mut())
+            .with_min_len(NODE_CHUNK)
+            .for_each(|(c, out)| *out = c.step(inp.x, inp.v, inp.dt_prev, friction) as u32);
+        let mut flags = scratch.iter();
+        closures.retain(|c| {
+            if flags.next() != Some(&1) {
+                return true;
+            }
+            for k in 0..4 {
+                chains.link(c.a[k], c.b[k], false);
+            }
+            pending.extend_from_slice(&c.faces);
+            *released += 1;
+            false
+        });
     }
 
     fn stable_dt(&self, mass: &[f64]) -> f64 {
@@ -1271,6 +1385,7 @@ impl Contact {
             passes,
             points,
             x_ref,
+            chains,
             ..
         } = self;
         for pass in passes.iter_mut() {
@@ -1296,6 +1411,7 @@ impl Contact {
                 fs,
                 x_ref,
                 tie,
+                chains,
                 rebase,
                 hot_until,
             };
@@ -1439,6 +1555,7 @@ impl Contact {
             scratch,
             region,
             regrouped,
+            chains,
             ..
         } = self;
         for side in sides.iter_mut() {
@@ -1493,6 +1610,7 @@ impl Contact {
                 fs,
                 x_ref,
                 tie,
+                chains,
                 rebase: 0.0,
                 hot_until,
             };
@@ -1549,6 +1667,8 @@ impl Contact {
     /// candidates were rebuilt in full.
     fn compute(&mut self, inp: &StepInput, acc: &mut NodalForces) -> (ContactForce, bool) {
         self.spread = self.track(inp.x);
+        self.step_closures(inp);
+        self.chains.refresh(inp.tie);
         let mut rebuilt =
             self.dirty || self.spread > self.margin || self.motion > REBASE * self.margin;
         if !rebuilt && !self.pending.is_empty() && !self.update(inp.tie, inp.conn, inp.table) {
@@ -1644,6 +1764,18 @@ impl Contact {
                 out.force = add(out.force, scale(hit.f, sign));
                 out.normal += hit.fn_mag;
                 out.pairs += 1;
+            }
+        }
+        // closed cracks: serial, in the order they closed
+        for c in &self.closures {
+            for k in 0..4 {
+                if c.fn_mag[k] > 0.0 {
+                    acc.add(c.b[k], c.f[k]);
+                    acc.add(c.a[k], scale(c.f[k], -1.0));
+                    out.force = add(out.force, c.f[k]);
+                    out.normal += c.fn_mag[k];
+                    out.pairs += 1;
+                }
             }
         }
         (out, rebuilt)

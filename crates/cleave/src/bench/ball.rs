@@ -5,6 +5,7 @@
 //! step, the peak memory, and the share of each phase of the step, contact in particular (the
 //! issue's target: contact at most 30% of the step).
 
+use cleave_core::contact::ContactStats;
 use cleave_io::output::peak_rss_mb;
 
 use crate::cli::BenchArgs;
@@ -30,6 +31,8 @@ pub struct BallRun {
     /// Shares of the step: elements, interfaces, contact, the rest.
     pub shares: [f64; 4],
     pub failed_interfaces: usize,
+    /// Contact search statistics at the end (closed cracks, releases, builds).
+    pub contact: ContactStats,
 }
 
 /// Run the ball model with `elements` elements for `end_time`.
@@ -78,6 +81,7 @@ pub fn run_ball(
         peak_rss_mb: peak_rss_mb(),
         shares: [t.elements, t.interfaces, t.contact, t.nodal].map(|x| x / total),
         failed_interfaces: solver.separation().map_or(0, |s| s.num_failed()),
+        contact: solver.contact().map(|c| c.stats()).unwrap_or_default(),
     })
 }
 
@@ -95,6 +99,8 @@ impl BallRun {
             "peak_rss_mb": self.peak_rss_mb,
             "shares": self.shares,
             "failed_interfaces": self.failed_interfaces,
+            "closed_cracks": self.contact.closed,
+            "released_cracks": self.contact.released,
         })
     }
 
@@ -114,6 +120,11 @@ impl BallRun {
             peak_rss_mb: f("peak_rss_mb")?,
             shares: [0, 1, 2, 3].map(|i| sh.get(i).and_then(|x| x.as_f64()).unwrap_or(f64::NAN)),
             failed_interfaces: u("failed_interfaces")? as usize,
+            contact: ContactStats {
+                closed: u("closed_cracks").unwrap_or(0) as usize,
+                released: u("released_cracks").unwrap_or(0),
+                ..Default::default()
+            },
         })
     }
 }
@@ -145,5 +156,10 @@ pub fn bench_ball(a: &BenchArgs) -> Result<(), Failure> {
         "  step shares: elements {e:.1}%, interface checks {i:.1}%, contact {c:.1}%, nodal and the rest {n:.1}%"
     );
     println!("  contact / element work: {:.2}", r.shares[2] / r.shares[0]);
+    let s = r.contact;
+    println!(
+        "  contact: {} closed cracks, {} released to the search; {} full searches, {} incremental",
+        s.closed, s.released, s.rebuilds, s.updates
+    );
     Ok(())
 }

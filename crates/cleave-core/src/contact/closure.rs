@@ -1,0 +1,293 @@
+//! Crack closure: the two faces of a failed interface, while they still lie on each other,
+//! resist interpenetration through their node pairs instead of through the node-to-face search.
+//!
+//! When an interface fails its faces A and B join the contact surface, but they start flush,
+//! with each node of A at a corner of B and its copy on B at a corner of A. Node-to-face
+//! contact finds no clearance for such pairs (the node sits on the face's edge), and the faces
+//! of a fresh crack ring at speeds near the impact's, so the search would test them every step:
+//! most of the contact's work on a fragmenting ball. Yet the geometry is known: the node pairs
+//! `(a_k, b_k)` of the interface (copies of one deck node) were one point when it failed.
+//! So, as a cohesive element does once open (Akantu's contact penalty of its cohesive laws;
+//! LS-DYNA's cohesive materials in compression), each pair carries a penalty on its normal
+//! opening:
+//!
+//! ```text
+//! n   = unit normal of the mid-surface (the mid-points of the 4 pairs), out of A into B
+//! d_k = x(b_k) - x(a_k),   g_k = d_k . n      (g_k < 0: B has entered A)
+//! f_k = -k g_k n + f_t     on b_k, and -f_k on a_k, while g_k < 0
+//! k   = k_A + k_B          (k_A = SLSFAC K A^2 / V of face A, [`super::surface::FaceTable`])
+//! ```
+//!
+//! with `f_t` the Coulomb friction of the contact definition ([`super::friction`]: elastic
+//! trial `f_t - k du_t`, capped at `mu |f_n|`, du_t the pair's tangential slip over the step).
+//! The stiffness is that of the two node-to-face passes at a node of the pair (a spring k_B
+//! on a_k against B, k_A on b_k against A), so where a node has one crack face (a crack one
+//! element wide, the edge of a crack) the closure pushes back as node-to-face contact would:
+//! the broken bar pushed back in `tests/contact.rs` closes to 3.7% of h either way. Where
+//! several crack faces share a node, each adds its pair (node-to-face would give one spring
+//! per node and side): up to four times stiffer inside a flat crack. It stays stable at the
+//! contact time step ([`super::ContactSet::stable_dt`]): a pair's copies of mass m held by
+//! 2k vibrate at `omega^2 = 4k/m`, the case that step is made for, and n pairs between two
+//! sets of n copies each (a flat crack: 4 faces, 4 copies a side) at the same frequency.
+//! The pairs act in equal and opposite forces: momentum is kept exactly.
+//!
+//! While a crack is *closed* this way, the node-to-face search leaves out the pairs it covers:
+//! a node (or a node tied to it) that is a partner of a corner of a face is not tested against
+//! that face ([`super::Side::partner`]). The closure holds only while the faces still lie on
+//! each other: once any pair has slid along the mid-surface by more than [`SLIP`] times the
+//! shortest edge of A, or the faces have turned apart by more than [`TURN`] (their normals),
+//! the crack is *released* for good: the node-to-face search takes its faces back (the nodes
+//! near them get new candidate lists at once, as when an interface fails), and the pair's
+//! friction history ends there. Openings along the normal need no release: faces that fly
+//! apart and come back straight meet as they parted, and the closure catches them.
+
+use super::friction::{tangential_force, Friction};
+use super::surface::FaceId;
+use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
+
+/// A closed crack is released when a node pair has slid by more than this fraction of the
+/// shortest edge of its face A (then the node-to-face search takes over: the node lies that
+/// far inside the face opposite, which the projection handles).
+pub const SLIP: f64 = 0.2;
+
+/// ... or when the faces' unit normals n_A, n_B have turned apart: `n_A . n_B > -TURN`
+/// (cos 30 degrees = 0.866: flush faces have `n_A . n_B = -1`).
+pub const TURN: f64 = 0.866;
+
+/// A failed interface: its two faces and their node pairs (`nodes[0][k]` and `nodes[1][k]` are
+/// the copies of one deck node, on A and on B), as the separation lists it
+/// (`SharedFace::elems`, `faces`, `nodes`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crack {
+    pub faces: [FaceId; 2],
+    pub nodes: [[u32; 4]; 2],
+}
+
+/// A closed crack: the node pairs of one failed interface with their penalty.
+#[derive(Clone, Debug)]
+pub(super) struct Closure {
+    pub faces: [FaceId; 2],
+    /// `a[k]` in the outward order of face A (so the mid-surface normal points out of A),
+    /// `b[k]` its partner on B.
+    pub a: [u32; 4],
+    pub b: [u32; 4],
+    /// Penalty per pair, k_A + k_B.
+    pub k: f64,
+    /// Tangential force on b_k at the last step (zero when the pair was open).
+    pub ft: [Vec3; 4],
+    /// This step's force on b_k (on a_k: the opposite) and its normal magnitude.
+    pub f: [Vec3; 4],
+    pub fn_mag: [f64; 4],
+}
+
+impl Closure {
+    /// A crack closed with node pairs `a[k]`, `b[k]` and penalty `k` per pair.
+    pub fn new(faces: [FaceId; 2], a: [u32; 4], b: [u32; 4], k: f64) -> Self {
+        Self {
+            faces,
+            a,
+            b,
+            k,
+            ft: [[0.0; 3]; 4],
+            f: [[0.0; 3]; 4],
+            fn_mag: [0.0; 4],
+        }
+    }
+
+    /// One step at positions `x` (velocities `v` over the last step `dt_prev`): whether the
+    /// faces no longer lie on each other (module docs: a pair slid by more than [`SLIP`] times
+    /// A's shortest edge, or the faces turned apart beyond [`TURN`]); if they still do, the
+    /// pairs' forces `f`, `fn_mag` (on the B nodes; zero for open pairs).
+    pub fn step(&mut self, x: &[Vec3], v: &[Vec3], dt_prev: f64, friction: &Friction) -> bool {
+        let pa = self.a.map(|i| x[i as usize]);
+        let pb = self.b.map(|i| x[i as usize]);
+        let edge2 = (0..4)
+            .map(|k| {
+                let e = sub(pa[(k + 1) % 4], pa[k]);
+                dot(e, e)
+            })
+            .fold(f64::INFINITY, f64::min);
+        // both normals in A's node order: flush faces give na . nb = |na| |nb|
+        let na = cross(sub(pa[2], pa[0]), sub(pa[3], pa[1]));
+        let nb = cross(sub(pb[2], pb[0]), sub(pb[3], pb[1]));
+        let (la, lb) = (norm(na), norm(nb));
+        let m: [Vec3; 4] = std::array::from_fn(|k| scale(add(pa[k], pb[k]), 0.5));
+        let c = cross(sub(m[2], m[0]), sub(m[3], m[1]));
+        let lc = norm(c);
+        if !(la > 0.0 && lb > 0.0 && lc > 0.0) || dot(na, nb) < TURN * la * lb {
+            return true;
+        }
+        // unit normal of the mid-surface, out of A
+        let n = scale(c, 1.0 / lc);
+        let d: [Vec3; 4] = std::array::from_fn(|k| sub(pb[k], pa[k]));
+        let lim = SLIP * SLIP * edge2;
+        if d.iter().any(|&d| {
+            let t = sub(d, scale(n, dot(d, n)));
+            let t2 = dot(t, t);
+            t2 > lim || t2.is_nan()
+        }) {
+            return true;
+        }
+        for (k, &dk) in d.iter().enumerate() {
+            let g = dot(dk, n);
+            if g >= 0.0 || g.is_nan() {
+                self.ft[k] = [0.0; 3];
+                self.f[k] = [0.0; 3];
+                self.fn_mag[k] = 0.0;
+                continue;
+            }
+            let fn_mag = -self.k * g;
+            let mut f = scale(n, fn_mag);
+            if !friction.is_frictionless() {
+                let (ia, ib) = (self.a[k] as usize, self.b[k] as usize);
+                let v_rel = sub(v[ib], v[ia]);
+                let v_t = sub(v_rel, scale(n, dot(v_rel, n)));
+                let mu = friction.coefficient(norm(v_t));
+                let du_t = scale(v_t, dt_prev);
+                let f_t = tangential_force(self.ft[k], n, du_t, self.k, mu * fn_mag).0;
+                self.ft[k] = f_t;
+                f = add(f, f_t);
+            }
+            self.f[k] = f;
+            self.fn_mag[k] = fn_mag;
+        }
+        false
+    }
+}
+
+const NONE: u32 = u32::MAX;
+
+/// Which copies of each deck node are held together, by a tie (one coincident set) or through
+/// a chain of closed cracks: the search leaves out a face that holds a node so held with the
+/// node checked (module docs, Chains).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Chains {
+    /// Deck node of each model node (empty when the model is not split).
+    deck: Vec<u32>,
+    /// The copies of each deck node: `copies[start[d]..start[d + 1]]`.
+    start: Vec<u32>,
+    copies: Vec<u32>,
+    /// Each node's partners across its closed cracks (a corner has 3 faces; NONE: none).
+    pair: Vec<[u32; 3]>,
+    /// Per model node: the lowest node of its chain (the node itself until its deck node is
+    /// relabelled).
+    pub label: Vec<u32>,
+    /// Deck nodes to relabel at the next [`Chains::refresh`].
+    dirty: Vec<u32>,
+}
+
+impl Chains {
+    /// For a split model (`origin[i]`: deck node of model node i); empty otherwise.
+    pub fn new(origin: Option<&[u32]>) -> Self {
+        let Some(origin) = origin else {
+            return Self::default();
+        };
+        let n_deck = origin.iter().map(|&d| d as usize + 1).max().unwrap_or(0);
+        let mut start = vec![0u32; n_deck + 1];
+        for &d in origin {
+            start[d as usize + 1] += 1;
+        }
+        for d in 0..n_deck {
+            start[d + 1] += start[d];
+        }
+        let mut fill = start.clone();
+        let mut copies = vec![0u32; origin.len()];
+        for (i, &d) in origin.iter().enumerate() {
+            copies[fill[d as usize] as usize] = i as u32;
+            fill[d as usize] += 1;
+        }
+        Self {
+            deck: origin.to_vec(),
+            start,
+            copies,
+            pair: vec![[NONE; 3]; origin.len()],
+            label: (0..origin.len() as u32).collect(),
+            dirty: Vec::new(),
+        }
+    }
+
+    /// Whether nodes a and s are held together (see the type); false when not split.
+    #[inline]
+    pub fn held(&self, a: u32, s: u32) -> bool {
+        !self.label.is_empty() && self.label[a as usize] == self.label[s as usize]
+    }
+
+    /// The ties of deck node `d`'s copies may have changed: relabel it.
+    pub fn touch(&mut self, n: u32) {
+        if let Some(&d) = self.deck.get(n as usize) {
+            self.dirty.push(d);
+        }
+    }
+
+    /// Every deck node is relabelled at the next refresh.
+    pub fn touch_all(&mut self) {
+        self.dirty.clear();
+        self.dirty
+            .extend(0..self.start.len().saturating_sub(1) as u32);
+    }
+
+    /// Copies a and b face each other across a closed crack (`on`) or no longer (`!on`).
+    pub fn link(&mut self, a: u32, b: u32, on: bool) {
+        if self.pair.is_empty() {
+            return;
+        }
+        for (p, q) in [(a, b), (b, a)] {
+            let slots = &mut self.pair[p as usize];
+            let (from, to) = if on { (NONE, q) } else { (q, NONE) };
+            if let Some(s) = slots.iter_mut().find(|s| **s == from) {
+                *s = to;
+            }
+        }
+        self.touch(a);
+    }
+
+    /// Relabel the touched deck nodes: each copy gets the lowest copy it is joined to through
+    /// ties (`tie[a] == tie[b] != NONE`) and closed cracks.
+    pub fn refresh(&mut self, tie: &[u32]) {
+        if self.dirty.is_empty() {
+            return;
+        }
+        self.dirty.sort_unstable();
+        self.dirty.dedup();
+        let Self {
+            start,
+            copies,
+            pair,
+            label,
+            dirty,
+            ..
+        } = self;
+        for &d in dirty.iter() {
+            let c = &copies[start[d as usize] as usize..start[d as usize + 1] as usize];
+            for &i in c {
+                label[i as usize] = i;
+            }
+            // a chain has at most c.len() links: that many sweeps settle every label
+            for _ in 0..c.len() {
+                let mut changed = false;
+                for &i in c {
+                    let set = tie.get(i as usize).copied().unwrap_or(NONE);
+                    let mut m = label[i as usize];
+                    for &j in c {
+                        if set != NONE && tie[j as usize] == set {
+                            m = m.min(label[j as usize]);
+                        }
+                    }
+                    for &j in &pair[i as usize] {
+                        if j != NONE {
+                            m = m.min(label[j as usize]);
+                        }
+                    }
+                    if m < label[i as usize] {
+                        label[i as usize] = m;
+                        changed = true;
+                    }
+                }
+                if !changed {
+                    break;
+                }
+            }
+        }
+        dirty.clear();
+    }
+}

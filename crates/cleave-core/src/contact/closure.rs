@@ -44,6 +44,7 @@
 use super::friction::{tangential_force, Friction};
 use super::surface::FaceId;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
+use crate::separation::split::{copies_of, Copies};
 
 /// A closed crack is released when a node pair has slid by more than this fraction of the
 /// shortest edge of its face A (then the node-to-face search takes over: the node lies that
@@ -164,9 +165,9 @@ const NONE: u32 = u32::MAX;
 pub(super) struct Chains {
     /// Deck node of each model node (empty when the model is not split).
     deck: Vec<u32>,
-    /// The copies of each deck node: `copies[start[d]..start[d + 1]]`.
-    start: Vec<u32>,
-    copies: Vec<u32>,
+    /// The copies of each deck node.
+    copies: Copies,
+    deck_nodes: usize,
     /// Each node's partners across its closed cracks (a corner has 3 faces; NONE: none).
     pair: Vec<[u32; 3]>,
     /// Per model node: the lowest node of its chain (the node itself until its deck node is
@@ -182,24 +183,11 @@ impl Chains {
         let Some(origin) = origin else {
             return Self::default();
         };
-        let n_deck = origin.iter().map(|&d| d as usize + 1).max().unwrap_or(0);
-        let mut start = vec![0u32; n_deck + 1];
-        for &d in origin {
-            start[d as usize + 1] += 1;
-        }
-        for d in 0..n_deck {
-            start[d + 1] += start[d];
-        }
-        let mut fill = start.clone();
-        let mut copies = vec![0u32; origin.len()];
-        for (i, &d) in origin.iter().enumerate() {
-            copies[fill[d as usize] as usize] = i as u32;
-            fill[d as usize] += 1;
-        }
+        let deck_nodes = origin.iter().map(|&d| d as usize + 1).max().unwrap_or(0);
         Self {
             deck: origin.to_vec(),
-            start,
-            copies,
+            copies: copies_of(origin, deck_nodes),
+            deck_nodes,
             pair: vec![[NONE; 3]; origin.len()],
             label: (0..origin.len() as u32).collect(),
             dirty: Vec::new(),
@@ -222,8 +210,7 @@ impl Chains {
     /// Every deck node is relabelled at the next refresh.
     pub fn touch_all(&mut self) {
         self.dirty.clear();
-        self.dirty
-            .extend(0..self.start.len().saturating_sub(1) as u32);
+        self.dirty.extend(0..self.deck_nodes as u32);
     }
 
     /// Copies a and b face each other across a closed crack (`on`) or no longer (`!on`).
@@ -250,7 +237,6 @@ impl Chains {
         self.dirty.sort_unstable();
         self.dirty.dedup();
         let Self {
-            start,
             copies,
             pair,
             label,
@@ -258,7 +244,7 @@ impl Chains {
             ..
         } = self;
         for &d in dirty.iter() {
-            let c = &copies[start[d as usize] as usize..start[d as usize + 1] as usize];
+            let c = copies.of(d);
             for &i in c {
                 label[i as usize] = i;
             }

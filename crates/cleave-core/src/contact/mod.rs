@@ -375,10 +375,10 @@ impl ContactSet {
     /// resist interpenetration until the faces slide apart ([`closure`]). Returns what
     /// `activate` returns.
     pub fn activate_cracks(&mut self, cracks: &[Crack]) -> usize {
-        let faces: Vec<FaceId> = cracks.iter().flat_map(|c| c.faces).collect();
-        let added = self.activate(&faces);
-        for c in &mut self.contacts {
-            for crack in cracks {
+        let mut added = 0;
+        for crack in cracks {
+            added += self.activate(&crack.faces);
+            for c in &mut self.contacts {
                 c.close(crack, &self.conn, &self.table);
             }
         }

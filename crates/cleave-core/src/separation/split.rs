@@ -161,6 +161,7 @@ pub fn split_model(model: &Model) -> SplitModel {
 }
 
 /// Solved nodes of each deck node, ascending (CSR).
+#[derive(Clone, Debug, Default)]
 pub struct Copies {
     start: Vec<u32>,
     list: Vec<u32>,

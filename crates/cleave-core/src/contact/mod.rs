@@ -154,12 +154,13 @@
 //!
 //! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
-//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us), on this project's 2-core machine. With
-//! closed cracks (this build): 0.52-0.58 us per element step on 2 threads, contact 57-59% of
-//! the step; at the end about 1600 cracks are closed and 340-450 were released. Before them,
-//! on the same machine the same hour: 0.68 us and 70%, when the pairs tested in full were 29
+//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us), on this project's 2-core machine, two
+//! threads, runs alternating: with closed cracks 0.459-0.463 us per element step, contact
+//! 55-56% of the step (1592 cracks closed at the end, 336 released); before them (2e12603)
+//! 0.668-0.688 us and 66-68%. Before, the pairs tested in full were 29
 //! million over the run, 26 million of them a node within a quarter of the depth of a corner
-//! of the face (across a barely open crack); with them about 2.1 million, 19 thousand near a corner.
+//! of the face (across a barely open crack); with them about 2.1 million, 19 thousand near a corner (counted on a build whose
+//! pairs had a quarter of the final stiffness).
 //! What remains is the per-step work over all listed pairs and faces (the schedule, the face
 //! bounds, the motion tracking) and the searches. Earlier builds: checking every copy of a set
 //! (before 0ccfa64): 1.29 and 2.44 us on 2 and 1 threads, contact 81% and 84%; before the

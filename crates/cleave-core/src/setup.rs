@@ -1,6 +1,7 @@
-//! Preprocessing done once before the first step: lumped masses, the node-to-corner index,
-//! per-material kernel parameters, rigid bodies and the constraint lists.
+//! Preprocessing done once before the first step: lumped masses, the colours of the element
+//! chunks, per-material kernel parameters, rigid bodies and the constraint lists.
 
+use crate::element::colouring::Colouring;
 use crate::element::hex8;
 use crate::material::{free_element_speed, SolidParams};
 use crate::math::Vec3;
@@ -12,10 +13,9 @@ use crate::rigid::{build_rigid_bodies, RigidBody, NOT_RIGID};
 pub struct Setup {
     /// Lumped nodal mass: each element gives rho V / 8 to each of its corners (V exact).
     pub mass: Vec<f64>,
-    /// CSR index from node to its element corners (entry = 8 e + corner), ascending, so the
-    /// assembly sums corner forces in a fixed order whatever the thread count.
-    pub corner_start: Vec<u32>,
-    pub corners: Vec<u32>,
+    /// Colours of the element chunks: the element pass adds the corner forces of one colour's
+    /// chunks at a time, in parallel, in a fixed order whatever the thread count.
+    pub colouring: Colouring,
     /// Kernel parameters per material (None: rigid).
     pub params: Vec<Option<SolidParams>>,
     /// The same with the free-element step speed, for elements of a split mesh that have lost
@@ -58,24 +58,12 @@ impl Setup {
             }
         }
 
-        let mut count = vec![0u32; nn + 1];
-        for conn in &model.conn {
-            for &n in conn {
-                count[n as usize + 1] += 1;
-            }
-        }
-        for i in 0..nn {
-            count[i + 1] += count[i];
-        }
-        let corner_start = count.clone();
-        let mut fill = count;
-        let mut corners = vec![0u32; 8 * ne];
-        for (e, conn) in model.conn.iter().enumerate() {
-            for (c, &n) in conn.iter().enumerate() {
-                corners[fill[n as usize] as usize] = (8 * e + c) as u32;
-                fill[n as usize] += 1;
-            }
-        }
+        let colouring = Colouring::new(&model.conn, nn);
+        // the element pass's writes are race-free only with a proper colouring
+        assert!(
+            colouring.is_proper(&model.conn, nn),
+            "element chunk colouring has a clash"
+        );
 
         let params: Vec<Option<SolidParams>> = model
             .materials
@@ -162,8 +150,7 @@ impl Setup {
             .collect();
         Ok(Self {
             mass,
-            corner_start,
-            corners,
+            colouring,
             params,
             loose_params,
             elem_mat,

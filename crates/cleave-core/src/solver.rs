@@ -2,9 +2,9 @@
 //! `shared/design/architecture.md`:
 //!
 //! ```text
-//! element pass   stress update and corner forces at x^n, stable time step   (elements)
+//! element pass   stress update and corner forces at x^n, stable time step;   (elements)
+//!                assembled as they come: f_i = body loads + sum of corner forces
 //! interfaces     failure check of intact interfaces on the new stresses; release  (faces)
-//! assembly       f_i = sum of corner forces + body loads                     (nodes)
 //! cohesive       softening interfaces' tractions on their 8 nodes            (faces)
 //! contact        faces of failed interfaces join; penalty and friction forces (nodes, faces)
 //! tie            coincident sets of a split model: f_i = m_i sum f / sum m    (sets)
@@ -17,13 +17,16 @@
 //! ```
 //!
 //! Every sum over elements or nodes is done in fixed chunks whose partial results are added in
-//! chunk order, so the numbers do not depend on the number of threads.
+//! chunk order, and the element pass adds its corner forces colour by colour (each node in a
+//! fixed order, [`crate::element::colouring`]), so the numbers do not depend on the number of
+//! threads.
 
 use std::time::Instant;
 
 use rayon::prelude::*;
 
 use crate::contact::{ContactSet, Crack};
+use crate::element::colouring::{Colouring, Scatter};
 use crate::element::kernel::{hex8_step, KernelControls};
 use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
@@ -32,7 +35,8 @@ use crate::separation::interfaces::Separation;
 use crate::setup::Setup;
 use crate::state::{Energies, RigidState, State};
 
-/// Elements per chunk of the element pass (fixed, for deterministic sums).
+/// Elements per parallel task of the element pass, at least (the chunks of the sums are the
+/// colouring's, fixed by the mesh, for deterministic sums).
 const ELEM_CHUNK: usize = 256;
 /// Nodes per chunk of the nodal passes.
 const NODE_CHUNK: usize = 1024;
@@ -122,7 +126,6 @@ pub struct Solver<'m> {
     /// Rigid wall resultants at t^n.
     pub wall_forces: Vec<WallForce>,
     ctl: KernelControls,
-    corner_f: Vec<[Vec3; 8]>,
     f: Vec<Vec3>,
     chunk_sums: Vec<ElemChunkSum>,
     node_sums: Vec<[f64; 4]>,
@@ -184,15 +187,15 @@ impl<'m> Solver<'m> {
             initial_energy: 0.0,
             dt_element: 0,
         };
+        let chunk_sums = vec![ElemChunkSum::default(); setup.colouring.chunks()];
         Ok(Self {
             model,
             setup,
             state,
             wall_forces: vec![WallForce::default(); model.rigid_walls.len()],
             ctl,
-            corner_f: vec![[[0.0; 3]; 8]; ne],
             f: vec![[0.0; 3]; nn],
-            chunk_sums: vec![ElemChunkSum::default(); ne.div_ceil(ELEM_CHUNK)],
+            chunk_sums,
             node_sums: Vec::with_capacity(nn.div_ceil(NODE_CHUNK)),
             finished: false,
             pending_work: 0.0,
@@ -273,7 +276,6 @@ impl<'m> Solver<'m> {
         let t1 = Instant::now();
         self.check_interfaces();
         let t2 = Instant::now();
-        self.assemble_forces();
         self.add_cohesive_forces();
         let t3 = Instant::now();
         self.add_contact_forces();
@@ -305,51 +307,74 @@ impl<'m> Solver<'m> {
         Ok(())
     }
 
-    /// Element pass: stresses and corner forces at x^n; returns the smallest element time
+    /// Element pass and assembly: stresses at x^n, and `f_i = m_i g(t) + sum of the corner
+    /// forces of node i`, the corner forces added colour by colour ([`Colouring`]: a node gets
+    /// them in a fixed order whatever the thread count); returns the smallest element time
     /// step and its element.
     fn compute_element_forces(&mut self) -> Result<(f64, u32), SolverError> {
+        let g = self.body_acceleration(self.state.t);
         let Self {
             model,
             setup,
             state,
             ctl,
-            corner_f,
+            f,
             chunk_sums,
             ..
         } = self;
+        f.par_iter_mut()
+            .zip(setup.mass.par_iter())
+            .with_min_len(NODE_CHUNK)
+            .for_each(|(fi, &m)| *fi = scale(g, m));
         let x = &state.x;
         let v = &state.v;
         let dt_prev = state.dt_prev;
         let ctl = *ctl;
         let conn = &model.conn;
         let loose = self.separation.as_ref().map(|s| s.loose_elements());
+        let Colouring {
+            size,
+            ref colour,
+            colours,
+        } = setup.colouring;
+        let sink = Scatter::new(f);
         let process = |c: usize,
-                       fc: &mut [[Vec3; 8]],
                        sc: &mut [crate::math::Sym3],
                        hc: &mut [crate::material::History],
                        qc: &mut [f64],
-                       mut gc: Option<&mut [[f64; 12]]>,
+                       gc: &mut [[f64; 12]],
                        out: &mut ElemChunkSum| {
-            let e0 = c * ELEM_CHUNK;
+            let e0 = c * size;
             let mut acc = ElemChunkSum::default();
-            for k in 0..fc.len() {
+            for k in 0..sc.len() {
                 let e = e0 + k;
                 let params = match loose {
                     Some(l) if l[e] => &setup.loose_params,
                     _ => &setup.params,
                 };
                 let Some(p) = &params[setup.elem_mat[e] as usize] else {
-                    fc[k] = [[0.0; 3]; 8];
                     continue;
                 };
                 let ids = &conn[e];
                 let xe: [Vec3; 8] = std::array::from_fn(|a| x[ids[a] as usize]);
                 let ve: [Vec3; 8] = std::array::from_fn(|a| v[ids[a] as usize]);
-                let hg = gc.as_deref_mut().map(|g| &mut g[k]);
+                let mut fe = [[0.0; 3]; 8];
                 match hex8_step(
-                    &xe, &ve, dt_prev, p, &ctl, &mut sc[k], &mut hc[k], &mut qc[k], hg, &mut fc[k],
+                    &xe,
+                    &ve,
+                    dt_prev,
+                    p,
+                    &ctl,
+                    &mut sc[k],
+                    &mut hc[k],
+                    &mut qc[k],
+                    Some(&mut gc[k]),
+                    &mut fe,
                 ) {
                     Ok(r) => {
+                        for (&n, fa) in ids.iter().zip(fe) {
+                            sink.add(n, fa);
+                        }
                         acc.de_internal += r.de_internal;
                         acc.de_hourglass += r.de_hourglass;
                         if r.dt_crit < acc.dt_min {
@@ -366,17 +391,20 @@ impl<'m> Solver<'m> {
             }
             *out = acc;
         };
-        let base = corner_f
-            .par_chunks_mut(ELEM_CHUNK)
-            .zip(state.stress.par_chunks_mut(ELEM_CHUNK))
-            .zip(state.hist.par_chunks_mut(ELEM_CHUNK))
-            .zip(state.bulk_q.par_chunks_mut(ELEM_CHUNK))
-            .zip(state.hg.par_chunks_mut(ELEM_CHUNK))
-            .zip(chunk_sums.par_iter_mut())
-            .enumerate();
-        base.for_each(|(c, (((((fc, sc), hc), qc), gc), out))| {
-            process(c, fc, sc, hc, qc, Some(gc), out)
-        });
+        // NOTE: one colour at a time: the chunks of a colour share no node (`Scatter`)
+        for k in 0..colours as u32 {
+            state
+                .stress
+                .par_chunks_mut(size)
+                .zip(state.hist.par_chunks_mut(size))
+                .zip(state.bulk_q.par_chunks_mut(size))
+                .zip(state.hg.par_chunks_mut(size))
+                .zip(chunk_sums.par_iter_mut())
+                .enumerate()
+                .with_min_len((ELEM_CHUNK / size).max(1))
+                .filter(|(c, _)| colour[*c] == k)
+                .for_each(|(c, ((((sc, hc), qc), gc), out))| process(c, sc, hc, qc, gc, out));
+        }
         let mut dt_min = f64::INFINITY;
         let mut dt_elem = 0;
         for s in chunk_sums.iter() {
@@ -395,27 +423,6 @@ impl<'m> Solver<'m> {
             }
         }
         Ok((dt_min, dt_elem))
-    }
-
-    /// Assembly: f_i = sum of the corner forces of node i (in ascending corner order) plus the
-    /// body-load force m_i g(t).
-    fn assemble_forces(&mut self) {
-        let g = self.body_acceleration(self.state.t);
-        let Self {
-            setup, corner_f, f, ..
-        } = self;
-        let flat: &[Vec3] = corner_f.as_flattened();
-        f.par_iter_mut().enumerate().for_each(|(i, fi)| {
-            let (s, e) = (
-                setup.corner_start[i] as usize,
-                setup.corner_start[i + 1] as usize,
-            );
-            let mut acc = scale(g, setup.mass[i]);
-            for &k in &setup.corners[s..e] {
-                acc = add(acc, flat[k as usize]);
-            }
-            *fi = acc;
-        });
     }
 
     /// Check every intact interface on the stresses at t^n; release the failed ones.

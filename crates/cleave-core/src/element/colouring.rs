@@ -1,0 +1,267 @@
+//! Colours of element chunks, so the element pass can add its corner forces straight into the
+//! nodal forces on all cores without a race and without a per-element force buffer.
+//!
+//! The elements are cut into chunks of `size` consecutive elements. Two chunks that share a
+//! node get different colours (greedy colouring, chunks in ascending order, each taking the
+//! lowest colour none of its neighbours has). The element pass runs the colours one after the
+//! other; the chunks of one colour run in parallel, each adding its elements' corner forces in
+//! element order. A node then receives its corner forces in a fixed order (by colour, then
+//! element) whatever the number of threads: the sums are bit-identical on any thread count.
+//!
+//! The chunk size is the largest of [`SIZES`] that leaves at least [`MIN_PER_COLOUR`] chunks per
+//! colour on average: decks numbered in space order (meshers, the examples) keep 256-element
+//! chunks and 2 to 4 colours; a deck numbered at random, whose 256-element chunks all touch
+//! each other, falls back to smaller chunks down to single elements (at most one colour more
+//! than the most elements around one element). It depends on the mesh only, never on the
+//! number of threads.
+//!
+//! Memory: 4 bytes per chunk and a colour start per colour (the per-element force buffer it
+//! replaces took 192 bytes per element, and its node-to-corner index 4 more per corner).
+
+use crate::math::Vec3;
+
+/// Chunk sizes tried, largest first.
+pub const SIZES: [usize; 5] = [256, 64, 16, 4, 1];
+
+/// Chunks per colour, on average, a chunk size must leave (so 2 threads share each colour).
+pub const MIN_PER_COLOUR: usize = 8;
+
+/// The chunks of a mesh grouped by colour.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Colouring {
+    /// Elements per chunk (the last chunk may be shorter).
+    pub size: usize,
+    /// Colour of each chunk.
+    pub colour: Vec<u32>,
+    /// Number of colours.
+    pub colours: usize,
+}
+
+impl Colouring {
+    /// The colouring of the elements `conn` over `num_nodes` nodes (see the module docs).
+    pub fn new(conn: &[[u32; 8]], num_nodes: usize) -> Self {
+        let mut best = Self::with_size(conn, num_nodes, SIZES[0]);
+        for &size in &SIZES[1..] {
+            if best.chunks() >= MIN_PER_COLOUR * best.colours {
+                break;
+            }
+            let next = Self::with_size(conn, num_nodes, size);
+            // a smaller chunk only when it shares the work better
+            if next.chunks() * best.colours > best.chunks() * next.colours {
+                best = next;
+            }
+        }
+        best
+    }
+
+    /// Greedy colouring of the chunks of `size` elements.
+    pub fn with_size(conn: &[[u32; 8]], num_nodes: usize, size: usize) -> Self {
+        let size = size.max(1);
+        let chunks = conn.len().div_ceil(size);
+        // node -> chunks touching it (CSR, each chunk once per node)
+        let mut start = vec![0u32; num_nodes + 1];
+        let mut last = vec![u32::MAX; num_nodes];
+        let each = |f: &mut dyn FnMut(u32, u32)| {
+            for (c, elems) in conn.chunks(size).enumerate() {
+                for &n in elems.iter().flatten() {
+                    f(n, c as u32);
+                }
+            }
+        };
+        each(&mut |n, c| {
+            if last[n as usize] != c {
+                last[n as usize] = c;
+                start[n as usize + 1] += 1;
+            }
+        });
+        for i in 0..num_nodes {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut touching = vec![0u32; start[num_nodes] as usize];
+        last.iter_mut().for_each(|l| *l = u32::MAX);
+        each(&mut |n, c| {
+            if last[n as usize] != c {
+                last[n as usize] = c;
+                touching[fill[n as usize] as usize] = c;
+                fill[n as usize] += 1;
+            }
+        });
+        // greedy: each chunk the lowest colour no chunk it touches has yet
+        let mut colour = vec![u32::MAX; chunks];
+        let mut taken: Vec<u32> = Vec::new(); // stamp: the chunk that found the colour taken
+        let mut colours = 0;
+        for (c, elems) in conn.chunks(size).enumerate() {
+            for &n in elems.iter().flatten() {
+                let n = n as usize;
+                for &d in &touching[start[n] as usize..start[n + 1] as usize] {
+                    let k = colour[d as usize];
+                    if k != u32::MAX {
+                        taken[k as usize] = c as u32;
+                    }
+                }
+            }
+            let k = taken
+                .iter()
+                .position(|&t| t != c as u32)
+                .unwrap_or(taken.len());
+            if k == taken.len() {
+                taken.push(u32::MAX);
+            }
+            colour[c] = k as u32;
+            colours = colours.max(k + 1);
+        }
+        Self {
+            size,
+            colour,
+            colours,
+        }
+    }
+
+    /// Number of chunks.
+    pub fn chunks(&self) -> usize {
+        self.colour.len()
+    }
+
+    /// Whether no two chunks of one colour share a node (what the element pass relies on).
+    pub fn is_proper(&self, conn: &[[u32; 8]], num_nodes: usize) -> bool {
+        // the last chunk that touched each node: a chunk of the same colour is a clash
+        let mut seen = vec![u32::MAX; num_nodes];
+        for k in 0..self.colours as u32 {
+            for (c, elems) in conn.chunks(self.size).enumerate() {
+                if self.colour[c] != k {
+                    continue;
+                }
+                for &n in elems.iter().flatten() {
+                    let slot = &mut seen[n as usize];
+                    if *slot != u32::MAX && *slot != c as u32 && self.colour[*slot as usize] == k {
+                        return false;
+                    }
+                    *slot = c as u32;
+                }
+            }
+        }
+        true
+    }
+}
+
+/// The nodal forces, shared by the chunks of one colour while they add their corner forces.
+///
+/// Safety argument: [`Scatter::add`] writes node i through a raw pointer. The element pass
+/// only calls it from the chunks of one colour at a time, and a proper [`Colouring`] (checked
+/// when the solver is set up, [`Colouring::is_proper`]) gives no two chunks of a colour a
+/// common node, so no two threads ever touch the same node at once; the index is bounds
+/// checked. The mutable borrow of the slice keeps everything else off it meanwhile.
+pub struct Scatter<'a> {
+    ptr: *mut Vec3,
+    len: usize,
+    _borrow: std::marker::PhantomData<&'a mut [Vec3]>,
+}
+
+// SAFETY: see the type's docs: threads write disjoint nodes.
+unsafe impl Sync for Scatter<'_> {}
+
+impl<'a> Scatter<'a> {
+    pub fn new(f: &'a mut [Vec3]) -> Self {
+        Self {
+            ptr: f.as_mut_ptr(),
+            len: f.len(),
+            _borrow: std::marker::PhantomData,
+        }
+    }
+
+    /// `f[i] += g`. Call only from the chunks of one colour at a time (type docs).
+    #[inline]
+    pub fn add(&self, i: u32, g: Vec3) {
+        let i = i as usize;
+        assert!(i < self.len, "node {i} out of range");
+        // SAFETY: in bounds; no other thread touches node i meanwhile (type docs)
+        unsafe {
+            let p = self.ptr.add(i);
+            *p = crate::math::add(*p, g);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::search::tests::Rng;
+
+    /// Connectivity of an n x n x n block of hexahedra, numbered x fastest.
+    fn block(n: usize) -> (Vec<[u32; 8]>, usize) {
+        let id = |i: usize, j: usize, k: usize| (i + (n + 1) * (j + (n + 1) * k)) as u32;
+        let mut conn = Vec::new();
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    conn.push([
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ]);
+                }
+            }
+        }
+        (conn, (n + 1).pow(3))
+    }
+
+    #[test]
+    fn a_block_in_order_keeps_big_chunks_and_few_colours() {
+        let (conn, nn) = block(30); // 27,000 elements, 106 chunks of 256
+        let c = Colouring::new(&conn, nn);
+        assert_eq!(c.size, 256);
+        assert!(c.is_proper(&conn, nn));
+        // a chunk is about 8.5 rows of a 30 x 30 layer: it touches the chunks next to it in
+        // its layer and those under and over it (3.5 chunks away)
+        assert!(c.colours <= 4, "{} colours", c.colours);
+        assert!(c.chunks() >= MIN_PER_COLOUR * c.colours);
+    }
+
+    #[test]
+    fn a_block_numbered_at_random_falls_back_to_small_chunks() {
+        let (mut conn, nn) = block(20); // 8,000 elements
+        let mut r = Rng(11);
+        for i in (1..conn.len()).rev() {
+            let j = (r.unit() * (i + 1) as f64) as usize % (i + 1);
+            conn.swap(i, j);
+        }
+        let big = Colouring::with_size(&conn, nn, 256);
+        // every 256-element chunk touches nearly every other: about one chunk per colour
+        assert!(
+            big.chunks() < 2 * big.colours,
+            "{} / {}",
+            big.chunks(),
+            big.colours
+        );
+        let c = Colouring::new(&conn, nn);
+        assert!(c.size < 256);
+        assert!(c.is_proper(&conn, nn));
+        assert!(c.chunks() >= MIN_PER_COLOUR * c.colours, "{c:?}");
+        // single elements: at most 27 colours (an element touches 26 others in a block)
+        let one = Colouring::with_size(&conn, nn, 1);
+        assert!(one.is_proper(&conn, nn));
+        assert!(one.colours <= 27, "{}", one.colours);
+    }
+
+    #[test]
+    fn a_wrong_colouring_is_caught() {
+        let (conn, nn) = block(10);
+        let mut c = Colouring::with_size(&conn, nn, 16);
+        assert!(c.is_proper(&conn, nn));
+        c.colour[1] = c.colour[0]; // chunks 0 and 1 share the nodes between them
+        assert!(!c.is_proper(&conn, nn));
+    }
+
+    #[test]
+    fn no_elements_no_chunks() {
+        let c = Colouring::new(&[], 5);
+        assert_eq!((c.chunks(), c.colours), (0, 0));
+        assert!(c.is_proper(&[], 5));
+    }
+}

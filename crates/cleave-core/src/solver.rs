@@ -135,7 +135,7 @@ pub struct Solver<'m> {
     /// Interfaces and coincident node sets of a split model (element separation).
     separation: Option<Separation>,
     /// Contact definitions of the model.
-    contact: Option<ContactSet>,
+    contact: Option<ContactSet<'m>>,
     /// Scratch: this step's failed interfaces (faces and node pairs), for the contact.
     new_cracks: Vec<Crack>,
     /// Stable time step of the contact penalty springs (infinite without contact).
@@ -226,7 +226,7 @@ impl<'m> Solver<'m> {
     /// The time step is `TSSFAC min(element step, contact step)`, the contact step being
     /// [`ContactSet::stable_dt`] of the initial surfaces: with the default SLSFAC the elements
     /// control it; a stiffer penalty shortens it (see [`Solver::contact_time_step`]).
-    pub fn attach_contact(&mut self, contact: ContactSet) {
+    pub fn attach_contact(&mut self, contact: ContactSet<'m>) {
         if contact.is_empty() {
             return;
         }
@@ -248,7 +248,7 @@ impl<'m> Solver<'m> {
     }
 
     /// The contact definitions, if any.
-    pub fn contact(&self) -> Option<&ContactSet> {
+    pub fn contact(&self) -> Option<&ContactSet<'m>> {
         self.contact.as_ref()
     }
 

@@ -277,19 +277,18 @@ pub struct ContactStats {
     pub released: u64,
 }
 
-/// All contact definitions of a model, with the scratch they share.
+/// All contact definitions of a model, with the scratch they share. It borrows the model (the
+/// faces that join are made from its elements).
 #[derive(Clone, Debug)]
-pub struct ContactSet {
+pub struct ContactSet<'m> {
     contacts: Vec<Contact>,
-    conn: Vec<[u32; 8]>,
-    elem_part: Vec<u32>,
-    table: FaceTable,
+    table: FaceTable<'m>,
     cur: NodalForces,
     prev: NodalForces,
     forces: Vec<ContactForce>,
 }
 
-impl ContactSet {
+impl<'m> ContactSet<'m> {
     /// The contact definitions of `model`, the model the solver runs (split or not).
     ///
     /// `origin[i]` is the deck node of solved node i for a split model
@@ -300,11 +299,14 @@ impl ContactSet {
     ///
     /// Errors: a segment of a segment set that is no element face, a surface-to-surface
     /// definition without a master side.
-    pub fn new(model: &Model, origin: Option<&[u32]>) -> Result<Self, String> {
-        let conn = model.conn.clone();
+    pub fn new(model: &'m Model, origin: Option<&[u32]>) -> Result<Self, String> {
         let deck_conn: Vec<[u32; 8]> = match origin {
-            Some(o) => conn.iter().map(|c| c.map(|n| o[n as usize])).collect(),
-            None => conn.clone(),
+            Some(o) => model
+                .conn
+                .iter()
+                .map(|c| c.map(|n| o[n as usize]))
+                .collect(),
+            None => model.conn.clone(),
         };
         let exterior = if model.contacts.is_empty() {
             Vec::new()
@@ -333,8 +335,6 @@ impl ContactSet {
             .collect();
         Ok(Self {
             contacts,
-            conn,
-            elem_part: model.elem_part.clone(),
             table,
             cur: NodalForces::new(nn),
             prev: NodalForces::new(nn),
@@ -366,7 +366,7 @@ impl ContactSet {
     pub fn activate(&mut self, faces: &[FaceId]) -> usize {
         let mut added = 0;
         for c in &mut self.contacts {
-            added += c.activate(faces, &self.elem_part, &self.conn, &self.table);
+            added += c.activate(faces, &self.table);
         }
         added
     }
@@ -380,7 +380,7 @@ impl ContactSet {
         for crack in cracks {
             added += self.activate(&crack.faces);
             for c in &mut self.contacts {
-                c.close(crack, &self.conn, &self.table);
+                c.close(crack, &self.table);
             }
         }
         added
@@ -426,7 +426,6 @@ impl ContactSet {
             v,
             dt_prev,
             tie,
-            conn: &self.conn,
             table: &self.table,
         };
         for (c, out) in self.contacts.iter_mut().zip(self.forces.iter_mut()) {
@@ -541,7 +540,7 @@ struct Build<'a> {
     deck_conn: &'a [[u32; 8]],
     origin: Option<&'a [u32]>,
     exterior: &'a [FaceId],
-    table: &'a FaceTable,
+    table: &'a FaceTable<'a>,
 }
 
 /// What a step reads.
@@ -550,8 +549,7 @@ struct StepInput<'a> {
     v: &'a [Vec3],
     dt_prev: f64,
     tie: &'a [u32],
-    conn: &'a [[u32; 8]],
-    table: &'a FaceTable,
+    table: &'a FaceTable<'a>,
 }
 
 /// One side of a definition: its faces and their nodes.
@@ -609,13 +607,7 @@ struct Side {
 }
 
 impl Side {
-    fn new(
-        ids: &[FaceId],
-        parts: Vec<bool>,
-        conn: &[[u32; 8]],
-        table: &FaceTable,
-        num_nodes: usize,
-    ) -> Self {
+    fn new(ids: &[FaceId], parts: Vec<bool>, table: &FaceTable, num_nodes: usize) -> Self {
         let mut s = Self {
             faces: Vec::with_capacity(ids.len()),
             present: HashMap::with_capacity(ids.len()),
@@ -643,7 +635,7 @@ impl Side {
             normals: Vec::new(),
         };
         for &id in ids {
-            s.add(id, conn, table);
+            s.add(id, table);
         }
         s.nodes.sort_unstable();
         for (i, &n) in s.nodes.iter().enumerate() {
@@ -732,12 +724,12 @@ impl Side {
     }
 
     /// Add a face unless present (its new nodes are appended to `nodes`); true when added.
-    fn add(&mut self, id: FaceId, conn: &[[u32; 8]], table: &FaceTable) -> bool {
+    fn add(&mut self, id: FaceId, table: &FaceTable) -> bool {
         if self.present.contains_key(&id) {
             return false;
         }
         self.present.insert(id, self.faces.len() as u32);
-        let nodes = face_nodes(&conn[id.0 as usize], id.1);
+        let nodes = face_nodes(&table.model().conn[id.0 as usize], id.1);
         self.faces.push(Face {
             elem: id.0,
             face: id.1,
@@ -1111,13 +1103,7 @@ impl Contact {
         let nn = b.model.num_nodes();
         let side = |s| -> Result<Side, String> {
             let ids = side_faces(b.model, b.deck_conn, b.origin, b.exterior, s)?;
-            Ok(Side::new(
-                &ids,
-                covered_parts(b.model, s),
-                &b.model.conn,
-                b.table,
-                nn,
-            ))
+            Ok(Side::new(&ids, covered_parts(b.model, s), b.table, nn))
         };
         let mut sides = vec![side(&def.slave)?];
         if !def.single_surface {
@@ -1198,19 +1184,13 @@ impl Contact {
 
     /// Add the faces to the sides that cover their parts (nodes appended, with empty friction
     /// history) and remember them: at the next step the nodes near them are searched again.
-    fn activate(
-        &mut self,
-        ids: &[FaceId],
-        elem_part: &[u32],
-        conn: &[[u32; 8]],
-        table: &FaceTable,
-    ) -> usize {
+    fn activate(&mut self, ids: &[FaceId], table: &FaceTable) -> usize {
         let mut added = 0;
         for (si, side) in self.sides.iter_mut().enumerate() {
             let before = side.nodes.len();
             for &id in ids {
-                let part = elem_part[id.0 as usize] as usize;
-                if side.parts.get(part).copied().unwrap_or(false) && side.add(id, conn, table) {
+                let part = table.model().elem_part[id.0 as usize] as usize;
+                if side.parts.get(part).copied().unwrap_or(false) && side.add(id, table) {
                     added += 1;
                 }
             }
@@ -1235,7 +1215,7 @@ impl Contact {
     /// one's nodes against the other ([`closure`]): its node pairs are chained. Call after its
     /// faces were activated. Its deck nodes are relabelled at the next step either way (their
     /// ties broke).
-    fn close(&mut self, crack: &Crack, conn: &[[u32; 8]], table: &FaceTable) {
+    fn close(&mut self, crack: &Crack, table: &FaceTable) {
         for &n in &crack.nodes[0] {
             self.chains.touch(n);
         }
@@ -1249,7 +1229,7 @@ impl Contact {
             return;
         }
         // A's nodes in its outward order, each with its partner on B
-        let a = face_nodes(&conn[fa.0 as usize], fa.1);
+        let a = face_nodes(&table.model().conn[fa.0 as usize], fa.1);
         let mut b = [NONE; 4];
         for (j, &n) in a.iter().enumerate() {
             if let Some(k) = crack.nodes[0].iter().position(|&m| m == n) {
@@ -1534,7 +1514,7 @@ impl Contact {
     /// a grid of the faces that joined since the last full build), as a full build at that
     /// time would have given them. Returns false (nothing done) when so much has joined that a
     /// full build is better.
-    fn update(&mut self, tie: &[u32], conn: &[[u32; 8]], table: &FaceTable) -> bool {
+    fn update(&mut self, tie: &[u32], table: &FaceTable) -> bool {
         let too_many = |extra: usize, base: usize| 4 * extra > base.max(256);
         for p in &self.passes {
             let (ns, fs) = (&self.sides[p.node_side], &self.sides[p.face_side]);
@@ -1567,7 +1547,7 @@ impl Contact {
             let face = Face {
                 elem: id.0,
                 face: id.1,
-                nodes: face_nodes(&conn[id.0 as usize], id.1),
+                nodes: face_nodes(&table.model().conn[id.0 as usize], id.1),
                 k: 0.0,
                 depth: table.depth(id),
             };
@@ -1672,7 +1652,7 @@ impl Contact {
         self.chains.refresh(inp.tie);
         let mut rebuilt =
             self.dirty || self.spread > self.margin || self.motion > REBASE * self.margin;
-        if !rebuilt && !self.pending.is_empty() && !self.update(inp.tie, inp.conn, inp.table) {
+        if !rebuilt && !self.pending.is_empty() && !self.update(inp.tie, inp.table) {
             rebuilt = true;
         }
         if rebuilt {

@@ -64,64 +64,68 @@ pub fn exterior_faces(conn: &[[u32; 8]], elem_filter: impl Fn(u32) -> bool) -> V
     out
 }
 
-/// Penalty stiffness and depth limit of every face of every element, at the reference geometry.
+/// Penalty stiffness and depth limit of the faces of a model's elements, at the reference
+/// geometry, worked out when asked (when a face joins a surface) from the model it borrows.
 ///
 /// LS-DYNA theory manual, penalty method (SOFT = 0) for a face of a solid element:
 /// `k = SLSFAC * K * A^2 / V`, with K the bulk modulus of the element's material (rigid
 /// materials too, from their E and PR), A the face area and V the element volume.
-/// The depth limit is [`DEPTH_FRACTION`] `* V / A`.
+/// The depth limit is [`DEPTH_FRACTION`] `* V / A`. A degenerate face or element gets 0 for
+/// both.
 #[derive(Clone, Debug)]
-pub struct FaceTable {
-    k: Vec<[f64; 6]>,
-    depth: Vec<[f64; 6]>,
+pub struct FaceTable<'m> {
+    model: &'m Model,
     /// Mean of sqrt(A) over all faces: a length scale for the search margin.
     pub mean_size: f64,
 }
 
-impl FaceTable {
-    /// For every element of `model` (connectivity `model.conn`, coordinates `model.x0`).
-    pub fn new(model: &Model) -> Self {
-        let slsfac = model.control.slsfac;
+impl<'m> FaceTable<'m> {
+    /// For the elements of `model` (connectivity `model.conn`, coordinates `model.x0`).
+    pub fn new(model: &'m Model) -> Self {
         let ne = model.num_elements();
-        let mut k = Vec::with_capacity(ne);
-        let mut depth = Vec::with_capacity(ne);
         let mut sum = 0.0;
-        for (e, c) in model.conn.iter().enumerate() {
-            let xe: [Vec3; 8] = std::array::from_fn(|a| model.x0[c[a] as usize]);
-            let v = volume(&xe);
-            let bulk = model.element_material(e).bulk_modulus();
-            let mut ke = [0.0; 6];
-            let mut de = [0.0; 6];
-            for (f, corners) in FACES.iter().enumerate() {
-                let p = corners.map(|a| xe[a]);
-                let area = quad_area(p[0], p[1], p[2], p[3]);
-                sum += area.sqrt();
-                if v > 0.0 && area > 0.0 {
-                    ke[f] = slsfac * bulk * area * area / v;
-                    de[f] = DEPTH_FRACTION * v / area;
-                }
+        for c in &model.conn {
+            for corners in FACES.iter() {
+                let p = corners.map(|a| model.x0[c[a] as usize]);
+                sum += quad_area(p[0], p[1], p[2], p[3]).sqrt();
             }
-            k.push(ke);
-            depth.push(de);
         }
         let mean_size = if ne > 0 { sum / (6 * ne) as f64 } else { 0.0 };
-        Self {
-            k,
-            depth,
-            mean_size,
-        }
+        Self { model, mean_size }
+    }
+
+    /// The model the faces are of.
+    pub fn model(&self) -> &'m Model {
+        self.model
+    }
+
+    /// Area of face `f` of element `e` and the element's volume.
+    fn geometry(&self, (e, f): FaceId) -> (f64, f64) {
+        let c = &self.model.conn[e as usize];
+        let xe: [Vec3; 8] = std::array::from_fn(|a| self.model.x0[c[a] as usize]);
+        let p = FACES[f as usize].map(|a| xe[a]);
+        (quad_area(p[0], p[1], p[2], p[3]), volume(&xe))
     }
 
     /// Penalty stiffness of a face (force per length).
-    #[inline]
-    pub fn stiffness(&self, (e, f): FaceId) -> f64 {
-        self.k[e as usize][f as usize]
+    pub fn stiffness(&self, id: FaceId) -> f64 {
+        let (area, v) = self.geometry(id);
+        if v > 0.0 && area > 0.0 {
+            let bulk = self.model.element_material(id.0 as usize).bulk_modulus();
+            self.model.control.slsfac * bulk * area * area / v
+        } else {
+            0.0
+        }
     }
 
     /// Largest penetration that still counts as contact with a face.
-    #[inline]
-    pub fn depth(&self, (e, f): FaceId) -> f64 {
-        self.depth[e as usize][f as usize]
+    pub fn depth(&self, id: FaceId) -> f64 {
+        let (area, v) = self.geometry(id);
+        if v > 0.0 && area > 0.0 {
+            DEPTH_FRACTION * v / area
+        } else {
+            0.0
+        }
     }
 }
 

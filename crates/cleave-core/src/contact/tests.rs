@@ -375,13 +375,13 @@ fn jitter_positions(m: &Model, na: usize, steps: usize, seed: u64) -> Vec<Vec<Ve
     let mut out = vec![x.clone()];
     for _ in 0..steps {
         for (i, p) in x.iter_mut().enumerate() {
-            let dz = if i >= na { -0.004 } else { 0.0 };
+            let dz = if i >= na { -0.0015 } else { 0.0 };
             *p = add(
                 *p,
                 [
-                    r.range(-0.01, 0.01),
-                    r.range(-0.01, 0.01),
-                    dz + r.range(-0.01, 0.01),
+                    r.range(-0.0035, 0.0035),
+                    r.range(-0.0035, 0.0035),
+                    dz + r.range(-0.0035, 0.0035),
                 ],
             );
         }
@@ -511,7 +511,7 @@ fn incremental_vs_full(single: bool) {
             steps: 40,
             fail_every: 3,
             fail_p: 0.08,
-            step_dt: 0.004,
+            step_dt: 0.0015,
         },
         |r, _| [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)],
         |_| {},
@@ -613,22 +613,26 @@ fn failing_block(
 fn skipping_equals_testing_every_candidate() {
     for single in [true, false] {
         let (mut m, na) = jitter_model(single);
-        // B starts 0.03 above A
+        // B starts 0.004 above A
         for p in m.x0[na..].iter_mut() {
-            p[2] += 0.04;
+            p[2] += 0.014;
         }
         let mut r = Rng(9);
         let mut x = m.x0.clone();
         let mut xs = vec![x.clone()];
         for _ in 0..80 {
             for (i, p) in x.iter_mut().enumerate() {
-                let (dx, dz) = if i >= na { (0.002, -0.001) } else { (0.0, 0.0) };
+                let (dx, dz) = if i >= na {
+                    (0.0007, -0.00035)
+                } else {
+                    (0.0, 0.0)
+                };
                 *p = add(
                     *p,
                     [
-                        dx + r.range(-3e-4, 3e-4),
-                        r.range(-3e-4, 3e-4),
-                        dz + r.range(-3e-4, 3e-4),
+                        dx + r.range(-1e-4, 1e-4),
+                        r.range(-1e-4, 1e-4),
+                        dz + r.range(-1e-4, 1e-4),
                     ],
                 );
             }

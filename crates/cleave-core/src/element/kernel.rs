@@ -74,6 +74,8 @@ pub fn hex8_step(
     let jn = centre_jacobian(x);
     let (detn, jinv) = det_inverse(&jn).ok_or(InvertedElement)?;
     let vol = 8.0 * detn;
+    // l = V^(1/3), the length of the bulk viscosity and (squared) of the viscous hourglass
+    let l_vol = vol.cbrt();
     let b = gradients_from_inverse(&jinv);
     let jv = centre_jacobian(v);
 
@@ -120,7 +122,7 @@ pub fn hex8_step(
         de_internal = vol_mid * crate::math::ddot(&avg, &d_eps);
         eps_v_rate = l[0][0] + l[1][1] + l[2][2];
         if eps_v_rate < 0.0 {
-            let lq = vol.cbrt();
+            let lq = l_vol;
             q = mat.density
                 * lq
                 * (ctl.q1 * lq * eps_v_rate * eps_v_rate - ctl.q2 * mat.wave_speed * eps_v_rate);
@@ -179,7 +181,7 @@ pub fn hex8_step(
                 .sum();
             ctl.qh * (mat.lambda + 2.0 * mat.shear) * vol * bb / 8.0 * dt_prev
         }
-        Hourglass::Viscous => ctl.qh * mat.density * mat.wave_speed * vol.powf(2.0 / 3.0) / 4.0,
+        Hourglass::Viscous => ctl.qh * mat.density * mat.wave_speed * l_vol * l_vol / 4.0,
     };
     let mut de_hourglass = 0.0;
     let mut scratch = [0.0; 12];

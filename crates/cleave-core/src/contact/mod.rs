@@ -68,8 +68,8 @@
 //! Before projecting, a node is tested against cheap exact bounds of the face
 //! ([`penalty::Cull`], from [`penalty::FaceBounds`]: sphere, mean-plane slab, lateral
 //! distance), then against the facing bound (below), then off the face's corners; together they
-//! reject most candidates. The bounds are updated each step for the faces that are some node's
-//! candidate.
+//! reject most candidates. A face's bounds are worked out at the current positions the first
+//! time a step tests it, once per thread ([`bounds_cache`]).
 //!
 //! # Search
 //! Candidate faces of each node come from bucket grids ([`search`]) over face boxes inflated by
@@ -167,6 +167,7 @@
 //! skipping and the parallel searches: 2.09 and 3.46 us, 89%. Without separation
 //! (`--no-separation`) contact takes 14% of a 0.17 us element step (2 threads).
 
+pub mod bounds_cache;
 pub mod closure;
 pub mod engagement;
 pub mod friction;
@@ -181,13 +182,12 @@ use rayon::prelude::*;
 
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{ContactDef, Model};
+use bounds_cache::BoundsCache;
 pub use closure::Crack;
 use closure::{Chains, Closure};
 use engagement::{engage, Previous};
 use friction::{tangential_force, Friction};
-use penalty::{
-    normal_force, off_corners, project, Cull, CullMore, FaceBounds, Projection, INSIDE_TOL,
-};
+use penalty::{normal_force, off_corners, project, Cull, CullMore, Projection, INSIDE_TOL};
 use schedule::{Cand, Sched};
 use search::{Aabb, BucketGrid};
 use surface::{covered_parts, exterior_faces, face_nodes, side_faces, FaceId, FaceTable};
@@ -599,11 +599,6 @@ struct Side {
     /// build. Faces `..boxed` have their box.
     base: usize,
     boxed: usize,
-    /// Whether the face is some node's candidate: only those get their bounds each step.
-    needed: Vec<bool>,
-    /// Bounds of each needed face at the current positions.
-    geo: Vec<Cull>,
-    geo_more: Vec<CullMore>,
     /// Each face's diagonal cross product `d1 x d2` and `|d1| + |d2|` at the current
     /// positions (for the normals of its nodes).
     normals: Vec<(Vec3, f64)>,
@@ -632,9 +627,6 @@ impl Side {
             spheres: Vec::new(),
             base: 0,
             boxed: 0,
-            needed: Vec::new(),
-            geo: Vec::new(),
-            geo_more: Vec::new(),
             normals: Vec::new(),
         };
         for &id in ids {
@@ -745,9 +737,6 @@ impl Side {
             max: [0.0; 3],
         });
         self.spheres.push(([0.0; 3], 0.0));
-        self.needed.push(false);
-        self.geo.push(Cull::default());
-        self.geo_more.push(CullMore::default());
         self.normals.push(([0.0; 3], 0.0));
         for n in nodes {
             if self.local[n as usize] == NONE {
@@ -822,24 +811,18 @@ impl Side {
         self.boxed = self.faces.len();
     }
 
-    /// Bounds of the needed faces and the normals of all faces at the current positions.
+    /// The normals of all faces at the current positions (their bounds are worked out when a
+    /// check needs them, [`bounds_cache`]).
     fn update_geometry(&mut self, x: &[Vec3]) {
-        let (faces, needed) = (&self.faces, &self.needed);
-        self.geo
+        let faces = &self.faces;
+        self.normals
             .par_iter_mut()
-            .zip(self.geo_more.par_iter_mut())
-            .zip(self.normals.par_iter_mut())
             .enumerate()
             .with_min_len(4 * NODE_CHUNK)
-            .for_each(|(f, ((g, gm), nf))| {
-                let face = &faces[f];
-                let p = face.nodes.map(|n| x[n as usize]);
+            .for_each(|(f, nf)| {
+                let p = faces[f].nodes.map(|n| x[n as usize]);
                 let (d1, d2) = (sub(p[2], p[0]), sub(p[3], p[1]));
                 *nf = (cross(d1, d2), norm(d1) + norm(d2));
-                if needed[f] {
-                    let b = FaceBounds::new(&p);
-                    (*g, *gm) = Cull::new(&b, face.depth, GAP_TOL * b.r);
-                }
             });
     }
 }
@@ -1362,7 +1345,6 @@ impl Contact {
             side.base = side.faces.len();
             side.boxed = 0;
             side.box_new_faces(x, m);
-            side.needed.iter_mut().for_each(|n| *n = false);
         }
         let Self {
             sides,
@@ -1404,14 +1386,6 @@ impl Contact {
                 .enumerate()
                 .with_min_len(NODE_CHUNK / 4)
                 .for_each(|(i, (list, sched))| q.run(i, list, sched));
-        }
-        for pass in passes.iter() {
-            let needed = &mut sides[pass.face_side].needed;
-            for (list, sched) in pass.cand.iter().zip(&pass.sched) {
-                for f in sched.faces(list) {
-                    needed[f as usize] = true;
-                }
-            }
         }
         self.pending.clear();
         self.dirty = false;
@@ -1619,13 +1593,6 @@ impl Contact {
                         }
                     });
             }
-            let needed = &mut sides[pass.face_side].needed;
-            for &i in scratch.iter() {
-                let i = i as usize;
-                for f in pass.sched[i].faces(&pass.cand[i]) {
-                    needed[f as usize] = true;
-                }
-            }
         }
         pending.clear();
         self.updates += 1;
@@ -1709,8 +1676,7 @@ impl Contact {
                 nodes: &ns.nodes,
                 node_side: ns,
                 faces: &fs.faces,
-                geo: &fs.geo,
-                geo_more: &fs.geo_more,
+                generation: bounds_cache::next_generation(),
                 motion,
                 hot_until,
                 drop_beyond,
@@ -1772,8 +1738,8 @@ struct NodeCheck<'a> {
     /// The node side (for the nodes' normals, [`Side::frame`]).
     node_side: &'a Side,
     faces: &'a [Face],
-    geo: &'a [Cull],
-    geo_more: &'a [CullMore],
+    /// This pass's generation of face bounds ([`bounds_cache`]).
+    generation: u64,
     /// The motion bound now; candidates due by `hot_until` stay hot; pairs whose bounds'
     /// clearance exceeds `drop_beyond` leave the lists.
     motion: f64,
@@ -1864,16 +1830,16 @@ impl NodeCheck<'_> {
         xs: Vec3,
         best: &mut Option<(u32, Projection)>,
         frame: &mut Option<NodeFrame>,
+        bounds: &mut BoundsCache,
     ) -> (f64, bool) {
         let x = self.inp.x;
-        let cull = &self.geo[fi as usize];
+        let (cull, more) = bounds.get(self.generation, fi, self.faces, x);
         let clear = cull.clearance(xs);
         if let Some(d) = clear {
             if d > self.hot_until - self.motion {
                 return (d, d > self.drop_beyond);
             }
         }
-        let more = &self.geo_more[fi as usize];
         let facing = frame
             .get_or_insert_with(|| self.node_frame(i))
             .facing_clearance(cull, more);
@@ -1929,7 +1895,7 @@ impl NodeCheck<'_> {
         // faces holding the node or a node tied to it are not candidates (see `Query::run`)
         sched.visit(list, self.motion, self.hot_until, |f| {
             let xs = *xs.get_or_insert_with(|| x[s as usize]);
-            self.test(i, f, xs, &mut best, &mut frame)
+            BoundsCache::with(|bounds| self.test(i, f, xs, &mut best, &mut frame, bounds))
         });
         let Some((fi, pr)) = best else {
             // no contact (the hit and the tangential force are zero already when `prev` is)

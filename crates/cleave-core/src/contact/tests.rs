@@ -6,6 +6,7 @@ use crate::math::norm;
 use crate::mesh::{single_part_model, BoxMesh};
 use crate::model::{ContactSurface, Material, MaterialKind, Part, SegmentSet};
 use crate::setup::Setup;
+use penalty::FaceBounds;
 use search::tests::Rng;
 
 const E: f64 = 1.0e9;

@@ -194,6 +194,11 @@ impl Chains {
         }
     }
 
+    /// The copies of model node n's deck node (n among them); `None` when not split.
+    pub fn copies(&self, n: u32) -> Option<&[u32]> {
+        (!self.deck.is_empty()).then(|| self.copies.of(self.deck[n as usize]))
+    }
+
     /// Whether nodes a and s are held together (see the type); false when not split.
     #[inline]
     pub fn held(&self, a: u32, s: u32) -> bool {

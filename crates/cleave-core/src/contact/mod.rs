@@ -700,6 +700,63 @@ impl Side {
         }
     }
 
+    /// [`Side::regroup`] for the nodes `some` only (local indices, ascending, holding every
+    /// member on the side of each coincident set it touches, before and after): their leads
+    /// and chains come out as a regroup of all nodes would make them, the other nodes' are
+    /// left as they are (their sets did not change).
+    fn regroup_some(
+        &mut self,
+        some: &[u32],
+        tie: &[u32],
+        set_lead: &mut Vec<u32>,
+        changed: &mut Vec<(u32, u32)>,
+    ) {
+        let n = self.nodes.len();
+        self.group.resize(n, NONE);
+        self.next.resize(n, NONE);
+        self.prev_group.resize(n, NONE);
+        let set = |i: u32| {
+            tie.get(self.nodes[i as usize] as usize)
+                .copied()
+                .unwrap_or(NONE)
+        };
+        for &i in some {
+            self.prev_group[i as usize] = self.group[i as usize];
+            self.next[i as usize] = NONE;
+            let t = set(i) as usize;
+            if t != NONE as usize {
+                if set_lead.len() <= t {
+                    set_lead.resize(t + 1, NONE);
+                }
+                set_lead[t] = set_lead[t].min(self.nodes[i as usize]);
+            }
+        }
+        // NOTE: ascending, as Side::regroup: the same member chains, so the same sums
+        for &i in some {
+            let t = set(i);
+            let lead = if t == NONE {
+                i
+            } else {
+                self.local[set_lead[t as usize] as usize]
+            };
+            let iu = i as usize;
+            if self.group[iu] != lead {
+                changed.push((i, self.group[iu]));
+                self.group[iu] = lead;
+            }
+            if lead != i {
+                self.next[iu] = self.next[lead as usize];
+                self.next[lead as usize] = i;
+            }
+        }
+        for &i in some {
+            let t = set(i);
+            if t != NONE {
+                set_lead[t as usize] = NONE;
+            }
+        }
+    }
+
     /// Lead `i` and the other members of its coincident set on the side ([`Side::next`]).
     fn members(&self, i: u32) -> impl Iterator<Item = u32> + '_ {
         std::iter::successors(Some(i), |&k| {
@@ -1025,6 +1082,8 @@ pub struct Contact {
     /// changed, per side.
     set_lead: Vec<u32>,
     regrouped: Vec<Vec<(u32, u32)>>,
+    /// Scratch of [`Contact::regroup_pending`]: the nodes of a side to regroup.
+    some: Vec<u32>,
     rebuilds: u64,
     updates: u64,
     released: u64,
@@ -1144,6 +1203,7 @@ impl Contact {
             region: Vec::new(),
             set_lead: Vec::new(),
             regrouped: Vec::new(),
+            some: Vec::new(),
             rebuilds: 0,
             updates: 0,
             released: 0,
@@ -1394,10 +1454,50 @@ impl Contact {
 
     /// The coincident sets' leads of every side under `tie` ([`Side::regroup`]).
     fn regroup(&mut self, tie: &[u32]) {
+        self.regroup_where(tie, None);
+    }
+
+    /// [`Contact::regroup`] of only the copies of the deck nodes of the pending faces (`conn`:
+    /// the model's connectivity) when the model is split: only their ties broke, and the nodes
+    /// that joined are among them; of every node otherwise.
+    fn regroup_pending(&mut self, tie: &[u32], conn: &[[u32; 8]]) {
+        self.regroup_where(tie, Some(conn));
+    }
+
+    fn regroup_where(&mut self, tie: &[u32], pending_in: Option<&[[u32; 8]]>) {
         self.regrouped.resize_with(self.sides.len(), Vec::new);
-        for (si, (side, changed)) in self.sides.iter_mut().zip(&mut self.regrouped).enumerate() {
+        let Self {
+            sides,
+            regrouped,
+            set_lead,
+            some,
+            pending,
+            chains,
+            passes,
+            ..
+        } = self;
+        for (si, (side, changed)) in sides.iter_mut().zip(regrouped.iter_mut()).enumerate() {
             changed.clear();
-            side.regroup(tie, &mut self.set_lead, changed);
+            match pending_in.filter(|_| chains.copies(0).is_some()) {
+                Some(conn) => {
+                    some.clear();
+                    for &(e, f) in pending.iter() {
+                        for n in face_nodes(&conn[e as usize], f) {
+                            let copies = chains.copies(n).unwrap_or_default();
+                            for &c in copies {
+                                let k = side.local[c as usize];
+                                if k != NONE {
+                                    some.push(k);
+                                }
+                            }
+                        }
+                    }
+                    some.sort_unstable();
+                    some.dedup();
+                    side.regroup_some(some, tie, set_lead, changed);
+                }
+                None => side.regroup(tie, set_lead, changed),
+            }
             for &(i, old) in changed.iter() {
                 // the set's normal changed: the facing part of its clearances is void
                 side.renewed.push(i);
@@ -1418,7 +1518,7 @@ impl Contact {
                     continue;
                 };
                 if from != i {
-                    for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
+                    for pass in passes.iter_mut().filter(|p| p.node_side == si) {
                         pass.hits[i as usize] = pass.hits[from as usize];
                         pass.ft[i as usize] = pass.ft[from as usize];
                     }
@@ -1501,7 +1601,7 @@ impl Contact {
                 return false;
             }
         }
-        self.regroup(tie);
+        self.regroup_pending(tie, &table.model().conn);
         let m = self.margin;
         let hot_until = self.motion + HOT_STEPS * self.step_motion;
         let Self {

@@ -35,7 +35,13 @@ pub struct BoundsCache {
 }
 
 thread_local! {
-    static CACHE: RefCell<BoundsCache> = RefCell::new(BoundsCache::default());
+    // const: no lazy-initialisation check on each access
+    static CACHE: RefCell<BoundsCache> = const {
+        RefCell::new(BoundsCache {
+            stamp: Vec::new(),
+            bounds: Vec::new(),
+        })
+    };
 }
 
 impl BoundsCache {

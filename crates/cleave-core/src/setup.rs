@@ -1,7 +1,6 @@
-//! Preprocessing done once before the first step: lumped masses, the colours of the element
-//! chunks, per-material kernel parameters, rigid bodies and the constraint lists.
+//! Preprocessing done once before the first step: lumped masses, per-material kernel
+//! parameters, rigid bodies and the constraint lists.
 
-use crate::element::colouring::Colouring;
 use crate::element::hex8;
 use crate::material::{free_element_speed, SolidParams};
 use crate::math::Vec3;
@@ -13,9 +12,6 @@ use crate::rigid::{build_rigid_bodies, RigidBody, NOT_RIGID};
 pub struct Setup {
     /// Lumped nodal mass: each element gives rho V / 8 to each of its corners (V exact).
     pub mass: Vec<f64>,
-    /// Colours of the element chunks: the element pass adds the corner forces of one colour's
-    /// chunks at a time, in parallel, in a fixed order whatever the thread count.
-    pub colouring: Colouring,
     /// Kernel parameters per material (None: rigid).
     pub params: Vec<Option<SolidParams>>,
     /// The same with the free-element step speed, for elements of a split mesh that have lost
@@ -57,13 +53,6 @@ impl Setup {
                 mass[n as usize] += m8;
             }
         }
-
-        let colouring = Colouring::new(&model.conn, nn);
-        // the element pass's writes are race-free only with a proper colouring
-        assert!(
-            colouring.is_proper(&model.conn, nn),
-            "element chunk colouring has a clash"
-        );
 
         let params: Vec<Option<SolidParams>> = model
             .materials
@@ -150,7 +139,6 @@ impl Setup {
             .collect();
         Ok(Self {
             mass,
-            colouring,
             params,
             loose_params,
             elem_mat,

@@ -35,8 +35,9 @@ use crate::separation::interfaces::Separation;
 use crate::setup::Setup;
 use crate::state::{Energies, RigidState, State};
 
-/// Elements per parallel task of the element pass, at least (the chunks of the sums are the
-/// colouring's, fixed by the mesh, for deterministic sums).
+/// Each parallel task of the element pass spans at least this many elements' worth of chunks
+/// before the colour filter (so about `ELEM_CHUNK / colours` elements of work); the chunks of
+/// the sums are the colouring's, fixed by the mesh, for deterministic sums.
 const ELEM_CHUNK: usize = 256;
 /// Nodes per chunk of the nodal passes.
 const NODE_CHUNK: usize = 1024;
@@ -44,13 +45,14 @@ const NODE_CHUNK: usize = 1024;
 /// Wall-clock seconds spent in each phase of the step so far (for benchmarks and profiles).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PhaseTimes {
-    /// Element pass: stresses, corner forces, element time step.
+    /// Element pass: stresses, corner forces and their assembly into the nodes (with the body
+    /// loads), element time step.
     pub elements: f64,
     /// Failure check of the interfaces.
     pub interfaces: f64,
     /// Contact search and forces.
     pub contact: f64,
-    /// Everything else of `advance_to_half_step` (assembly, cohesive forces, tie, velocities,
+    /// Everything else of `advance_to_half_step` (cohesive forces, tie, velocities,
     /// rigid bodies, constraints, energies) and the position update.
     pub nodal: f64,
 }
@@ -126,6 +128,9 @@ pub struct Solver<'m> {
     /// Rigid wall resultants at t^n.
     pub wall_forces: Vec<WallForce>,
     ctl: KernelControls,
+    /// Colours of the element chunks, with the connectivity the element pass reads (private:
+    /// checked proper once, its writes are race-free only so).
+    colouring: Colouring<'m>,
     f: Vec<Vec3>,
     chunk_sums: Vec<ElemChunkSum>,
     node_sums: Vec<[f64; 4]>,
@@ -187,13 +192,20 @@ impl<'m> Solver<'m> {
             initial_energy: 0.0,
             dt_element: 0,
         };
-        let chunk_sums = vec![ElemChunkSum::default(); setup.colouring.chunks()];
+        let colouring = Colouring::new(&model.conn, nn);
+        // the element pass's parallel writes are race-free only with a proper colouring
+        assert!(
+            colouring.is_proper(nn),
+            "element chunk colouring has a clash"
+        );
+        let chunk_sums = vec![ElemChunkSum::default(); colouring.chunks()];
         Ok(Self {
             model,
             setup,
             state,
             wall_forces: vec![WallForce::default(); model.rigid_walls.len()],
             ctl,
+            colouring,
             f: vec![[0.0; 3]; nn],
             chunk_sums,
             node_sums: Vec::with_capacity(nn.div_ceil(NODE_CHUNK)),
@@ -318,6 +330,7 @@ impl<'m> Solver<'m> {
             setup,
             state,
             ctl,
+            colouring,
             f,
             chunk_sums,
             ..
@@ -330,13 +343,10 @@ impl<'m> Solver<'m> {
         let v = &state.v;
         let dt_prev = state.dt_prev;
         let ctl = *ctl;
-        let conn = &model.conn;
+        // the colouring's connectivity: the nodes written are those it was checked for
+        let conn = colouring.conn();
+        let (size, colour, colours) = (colouring.size(), colouring.colour(), colouring.colours());
         let loose = self.separation.as_ref().map(|s| s.loose_elements());
-        let Colouring {
-            size,
-            ref colour,
-            colours,
-        } = setup.colouring;
         let sink = Scatter::new(f);
         let process = |c: usize,
                        sc: &mut [crate::math::Sym3],
@@ -373,7 +383,10 @@ impl<'m> Solver<'m> {
                 ) {
                     Ok(r) => {
                         for (&n, fa) in ids.iter().zip(fe) {
-                            sink.add(n, fa);
+                            // SAFETY: this runs for the chunks of one colour at a time (the
+                            // loop below) of a colouring checked proper in `Solver::new`: no
+                            // other thread adds to node n meanwhile
+                            unsafe { sink.add(n, fa) };
                         }
                         acc.de_internal += r.de_internal;
                         acc.de_hourglass += r.de_hourglass;

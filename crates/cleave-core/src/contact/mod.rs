@@ -154,18 +154,21 @@
 //!
 //! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
-//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us), on this project's 2-core machine, two
-//! threads, runs alternating: with closed cracks 0.459-0.463 us per element step, contact
-//! 55-56% of the step (1592 cracks closed at the end, 336 released); before them (2e12603)
-//! 0.668-0.688 us and 66-68%. Before, the pairs tested in full were 29
-//! million over the run, 26 million of them a node within a quarter of the depth of a corner
-//! of the face (across a barely open crack); with them about 2.1 million, 19 thousand near a corner (counted on a build whose
-//! pairs had a quarter of the final stiffness).
-//! What remains is the per-step work over all listed pairs and faces (the schedule, the face
-//! bounds, the motion tracking) and the searches. Earlier builds: checking every copy of a set
-//! (before 0ccfa64): 1.29 and 2.44 us on 2 and 1 threads, contact 81% and 84%; before the
-//! skipping and the parallel searches: 2.09 and 3.46 us, 89%. Without separation
-//! (`--no-separation`) contact takes 14% of a 0.17 us element step (2 threads).
+//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us), on this project's 2-core machine, one
+//! thread, runs alternating with the build of the session's start (16afc31): 0.530-0.540 us
+//! per element step, contact 44% of the step (16afc31: 0.704-0.707 us, 54%). Per step, with
+//! the margin at 0.1: about 11,000 nodes on the surface, 3,800 leads, 1,700 pair tests, 49
+//! projections, bounds worked out for 740 faces of 3,100 listed (at 20,000 elements: 65,000
+//! nodes, 22,000 leads, 10,900 tests of which 62% are rejected by the bounds with a clearance
+//! of more than [`HOT_STEPS`] steps, 460 projections). Timers added for one run
+//! (then removed): node checks 1.2 s, full searches 0.55 s (90), incremental searches 0.11 s
+//! (558), closed cracks 0.29 s, motion tracking 0.19 s, scatter 0.08 s, face normals 0.07 s.
+//! The node checks are bound by memory: each test reads the node's schedule, its list, the
+//! face's bounds and stamp, at about 200 ns a test. Closed cracks (c76f631) took the pairs
+//! tested in full from 29 to about 2.1 million over the run. Earlier builds: checking every
+//! copy of a set (before 0ccfa64): 1.29 and 2.44 us on 2 and 1 threads, contact 81% and 84%;
+//! before the skipping and the parallel searches: 2.09 and 3.46 us, 89%. Without separation
+//! (`--no-separation`) contact takes 2-3% of the 20,000-element ball's step.
 
 pub mod bounds_cache;
 pub mod closure;
@@ -579,7 +582,8 @@ struct Side {
     /// (module docs, Coincident copies); valid after each search.
     group: Vec<u32>,
     next: Vec<u32>,
-    /// `group` before the last [`Side::regroup`] (NONE for the nodes new to the side).
+    /// `group` before the last [`Side::regroup`] (NONE for the nodes new to the side); after a
+    /// [`Side::regroup_some`], valid for the nodes it regrouped (the only ones read).
     prev_group: Vec<u32>,
     /// Nodes (indices into `nodes`) that got faces since the last step: their normal changed.
     renewed: Vec<u32>,
@@ -1459,7 +1463,11 @@ impl Contact {
 
     /// [`Contact::regroup`] of only the copies of the deck nodes of the pending faces (`conn`:
     /// the model's connectivity) when the model is split: only their ties broke, and the nodes
-    /// that joined are among them; of every node otherwise.
+    /// that joined are among them; of every node otherwise. This rests on two things the
+    /// solver keeps: every tie that breaks comes with its interface's faces named to
+    /// [`ContactSet::activate`], and a coincident set only holds copies of one deck node (the
+    /// `origin` given to [`ContactSet::new`] is that of the split behind `tie`). The unit tests
+    /// check each such regroup against a regroup of every node.
     fn regroup_pending(&mut self, tie: &[u32], conn: &[[u32; 8]]) {
         self.regroup_where(tie, Some(conn));
     }
@@ -1494,7 +1502,16 @@ impl Contact {
                     }
                     some.sort_unstable();
                     some.dedup();
+                    #[cfg(test)]
+                    let mut full = side.clone();
                     side.regroup_some(some, tie, set_lead, changed);
+                    // tests: the same leads and member chains as a regroup of every node
+                    #[cfg(test)]
+                    {
+                        full.regroup(tie, &mut Vec::new(), &mut Vec::new());
+                        assert_eq!(full.group, side.group, "regroup_some: leads");
+                        assert_eq!(full.next, side.next, "regroup_some: member chains");
+                    }
                 }
                 None => side.regroup(tie, set_lead, changed),
             }

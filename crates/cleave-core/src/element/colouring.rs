@@ -15,8 +15,14 @@
 //! than the most elements around one element). It depends on the mesh only, never on the
 //! number of threads.
 //!
-//! Memory: 4 bytes per chunk and a colour start per colour (the per-element force buffer it
-//! replaces took 192 bytes per element, and its node-to-corner index 4 more per corner).
+//! Memory: 4 bytes per chunk (the per-element force buffer it replaces took 192 bytes per
+//! element, and its node-to-corner index 4 more per corner).
+//!
+//! Soundness: the element pass writes the nodes through [`Scatter`] from several threads at
+//! once, which is race-free only because no two chunks of a colour share a node. A
+//! [`Colouring`] keeps the connectivity it was made for, its fields are private, and the solver
+//! checks it with [`Colouring::is_proper`] once and reads the elements' nodes from it, so the
+//! colours and the nodes written cannot disagree.
 
 use crate::math::Vec3;
 
@@ -26,20 +32,21 @@ pub const SIZES: [usize; 5] = [256, 64, 16, 4, 1];
 /// Chunks per colour, on average, a chunk size must leave (so 2 threads share each colour).
 pub const MIN_PER_COLOUR: usize = 8;
 
-/// The chunks of a mesh grouped by colour.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Colouring {
+/// The chunks of a mesh grouped by colour, with the mesh's connectivity.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Colouring<'m> {
+    conn: &'m [[u32; 8]],
     /// Elements per chunk (the last chunk may be shorter).
-    pub size: usize,
+    size: usize,
     /// Colour of each chunk.
-    pub colour: Vec<u32>,
+    colour: Vec<u32>,
     /// Number of colours.
-    pub colours: usize,
+    colours: usize,
 }
 
-impl Colouring {
+impl<'m> Colouring<'m> {
     /// The colouring of the elements `conn` over `num_nodes` nodes (see the module docs).
-    pub fn new(conn: &[[u32; 8]], num_nodes: usize) -> Self {
+    pub fn new(conn: &'m [[u32; 8]], num_nodes: usize) -> Self {
         let mut best = Self::with_size(conn, num_nodes, SIZES[0]);
         for &size in &SIZES[1..] {
             if best.chunks() >= MIN_PER_COLOUR * best.colours {
@@ -55,7 +62,7 @@ impl Colouring {
     }
 
     /// Greedy colouring of the chunks of `size` elements.
-    pub fn with_size(conn: &[[u32; 8]], num_nodes: usize, size: usize) -> Self {
+    pub fn with_size(conn: &'m [[u32; 8]], num_nodes: usize, size: usize) -> Self {
         let size = size.max(1);
         let chunks = conn.len().div_ceil(size);
         // node -> chunks touching it (CSR, each chunk once per node)
@@ -112,10 +119,31 @@ impl Colouring {
             colours = colours.max(k + 1);
         }
         Self {
+            conn,
             size,
             colour,
             colours,
         }
+    }
+
+    /// The elements' nodes.
+    pub fn conn(&self) -> &'m [[u32; 8]] {
+        self.conn
+    }
+
+    /// Elements per chunk (the last chunk may be shorter).
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
+    /// Number of colours.
+    pub fn colours(&self) -> usize {
+        self.colours
+    }
+
+    /// Colour of each chunk.
+    pub fn colour(&self) -> &[u32] {
+        &self.colour
     }
 
     /// Number of chunks.
@@ -123,8 +151,17 @@ impl Colouring {
         self.colour.len()
     }
 
-    /// Whether no two chunks of one colour share a node (what the element pass relies on).
-    pub fn is_proper(&self, conn: &[[u32; 8]], num_nodes: usize) -> bool {
+    /// Whether every chunk has a colour and no two chunks of one colour share a node (what the
+    /// element pass relies on), the nodes being below `num_nodes`.
+    pub fn is_proper(&self, num_nodes: usize) -> bool {
+        let conn = self.conn;
+        if self.size == 0
+            || self.colour.len() != conn.len().div_ceil(self.size)
+            || self.colour.iter().any(|&k| k as usize >= self.colours)
+            || conn.iter().flatten().any(|&n| n as usize >= num_nodes)
+        {
+            return false;
+        }
         // the last chunk that touched each node: a chunk of the same colour is a clash
         let mut seen = vec![u32::MAX; num_nodes];
         for k in 0..self.colours as u32 {
@@ -147,12 +184,10 @@ impl Colouring {
 
 /// The nodal forces, shared by the chunks of one colour while they add their corner forces.
 ///
-/// Safety argument: [`Scatter::add`] writes node i through a raw pointer. The element pass
-/// only calls it from the chunks of one colour at a time, and a proper [`Colouring`] (checked
-/// when the solver is set up, [`Colouring::is_proper`]) gives no two chunks of a colour a
-/// common node, so no two threads ever touch the same node at once; the index is bounds
-/// checked. The mutable borrow of the slice keeps everything else off it meanwhile.
-pub struct Scatter<'a> {
+/// [`Scatter::add`] writes node i through a raw pointer; the mutable borrow of the slice keeps
+/// everything else off it meanwhile. Crate-private: only the element pass uses it, from the
+/// chunks of one colour at a time of a proper [`Colouring`] (module docs).
+pub(crate) struct Scatter<'a> {
     ptr: *mut Vec3,
     len: usize,
     _borrow: std::marker::PhantomData<&'a mut [Vec3]>,
@@ -162,7 +197,7 @@ pub struct Scatter<'a> {
 unsafe impl Sync for Scatter<'_> {}
 
 impl<'a> Scatter<'a> {
-    pub fn new(f: &'a mut [Vec3]) -> Self {
+    pub(crate) fn new(f: &'a mut [Vec3]) -> Self {
         Self {
             ptr: f.as_mut_ptr(),
             len: f.len(),
@@ -170,12 +205,16 @@ impl<'a> Scatter<'a> {
         }
     }
 
-    /// `f[i] += g`. Call only from the chunks of one colour at a time (type docs).
+    /// `f[i] += g` (the index is bounds checked).
+    ///
+    /// # Safety
+    /// No other thread may add to node i at the same time: call it only from the chunks of
+    /// one colour at a time of a proper [`Colouring`].
     #[inline]
-    pub fn add(&self, i: u32, g: Vec3) {
+    pub unsafe fn add(&self, i: u32, g: Vec3) {
         let i = i as usize;
         assert!(i < self.len, "node {i} out of range");
-        // SAFETY: in bounds; no other thread touches node i meanwhile (type docs)
+        // SAFETY: in bounds; no other thread touches node i meanwhile (the caller's contract)
         unsafe {
             let p = self.ptr.add(i);
             *p = crate::math::add(*p, g);
@@ -215,8 +254,8 @@ mod tests {
     fn a_block_in_order_keeps_big_chunks_and_few_colours() {
         let (conn, nn) = block(30); // 27,000 elements, 106 chunks of 256
         let c = Colouring::new(&conn, nn);
-        assert_eq!(c.size, 256);
-        assert!(c.is_proper(&conn, nn));
+        assert_eq!(c.size(), 256);
+        assert!(c.is_proper(nn));
         // a chunk is about 8.5 rows of a 30 x 30 layer: it touches the chunks next to it in
         // its layer and those under and over it (3.5 chunks away)
         assert!(c.colours <= 4, "{} colours", c.colours);
@@ -240,12 +279,12 @@ mod tests {
             big.colours
         );
         let c = Colouring::new(&conn, nn);
-        assert!(c.size < 256);
-        assert!(c.is_proper(&conn, nn));
+        assert!(c.size() < 256);
+        assert!(c.is_proper(nn));
         assert!(c.chunks() >= MIN_PER_COLOUR * c.colours, "{c:?}");
         // single elements: at most 27 colours (an element touches 26 others in a block)
         let one = Colouring::with_size(&conn, nn, 1);
-        assert!(one.is_proper(&conn, nn));
+        assert!(one.is_proper(nn));
         assert!(one.colours <= 27, "{}", one.colours);
     }
 
@@ -253,15 +292,15 @@ mod tests {
     fn a_wrong_colouring_is_caught() {
         let (conn, nn) = block(10);
         let mut c = Colouring::with_size(&conn, nn, 16);
-        assert!(c.is_proper(&conn, nn));
+        assert!(c.is_proper(nn));
         c.colour[1] = c.colour[0]; // chunks 0 and 1 share the nodes between them
-        assert!(!c.is_proper(&conn, nn));
+        assert!(!c.is_proper(nn));
     }
 
     #[test]
     fn no_elements_no_chunks() {
         let c = Colouring::new(&[], 5);
         assert_eq!((c.chunks(), c.colours), (0, 0));
-        assert!(c.is_proper(&[], 5));
+        assert!(c.is_proper(5));
     }
 }

@@ -194,15 +194,23 @@ impl Chains {
         }
     }
 
-    /// The copies of model node n's deck node (n among them); `None` when not split.
-    pub fn copies(&self, n: u32) -> Option<&[u32]> {
-        (!self.deck.is_empty()).then(|| self.copies.of(self.deck[n as usize]))
+    /// Whether the model is split (else there are no copies to chain).
+    pub fn is_split(&self) -> bool {
+        !self.deck.is_empty()
+    }
+
+    /// The copies of model node n's deck node (n among them); empty when not split.
+    pub fn copies(&self, n: u32) -> &[u32] {
+        match self.deck.get(n as usize) {
+            Some(&d) => self.copies.of(d),
+            None => &[],
+        }
     }
 
     /// Whether nodes a and s are held together (see the type); false when not split.
     #[inline]
     pub fn held(&self, a: u32, s: u32) -> bool {
-        !self.label.is_empty() && self.label[a as usize] == self.label[s as usize]
+        self.is_split() && self.label[a as usize] == self.label[s as usize]
     }
 
     /// The ties of deck node `d`'s copies may have changed: relabel it.

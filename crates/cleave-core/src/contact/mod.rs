@@ -179,7 +179,7 @@ pub mod schedule;
 pub mod search;
 pub mod surface;
 
-use std::collections::HashMap;
+use std::collections::HashSet;
 
 use rayon::prelude::*;
 
@@ -562,8 +562,8 @@ struct StepInput<'a> {
 #[derive(Clone, Debug)]
 struct Side {
     faces: Vec<Face>,
-    /// Index of each face in `faces`.
-    present: HashMap<FaceId, u32>,
+    /// The faces in `faces`.
+    present: HashSet<FaceId>,
     /// Parts whose failed interfaces add faces to this side.
     parts: Vec<bool>,
     /// Nodes of the faces: ascending at the start, then in the order their faces joined.
@@ -612,7 +612,7 @@ impl Side {
     fn new(ids: &[FaceId], parts: Vec<bool>, table: &FaceTable, num_nodes: usize) -> Self {
         let mut s = Self {
             faces: Vec::with_capacity(ids.len()),
-            present: HashMap::with_capacity(ids.len()),
+            present: HashSet::with_capacity(ids.len()),
             parts,
             nodes: Vec::new(),
             trail: Vec::new(),
@@ -781,10 +781,9 @@ impl Side {
 
     /// Add a face unless present (its new nodes are appended to `nodes`); true when added.
     fn add(&mut self, id: FaceId, table: &FaceTable) -> bool {
-        if self.present.contains_key(&id) {
+        if !self.present.insert(id) {
             return false;
         }
-        self.present.insert(id, self.faces.len() as u32);
         let nodes = face_nodes(&table.model().conn[id.0 as usize], id.1);
         self.faces.push(Face {
             elem: id.0,
@@ -1272,8 +1271,8 @@ impl Contact {
         let [fa, fb] = crack.faces;
         let tested = self.passes.iter().any(|p| {
             let (ns, fs) = (&self.sides[p.node_side], &self.sides[p.face_side]);
-            (ns.present.contains_key(&fa) && fs.present.contains_key(&fb))
-                || (ns.present.contains_key(&fb) && fs.present.contains_key(&fa))
+            (ns.present.contains(&fa) && fs.present.contains(&fb))
+                || (ns.present.contains(&fb) && fs.present.contains(&fa))
         });
         if !tested {
             return;
@@ -1486,13 +1485,12 @@ impl Contact {
         } = self;
         for (si, (side, changed)) in sides.iter_mut().zip(regrouped.iter_mut()).enumerate() {
             changed.clear();
-            match pending_in.filter(|_| chains.copies(0).is_some()) {
+            match pending_in.filter(|_| chains.is_split()) {
                 Some(conn) => {
                     some.clear();
                     for &(e, f) in pending.iter() {
                         for n in face_nodes(&conn[e as usize], f) {
-                            let copies = chains.copies(n).unwrap_or_default();
-                            for &c in copies {
+                            for &c in chains.copies(n) {
                                 let k = side.local[c as usize];
                                 if k != NONE {
                                     some.push(k);

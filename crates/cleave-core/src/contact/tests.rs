@@ -82,6 +82,22 @@ fn separation_group(sigmax: f64) -> crate::model::SeparationDef {
     }
 }
 
+/// `deck` with material 0 in a separation group of strength `sigmax` and one frictionless
+/// single-surface contact over every part, split.
+fn split_with_contact(mut deck: Model, sigmax: f64) -> crate::separation::split::SplitModel {
+    deck.separations.push(separation_group(sigmax));
+    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
+    crate::separation::split::split_model(&deck)
+}
+
+/// The interface between elements a and b of a split model.
+fn interface_between(sm: &crate::separation::split::SplitModel, a: u32, b: u32) -> usize {
+    sm.faces[..sm.interfaces]
+        .iter()
+        .position(|f| f.elems == [a, b] || f.elems == [b, a])
+        .expect("the elements share an interface")
+}
+
 /// The coincident set of each node of a split model whose interfaces are `intact` or not
 /// (u32::MAX: untied), as the solver gives it to `compute`.
 fn ties(sm: &crate::separation::split::SplitModel, intact: &[bool]) -> Vec<u32> {
@@ -281,15 +297,9 @@ fn nearest_face_wins_near_an_edge() {
     }
 }
 
-/// Two unit cubes stacked in z, each on its own 8 nodes (a split model; origin maps the copies
-/// to the 12 deck nodes). The upper one is pushed 0.01 into the lower one.
-/// - the shared faces are not surfaces at first: no contact even when untied;
-/// - once activated, tied copies (one coincident set per deck node) never contact;
-/// - untied (the failure named to `activate`), the 4 + 4 nodes of the crack faces penetrate each other: 8 pairs, 8 k delta with
-///   k = 0.1 K.
-#[test]
-fn ties_and_crack_faces() {
-    let delta = 0.01;
+/// Two unit cubes stacked in z (a 1 x 1 x 2 block), each on its own 8 nodes, without contact,
+/// and the deck node of each of the 16 nodes.
+fn split_stack() -> (Model, Vec<u32>) {
     let deck = single_part_model(BoxMesh::new([1, 1, 2], [1.0, 1.0, 2.0]), mat(), 1.0);
     let origin: Vec<u32> = deck.conn.iter().flatten().copied().collect();
     let mut m = deck.clone();
@@ -299,6 +309,19 @@ fn ties_and_crack_faces() {
     m.conn = (0..2u32)
         .map(|e| std::array::from_fn(|a| 8 * e + a as u32))
         .collect();
+    (m, origin)
+}
+
+/// Two unit cubes stacked in z, each on its own 8 nodes (a split model; origin maps the copies
+/// to the 12 deck nodes). The upper one is pushed 0.01 into the lower one.
+/// - the shared faces are not surfaces at first: no contact even when untied;
+/// - once activated, tied copies (one coincident set per deck node) never contact;
+/// - untied (the failure named to `activate`), the 4 + 4 nodes of the crack faces penetrate each other: 8 pairs, 8 k delta with
+///   k = 0.1 K.
+#[test]
+fn ties_and_crack_faces() {
+    let delta = 0.01;
+    let (mut m, origin) = split_stack();
     m.contacts.push(def(true, 0.0, 0.0, 0.0));
     let tie: Vec<u32> = origin
         .iter()
@@ -783,11 +806,8 @@ fn facing_clearance_is_never_crossed() {
 /// its clearances is void: at the next step all its candidates are due at once.
 #[test]
 fn nodes_with_new_faces_are_due_at_once() {
-    use crate::separation::split::split_model;
-    let mut deck = single_part_model(BoxMesh::new([2, 2, 2], [1.0, 1.0, 1.0]), mat(), 1.0);
-    deck.separations.push(separation_group(1.0));
-    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
-    let sm = split_model(&deck);
+    let deck = single_part_model(BoxMesh::new([2, 2, 2], [1.0, 1.0, 1.0]), mat(), 1.0);
+    let sm = split_with_contact(deck, 1.0);
     let m = &sm.model;
     let nn = m.num_nodes();
     let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
@@ -843,7 +863,6 @@ fn nodes_with_new_faces_are_due_at_once() {
 /// set's force does not change.
 #[test]
 fn a_new_lead_carries_on_its_sets_contact() {
-    use crate::separation::split::split_model;
     let delta = 0.01;
     let mut deck = two_blocks(
         [2, 1, 1],
@@ -854,9 +873,7 @@ fn a_new_lead_carries_on_its_sets_contact() {
     );
     deck.materials.push(mat());
     deck.parts[1].material = 1;
-    deck.separations.push(separation_group(1e30));
-    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
-    let sm = split_model(&deck);
+    let sm = split_with_contact(deck, 1e30);
     let m = &sm.model;
     let nn = m.num_nodes();
     let upper = |i: usize| sm.origin[i] < 12; // the deck nodes of the 2 x 1 x 1 block
@@ -881,11 +898,7 @@ fn a_new_lead_carries_on_its_sets_contact() {
         assert!(rel(cs.forces()[0].normal, 6.0 * k * delta) < 1e-12);
     }
     // the interface between the two elements fails
-    let (inner, _) = sm.faces[..sm.interfaces]
-        .iter()
-        .enumerate()
-        .find(|(_, f)| f.elems.iter().all(|&e| e < 2))
-        .unwrap();
+    let inner = interface_between(&sm, 0, 1);
     intact[inner] = false;
     let f = &sm.faces[inner];
     cs.activate(&[(f.elems[0], f.faces[0]), (f.elems[1], f.faces[1])]);
@@ -913,7 +926,6 @@ fn a_new_lead_carries_on_its_sets_contact() {
 /// change.
 #[test]
 fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
-    use crate::separation::split::split_model;
     let delta = 0.01;
     let mut deck = two_blocks(
         [2, 2, 2],
@@ -925,9 +937,7 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
     remove_element(&mut deck, 7);
     deck.materials.push(mat());
     deck.parts[1].material = 1;
-    deck.separations.push(separation_group(1e30));
-    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
-    let sm = split_model(&deck);
+    let sm = split_with_contact(deck, 1e30);
     let m = &sm.model;
     let nn = m.num_nodes();
     let mut intact = vec![true; sm.faces.len()];
@@ -941,14 +951,7 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
         before = (st.pairs, cs.forces()[0].normal);
     }
     assert!(before.0 > 0 && before.1 > 0.0, "{before:?}");
-    let k = sm.faces[..sm.interfaces]
-        .iter()
-        .position(|f| {
-            let mut e = f.elems;
-            e.sort_unstable();
-            e == [0, 1]
-        })
-        .unwrap();
+    let k = interface_between(&sm, 0, 1);
     intact[k] = false;
     let f = &sm.faces[k];
     let leads_before = cs.contacts()[0].sides[0].group.clone();
@@ -982,13 +985,10 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
 /// lead's own faces alone would give one axis.
 #[test]
 fn a_leads_normal_is_its_deck_nodes() {
-    use crate::separation::split::split_model;
     let mut deck = single_part_model(BoxMesh::new([2, 2, 2], [2.0; 3]), mat(), 1.0);
     remove_element(&mut deck, 7);
-    deck.separations.push(separation_group(1e30));
-    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
     let centre = deck.x0.iter().position(|p| *p == [1.0; 3]).unwrap() as u32;
-    let sm = split_model(&deck);
+    let sm = split_with_contact(deck, 1e30);
     let m = &sm.model;
     let nn = m.num_nodes();
     let tie = ties(&sm, &vec![true; sm.faces.len()]);
@@ -1023,15 +1023,7 @@ fn a_leads_normal_is_its_deck_nodes() {
 /// nodes of its own, `origin` their deck nodes) and its interface as a [`Crack`]: element 0's
 /// top face (A) and element 1's bottom face (B), their nodes paired by deck node.
 fn cracked_pair(fs: f64) -> (Model, Vec<u32>, Crack) {
-    let deck = single_part_model(BoxMesh::new([1, 1, 2], [1.0, 1.0, 2.0]), mat(), 1.0);
-    let origin: Vec<u32> = deck.conn.iter().flatten().copied().collect();
-    let mut m = deck.clone();
-    m.x0 = origin.iter().map(|&o| deck.x0[o as usize]).collect();
-    m.v0 = zeros(16);
-    m.node_ids = origin.iter().map(|&o| o as i64 + 1).collect();
-    m.conn = (0..2u32)
-        .map(|e| std::array::from_fn(|a| 8 * e + a as u32))
-        .collect();
+    let (mut m, origin) = split_stack();
     m.contacts.push(def(true, fs, fs, 0.0));
     let a = face_nodes(&m.conn[0], 1);
     let b = a.map(|n| {
@@ -1148,11 +1140,8 @@ fn a_crack_that_slid_goes_back_to_the_search() {
 /// listed against their faces again.
 #[test]
 fn chained_copies_are_left_out_of_the_search() {
-    use crate::separation::split::split_model;
-    let mut deck = single_part_model(BoxMesh::new([2, 2, 1], [2.0, 2.0, 1.0]), mat(), 1.0);
-    deck.separations.push(separation_group(1e30));
-    deck.contacts.push(def(true, 0.0, 0.0, 0.0));
-    let sm = split_model(&deck);
+    let deck = single_part_model(BoxMesh::new([2, 2, 1], [2.0, 2.0, 1.0]), mat(), 1.0);
+    let sm = split_with_contact(deck, 1e30);
     let m = &sm.model;
     let nn = m.num_nodes();
     assert_eq!(sm.interfaces, 4);

@@ -227,27 +227,10 @@ mod tests {
     use super::*;
     use crate::contact::search::tests::Rng;
 
-    /// Connectivity of an n x n x n block of hexahedra, numbered x fastest.
+    /// Connectivity of an n x n x n block of hexahedra, numbered x fastest, and its node count.
     fn block(n: usize) -> (Vec<[u32; 8]>, usize) {
-        let id = |i: usize, j: usize, k: usize| (i + (n + 1) * (j + (n + 1) * k)) as u32;
-        let mut conn = Vec::new();
-        for k in 0..n {
-            for j in 0..n {
-                for i in 0..n {
-                    conn.push([
-                        id(i, j, k),
-                        id(i + 1, j, k),
-                        id(i + 1, j + 1, k),
-                        id(i, j + 1, k),
-                        id(i, j, k + 1),
-                        id(i + 1, j, k + 1),
-                        id(i + 1, j + 1, k + 1),
-                        id(i, j + 1, k + 1),
-                    ]);
-                }
-            }
-        }
-        (conn, (n + 1).pow(3))
+        let mesh = crate::mesh::BoxMesh::new([n; 3], [1.0; 3]);
+        (mesh.conn, mesh.x.len())
     }
 
     #[test]

@@ -201,7 +201,7 @@ const NONE: u32 = u32::MAX;
 /// nodes have moved by more than it relative to each other (module docs, Search). A smaller
 /// margin means more full builds but fewer candidates to keep testing: on the fracturing
 /// 2800-element ball (`cleave bench ball`, 1 thread) contact took 55-57% of the step at 0.3
-/// (35 full builds), 53-54% at 0.2, 48-52% at 0.1 (90), 51-52% at 0.05 (173).
+/// (35 full builds), 51-54% at 0.2, 48-52% at 0.1 (90), 51-52% at 0.05 (173).
 pub const MARGIN_FRACTION: f64 = 0.1;
 
 /// Gaps above `-GAP_TOL r` (r the face's radius) are not contact (see the module docs).

@@ -17,6 +17,7 @@ pub mod material;
 pub mod math;
 pub mod mesh;
 pub mod model;
+pub mod per_node;
 pub mod rigid;
 pub mod separation;
 pub mod setup;

@@ -7,17 +7,18 @@
 
 use crate::curve::Curve;
 use crate::math::Vec3;
+pub use crate::per_node::PerNode;
 
 /// A complete model.
 #[derive(Clone, Debug, Default)]
 pub struct Model {
     pub title: String,
-    /// Deck id of each node.
-    pub node_ids: Vec<i64>,
+    /// Deck id of each node (a split model's copies share their deck node's: [`PerNode`]).
+    pub node_ids: PerNode<i64>,
     /// Reference (initial) coordinates of each node.
-    pub x0: Vec<Vec3>,
+    pub x0: PerNode<Vec3>,
     /// Initial velocity of each node (from `*INITIAL_VELOCITY_*`, resolved by the builder).
-    pub v0: Vec<Vec3>,
+    pub v0: PerNode<Vec3>,
     /// Deck id of each element.
     pub elem_ids: Vec<i64>,
     /// Part index (into `parts`) of each element.

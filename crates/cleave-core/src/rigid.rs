@@ -11,7 +11,7 @@
 
 use crate::element::kernel::hughes_winget;
 use crate::math::{add, cross, inverse, mat_mul, mat_vec, norm, scale, sub, transpose, Mat3, Vec3};
-use crate::model::{MaterialKind, Model};
+use crate::model::{MaterialKind, Model, PerNode};
 use crate::state::RigidState;
 
 /// What never changes about a rigid body.
@@ -122,7 +122,12 @@ impl RigidBody {
 
     /// Initial state from the nodal initial velocities: v_cm the mass-weighted mean and
     /// omega = I^-1 L with L the angular momentum of the nodal velocities about the centre.
-    pub fn initial_state(&self, x0: &[Vec3], v0: &[Vec3], mass: &[f64]) -> RigidState {
+    pub fn initial_state(
+        &self,
+        x0: &PerNode<Vec3>,
+        v0: &PerNode<Vec3>,
+        mass: &[f64],
+    ) -> RigidState {
         let mut p = [0.0; 3];
         for &n in &self.nodes {
             p = add(p, scale(v0[n as usize], mass[n as usize]));

@@ -168,7 +168,7 @@ impl<'m> Solver<'m> {
             .iter()
             .map(|b| b.initial_state(&model.x0, &model.v0, &setup.mass))
             .collect();
-        let mut v = model.v0.clone();
+        let mut v = model.v0.to_vec();
         for (body, st) in setup.rigid.iter().zip(&rigid) {
             for &n in &body.nodes {
                 let r = sub(model.x0[n as usize], st.x_cm);
@@ -180,7 +180,7 @@ impl<'m> Solver<'m> {
             step: 0,
             dt_prev: 0.0,
             dt: 0.0,
-            x: model.x0.clone(),
+            x: model.x0.to_vec(),
             v_n: v.clone(),
             v,
             stress: vec![[0.0; 6]; ne],

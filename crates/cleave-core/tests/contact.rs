@@ -631,7 +631,7 @@ fn split_sphere_hits_the_plate_as_the_unsplit_one() {
 
     assert_eq!(hist_a.len(), hist_b.len(), "same number of steps");
     let f_peak = hist_a.iter().map(|h| h.1).fold(0.0, f64::max);
-    let scale = common::motion_scale(&hist_a.last().unwrap().0, &deck.x0);
+    let scale = common::motion_scale(&hist_a.last().unwrap().0, &deck.x0.to_vec());
     let dx = common::copy_deviation(
         hist_a.iter().map(|h| &h.0),
         hist_b.iter().map(|h| &h.0),

@@ -86,7 +86,7 @@ fn split_mesh_moves_as_the_original_until_failure() {
     b.run(&mut Record(&mut hist_b)).unwrap();
 
     assert_eq!(hist_a.len(), hist_b.len(), "same number of steps");
-    let scale = common::motion_scale(hist_a.last().unwrap(), &original.x0);
+    let scale = common::motion_scale(hist_a.last().unwrap(), &original.x0.to_vec());
     assert!(scale > 1e-5, "the block moves: {scale}");
     let worst = common::copy_deviation(&hist_a, &hist_b, &split.origin);
     eprintln!(

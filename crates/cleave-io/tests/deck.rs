@@ -999,7 +999,7 @@ fn round_trip_model() -> Model {
             .iter()
             .map(|p| [p[0] - 0.1, p[1] * 1.0e-3, p[2] + 2.0])
             .collect(),
-        v0,
+        v0: v0.into(),
         elem_ids: (0..ne as i64).map(|i| 7 + i).collect(),
         elem_part: (0..ne).map(|e| u32::from(e >= ne - 2)).collect(),
         conn: mesh.conn,
@@ -1262,8 +1262,8 @@ fn text_beyond_the_card_is_an_error() {
 fn large_deck_timing() {
     let mesh = BoxMesh::new([60, 60, 30], [1.0, 1.0, 0.5]);
     let mut m = round_trip_model();
-    m.x0 = mesh.x;
-    m.v0 = vec![[0.0; 3]; m.x0.len()];
+    m.x0 = mesh.x.into();
+    m.v0 = vec![[0.0; 3]; m.x0.len()].into();
     m.node_ids = (1..=m.x0.len() as i64).collect();
     m.elem_ids = (1..=mesh.conn.len() as i64).collect();
     m.elem_part = vec![0; mesh.conn.len()];

@@ -100,7 +100,7 @@ impl CrackGrowth {
 
 /// The axis along which the box of `points` is thinner than half its size along each other
 /// axis, if there is one.
-pub fn thickness_axis(points: &[Vec3]) -> Option<usize> {
+pub fn thickness_axis<'a>(points: impl IntoIterator<Item = &'a Vec3>) -> Option<usize> {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in points {

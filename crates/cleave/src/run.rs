@@ -1,6 +1,7 @@
 //! `cleave run DECK.k`: read, prepare, run, write.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use cleave_core::contact::ContactSet;
@@ -55,7 +56,7 @@ pub struct Prepared {
     pub model: Model,
     pub interfaces: Option<InterfaceTable>,
     /// Deck node of each solved node of a split model (`None`: not split).
-    pub origin: Option<Vec<u32>>,
+    pub origin: Option<Arc<[u32]>>,
     /// Each history node of the deck: its id and the solved nodes that are its copies.
     pub history_nodes: Vec<(i64, Vec<u32>)>,
     pub deck_nodes: usize,

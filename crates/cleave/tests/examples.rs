@@ -248,20 +248,21 @@ fn ball_impact_decks_have_the_papers_counts() {
             assert_eq!(*v, expect, "node {}", m.node_ids[i]);
         }
         // the ball (radius 5 mm at the origin) sits 0.1 mm above the plate's top face
-        let r = m.x0[..nn]
-            .iter()
-            .map(|p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt())
-            .fold(0.0, f64::max);
+        let r =
+            m.x0.iter()
+                .take(nn)
+                .map(|p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt())
+                .fold(0.0, f64::max);
         assert!((r - 0.005).abs() < 1e-12, "ball radius {r}");
-        let bottom = m.x0[..nn].iter().map(|p| p[1]).fold(f64::MAX, f64::min);
-        let plate_top = m.x0[nn..].iter().map(|p| p[1]).fold(f64::MIN, f64::max);
+        let bottom = m.x0.iter().take(nn).map(|p| p[1]).fold(f64::MAX, f64::min);
+        let plate_top = m.x0.iter().skip(nn).map(|p| p[1]).fold(f64::MIN, f64::max);
         assert!(
             (bottom - plate_top - 1e-4).abs() < 1e-12,
             "gap {}",
             bottom - plate_top
         );
         let ext = |d: usize| {
-            let v = m.x0[nn..].iter().map(|p| p[d]);
+            let v = m.x0.iter().skip(nn).map(|p| p[d]);
             v.clone().fold(f64::MIN, f64::max) - v.fold(f64::MAX, f64::min)
         };
         assert!((ext(0) - 0.02).abs() < 1e-15 && (ext(1) - 0.01).abs() < 1e-15);

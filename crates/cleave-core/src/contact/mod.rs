@@ -421,7 +421,7 @@ impl<'m> ContactSet<'m> {
         tie: &[u32],
         f: &mut [Vec3],
     ) -> ContactStep {
-        let nn = self.cur.f.len();
+        let nn = self.cur.len();
         assert!(x.len() == nn && v.len() == nn && f.len() == nn);
         assert!(tie.is_empty() || tie.len() == nn);
         std::mem::swap(&mut self.cur, &mut self.prev);
@@ -442,13 +442,13 @@ impl<'m> ContactSet<'m> {
         }
         // NOTE: fixed order: last step's nodes, then this step's, each in insertion order.
         let mut work = 0.0;
-        for &i in &self.prev.touched {
-            work += dot(self.prev.f[i as usize], v[i as usize]);
+        for (i, fi) in self.prev.iter() {
+            work += dot(fi, v[i as usize]);
         }
-        for &i in &self.cur.touched {
+        for (i, fi) in self.cur.iter() {
             let i = i as usize;
-            work += dot(self.cur.f[i], v[i]);
-            f[i] = add(f[i], self.cur.f[i]);
+            work += dot(fi, v[i]);
+            f[i] = add(f[i], fi);
         }
         step.energy = -0.5 * dt_prev * work;
         step
@@ -461,10 +461,7 @@ impl<'m> ContactSet<'m> {
 
     /// The contact force on each node of the last `compute` (nodes in first-touched order).
     pub fn nodal_forces(&self) -> impl Iterator<Item = (u32, Vec3)> + '_ {
-        self.cur
-            .touched
-            .iter()
-            .map(|&i| (i, self.cur.f[i as usize]))
+        self.cur.iter()
     }
 
     /// A time step the penalty springs are stable with, to compare with the element step.
@@ -506,37 +503,50 @@ impl<'m> ContactSet<'m> {
     }
 }
 
-/// Sparse nodal forces: a dense array, and the nodes touched since the last clear.
+/// Sparse nodal forces: the force of each node touched since the last clear, in the order
+/// first touched, and each node's place in that list (4 bytes a node, instead of a dense force
+/// array of 24; only the surface nodes in contact are touched).
 #[derive(Clone, Debug)]
 struct NodalForces {
-    f: Vec<Vec3>,
+    /// Place of each node in `touched` / `f`, or NONE.
+    slot: Vec<u32>,
     touched: Vec<u32>,
-    mark: Vec<bool>,
+    f: Vec<Vec3>,
 }
 
 impl NodalForces {
     fn new(n: usize) -> Self {
         Self {
-            f: vec![[0.0; 3]; n],
+            slot: vec![NONE; n],
             touched: Vec::new(),
-            mark: vec![false; n],
+            f: Vec::new(),
         }
+    }
+    /// Number of nodes.
+    fn len(&self) -> usize {
+        self.slot.len()
     }
     #[inline]
     fn add(&mut self, i: u32, g: Vec3) {
         let k = i as usize;
-        if !self.mark[k] {
-            self.mark[k] = true;
+        if self.slot[k] == NONE {
+            self.slot[k] = self.touched.len() as u32;
             self.touched.push(i);
+            self.f.push([0.0; 3]);
         }
-        self.f[k] = add(self.f[k], g);
+        let s = self.slot[k] as usize;
+        self.f[s] = add(self.f[s], g);
+    }
+    /// The touched nodes and their forces, in the order first touched.
+    fn iter(&self) -> impl Iterator<Item = (u32, Vec3)> + '_ {
+        self.touched.iter().copied().zip(self.f.iter().copied())
     }
     fn clear(&mut self) {
         for &i in &self.touched {
-            self.f[i as usize] = [0.0; 3];
-            self.mark[i as usize] = false;
+            self.slot[i as usize] = NONE;
         }
         self.touched.clear();
+        self.f.clear();
     }
 }
 
@@ -914,12 +924,22 @@ struct Hit {
     w: [f64; 4],
     /// Total force on the node (normal + friction).
     f: Vec3,
-    /// |f_n|.
-    fn_mag: f64,
-    /// Stiffness of the face, engaged penetration and offset ([`engagement`]).
-    k: f64,
+    /// Engaged penetration and offset ([`engagement`]); the stiffness is the face's (faces
+    /// keep their index in a side, so `face` names the same face in later steps).
     engaged: f64,
     offset: f64,
+}
+
+impl Hit {
+    /// `|f_n| = -k engaged`, k the stiffness of the hit face (of `faces`, the face side's).
+    #[inline]
+    fn fn_mag(&self, faces: &[Face]) -> f64 {
+        if self.face == NONE {
+            0.0
+        } else {
+            -faces[self.face as usize].k * self.engaged
+        }
+    }
 }
 
 impl Default for Hit {
@@ -928,8 +948,6 @@ impl Default for Hit {
             face: NONE,
             w: [0.0; 4],
             f: [0.0; 3],
-            fn_mag: 0.0,
-            k: 0.0,
             engaged: 0.0,
             offset: 0.0,
         }
@@ -1809,7 +1827,7 @@ impl Contact {
                     if let Some(new) = ctx.check(i, list, sched, hit, *ft) {
                         (*hit, *ft) = new;
                     }
-                    *active = hit.face != NONE && hit.fn_mag != 0.0;
+                    *active = hit.fn_mag(ctx.faces) != 0.0;
                 });
             // NOTE: serial scatter in the order the nodes joined the side: the sums depend
             // neither on the threads nor on the nodes' places. Pass 0 has the slave nodes;
@@ -1827,7 +1845,7 @@ impl Contact {
                     acc.add(face.nodes[a], scale(hit.f, -hit.w[a]));
                 }
                 out.force = add(out.force, scale(hit.f, sign));
-                out.normal += hit.fn_mag;
+                out.normal += hit.fn_mag(&fs.faces);
                 out.pairs += 1;
             }
         }
@@ -2036,7 +2054,7 @@ impl NodeCheck<'_> {
             Previous::Free
         } else {
             Previous::Other {
-                k: prev.k,
+                k: self.faces[prev.face as usize].k,
                 engaged: prev.engaged,
             }
         };
@@ -2054,8 +2072,6 @@ impl NodeCheck<'_> {
             face: fi,
             w: pr.w,
             f: add(f_n, f_t),
-            fn_mag,
-            k: face.k,
             engaged: e.engaged,
             offset: e.offset,
         };

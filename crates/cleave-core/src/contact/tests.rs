@@ -154,7 +154,7 @@ fn overlapping_blocks_force_and_energy() {
                 }
             })
             .collect();
-        let st = cs.compute(&m.x0, &v, 0.0, &[], &mut f);
+        let st = cs.compute(&m.x0.to_vec(), &v, 0.0, &[], &mut f);
         assert_eq!(st.pairs, 8, "single {single}");
         assert_eq!(st.energy, 0.0);
         let r = cs.forces()[0];
@@ -206,7 +206,7 @@ fn segment_set_side() {
     let mut cs = ContactSet::new(&m, None).unwrap();
     assert_eq!(cs.contacts()[0].faces(1).len(), 4);
     let st = cs.compute(
-        &m.x0,
+        &m.x0.to_vec(),
         &zeros(m.num_nodes()),
         0.0,
         &[],
@@ -249,10 +249,14 @@ fn friction_slides_and_sticks() {
             .map(|i| if i >= 8 { [speed, 0.0, 0.0] } else { [0.0; 3] })
             .collect();
         // the first step engages the overlap (no slip yet: dt_prev = 0)
-        assert_eq!(cs.compute(&m.x0, &v, 0.0, &[], &mut zeros(nn)).pairs, 4);
+        assert_eq!(
+            cs.compute(&m.x0.to_vec(), &v, 0.0, &[], &mut zeros(nn))
+                .pairs,
+            4
+        );
         for step in 1..=2 {
             let mut f = zeros(nn);
-            let st = cs.compute(&m.x0, &v, dt, &[], &mut f);
+            let st = cs.compute(&m.x0.to_vec(), &v, dt, &[], &mut f);
             assert_eq!(st.pairs, 4);
             assert!(st.energy > 0.0, "step {step}: energy {}", st.energy);
             let want_t = if sliding {
@@ -286,7 +290,7 @@ fn nearest_face_wins_near_an_edge() {
     let mut cs = ContactSet::new(&m, None).unwrap();
     let nn = m.num_nodes();
     let mut f = zeros(nn);
-    let st = cs.compute(&m.x0, &zeros(nn), 0.0, &[], &mut f);
+    let st = cs.compute(&m.x0.to_vec(), &zeros(nn), 0.0, &[], &mut f);
     assert_eq!(st.pairs, 4);
     for i in (8..16).filter(|&i| m.x0[i][2] < 1.0) {
         assert!(
@@ -304,7 +308,7 @@ fn split_stack() -> (Model, Vec<u32>) {
     let origin: Vec<u32> = deck.conn.iter().flatten().copied().collect();
     let mut m = deck.clone();
     m.x0 = origin.iter().map(|&o| deck.x0[o as usize]).collect();
-    m.v0 = zeros(16);
+    m.v0 = zeros(16).into();
     m.node_ids = origin.iter().map(|&o| o as i64 + 1).collect();
     m.conn = (0..2u32)
         .map(|e| std::array::from_fn(|a| 8 * e + a as u32))
@@ -377,7 +381,7 @@ fn own_nodes_never_contact() {
     let mut m = single_part_model(BoxMesh::new([1, 1, 1], [1.0; 3]), mat(), 1.0);
     m.contacts.push(def(true, 0.0, 0.0, 0.0));
     let mut cs = ContactSet::new(&m, None).unwrap();
-    let mut x = m.x0.clone();
+    let mut x = m.x0.to_vec();
     assert_eq!(x[7], [1.0; 3]); // BoxMesh numbers x fastest
     x[7] = [0.9, 0.9, 0.9];
     let st = cs.compute(&x, &zeros(8), 0.0, &[], &mut zeros(8));
@@ -395,7 +399,7 @@ fn own_nodes_never_contact() {
 /// motion (B moves down 0.004 per step, every node jitters by up to 0.01 per step).
 fn jitter_positions(m: &Model, na: usize, steps: usize, seed: u64) -> Vec<Vec<Vec3>> {
     let mut r = Rng(seed);
-    let mut x = m.x0.clone();
+    let mut x = m.x0.to_vec();
     let mut out = vec![x.clone()];
     for _ in 0..steps {
         for (i, p) in x.iter_mut().enumerate() {
@@ -591,7 +595,7 @@ fn failing_block(
     let mut full = ContactSet::new(m, Some(&sm.origin)).unwrap();
     reference(&mut full);
     let mut r = Rng(run.seed);
-    let mut x = m.x0.clone();
+    let mut x = m.x0.to_vec();
     let dt = 1e-3;
     let mut pairs = 0;
     for step in 0..run.steps {
@@ -638,11 +642,11 @@ fn skipping_equals_testing_every_candidate() {
     for single in [true, false] {
         let (mut m, na) = jitter_model(single);
         // B starts 0.004 above A
-        for p in m.x0[na..].iter_mut() {
+        for p in m.x0.iter_mut().skip(na) {
             p[2] += 0.014;
         }
         let mut r = Rng(9);
-        let mut x = m.x0.clone();
+        let mut x = m.x0.to_vec();
         let mut xs = vec![x.clone()];
         for _ in 0..80 {
             for (i, p) in x.iter_mut().enumerate() {
@@ -815,8 +819,8 @@ fn nodes_with_new_faces_are_due_at_once() {
     let mut f = zeros(nn);
     let v = zeros(nn);
     // two steps at rest: every candidate is tested once and then waits (nothing moves)
-    cs.compute(&m.x0, &v, 0.0, &tie, &mut f);
-    cs.compute(&m.x0, &v, 1e-3, &tie, &mut f);
+    cs.compute(&m.x0.to_vec(), &v, 0.0, &tie, &mut f);
+    cs.compute(&m.x0.to_vec(), &v, 1e-3, &tie, &mut f);
     let c = &cs.contacts[0];
     let waiting = |c: &Contact| -> usize {
         c.passes[0]
@@ -942,7 +946,7 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
     let nn = m.num_nodes();
     let mut intact = vec![true; sm.faces.len()];
     let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
-    let x = m.x0.clone();
+    let x = m.x0.to_vec();
     let v = zeros(nn);
     let tie = ties(&sm, &intact);
     let mut before = (0, 0.0);
@@ -993,7 +997,7 @@ fn a_leads_normal_is_its_deck_nodes() {
     let nn = m.num_nodes();
     let tie = ties(&sm, &vec![true; sm.faces.len()]);
     let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
-    cs.compute(&m.x0, &zeros(nn), 0.0, &tie, &mut zeros(nn));
+    cs.compute(&m.x0.to_vec(), &zeros(nn), 0.0, &tie, &mut zeros(nn));
     let side = &cs.contacts()[0].sides[0];
     let on_side: Vec<usize> = (0..side.nodes.len())
         .filter(|&i| sm.origin[side.nodes[i] as usize] == centre)
@@ -1178,12 +1182,12 @@ fn chained_copies_are_left_out_of_the_search() {
     let mut plain = ContactSet::new(m, Some(&sm.origin)).unwrap();
     let faces: Vec<FaceId> = cracks.iter().flat_map(|c| c.faces).collect();
     plain.activate(&faces);
-    plain.compute(&m.x0, &zeros(nn), 0.0, &tie, &mut zeros(nn));
+    plain.compute(&m.x0.to_vec(), &zeros(nn), 0.0, &tie, &mut zeros(nn));
     assert!(same_deck_pairs(&plain) > 0);
 
     let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
     cs.activate_cracks(&cracks);
-    cs.compute(&m.x0, &zeros(nn), 0.0, &tie, &mut zeros(nn));
+    cs.compute(&m.x0.to_vec(), &zeros(nn), 0.0, &tie, &mut zeros(nn));
     assert_eq!(cs.stats().closed, 4);
     assert_eq!(same_deck_pairs(&cs), 0);
 

@@ -87,8 +87,8 @@ pub fn single_part_model(mesh: BoxMesh, material: Material, end_time: f64) -> Mo
     let ne = mesh.conn.len();
     Model {
         node_ids: (1..=nn as i64).collect(),
-        v0: vec![[0.0; 3]; nn],
-        x0: mesh.x,
+        v0: vec![[0.0; 3]; nn].into(),
+        x0: mesh.x.into(),
         elem_ids: (1..=ne as i64).collect(),
         elem_part: vec![0; ne],
         conn: mesh.conn,

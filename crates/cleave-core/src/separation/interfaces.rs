@@ -7,6 +7,8 @@
 //! holding the interface's nodes and reports the interface so that contact can take in its two
 //! faces; nothing is remeshed and no nodal array changes size.
 
+use std::ops::Index;
+
 use rayon::prelude::*;
 
 use super::cohesive::{stable_slope, LinearSoftening};
@@ -402,7 +404,9 @@ pub fn face_normal(face: &SharedFace, x: &[Vec3]) -> Vec3 {
 }
 
 /// Current centroid of a shared face (mean of its 8 nodes).
-pub fn face_centroid(face: &SharedFace, x: &[Vec3]) -> Vec3 {
+///
+/// `x`: the positions of the nodes (a slice, or a model's `x0`).
+pub fn face_centroid(face: &SharedFace, x: &(impl Index<usize, Output = Vec3> + ?Sized)) -> Vec3 {
     let mut c = [0.0; 3];
     for &n in &face.nodes {
         c = add(c, x[n as usize]);

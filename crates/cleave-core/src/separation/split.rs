@@ -8,9 +8,10 @@
 //! point constraints, prescribed motion, node-set membership and rigid-wall membership.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use crate::element::hex8::{quad_area, FACES};
-use crate::model::{Model, MotionTarget};
+use crate::model::{Model, MotionTarget, PerNode};
 
 /// Sentinel: the deck node has no solved node of its own.
 const NONE: u32 = u32::MAX;
@@ -45,7 +46,7 @@ pub struct SplitModel {
     /// The model on the split nodes (node-based data remapped to the copies).
     pub model: Model,
     /// Deck node (index into the original model) of each solved node.
-    pub origin: Vec<u32>,
+    pub origin: Arc<[u32]>,
     /// Shared faces that may fail (`Interface`) followed by permanent bonds (`Bond`).
     pub faces: Vec<SharedFace>,
     /// Number of `Interface` faces (they come first in `faces`).
@@ -74,7 +75,9 @@ pub fn split_model(model: &Model) -> SplitModel {
             }
         }
     }
-    let mut origin = Vec::new();
+    let group_elems = elem_group.iter().filter(|&&g| g != NONE).count();
+    let kept = keep.iter().filter(|&&k| k != NONE).count();
+    let mut origin = Vec::with_capacity(kept + 8 * group_elems);
     for (n, k) in keep.iter_mut().enumerate() {
         if *k != NONE {
             *k = origin.len() as u32;
@@ -99,9 +102,11 @@ pub fn split_model(model: &Model) -> SplitModel {
 
     let mut m = model.clone();
     m.conn = conn;
-    m.x0 = origin.iter().map(|&o| model.x0[o as usize]).collect();
-    m.v0 = origin.iter().map(|&o| model.v0[o as usize]).collect();
-    m.node_ids = origin.iter().map(|&o| model.node_ids[o as usize]).collect();
+    // the copies share their deck node's position, velocity and id
+    let origin: Arc<[u32]> = origin.into();
+    m.x0 = PerNode::shared(model.x0.to_vec(), origin.clone());
+    m.v0 = PerNode::shared(model.v0.to_vec(), origin.clone());
+    m.node_ids = PerNode::shared(model.node_ids.to_vec(), origin.clone());
     m.spcs = model
         .spcs
         .iter()
@@ -214,7 +219,8 @@ fn shared_faces(
         }
     }
     found.sort_unstable();
-    let mut interfaces = Vec::new();
+    // room for the bonds too (they are appended): no growth past the faces found
+    let mut interfaces = Vec::with_capacity(found.len());
     let mut bonds = Vec::new();
     for (ea, fa, eb, fb) in found {
         let (ga, gb) = (elem_group[ea as usize], elem_group[eb as usize]);

@@ -24,7 +24,7 @@ impl Builder<'_> {
         };
         m.node_ids = raw.nodes.iter().map(|n| n.id).collect();
         m.x0 = raw.nodes.iter().map(|n| n.x).collect();
-        m.v0 = vec![[0.0; 3]; raw.nodes.len()];
+        m.v0 = vec![[0.0; 3]; raw.nodes.len()].into();
         m.curves = raw.curves.iter().map(|c| c.curve.clone()).collect();
         m.sections = raw
             .sections

@@ -13,8 +13,8 @@
 //!
 //! Memory: 96 bytes per face of the largest side a thread has checked, per thread, kept for
 //! the thread's life (rayon's workers outlive a run). A thread's cache grows to the side's
-//! face count the first time it tests a face beyond its size, so after the first steps it
-//! grows only when faces join. A check must not call into rayon while it holds the cache (a
+//! face count when faces join ([`reserve_everywhere`], on every thread of the pool at once) or
+//! the first time it tests a face beyond its size. A check must not call into rayon while it holds the cache (a
 //! stolen task would find it borrowed).
 
 use std::cell::RefCell;
@@ -50,7 +50,22 @@ thread_local! {
     };
 }
 
+/// Make room for `n` faces in the cache of every thread of the current rayon pool. Which
+/// thread checks which node is up to rayon, so a thread may run its first check at any step;
+/// calling this whenever a side grows keeps the checks from allocating.
+pub fn reserve_everywhere(n: usize) {
+    rayon::broadcast(|_| CACHE.with_borrow_mut(|c| c.reserve(n)));
+}
+
 impl BoundsCache {
+    /// Room for `n` faces.
+    fn reserve(&mut self, n: usize) {
+        if self.stamp.len() < n {
+            self.stamp.resize(n, 0);
+            self.bounds.resize(n, Default::default());
+        }
+    }
+
     /// Run `f` with this thread's cache.
     pub fn with<R>(f: impl FnOnce(&mut BoundsCache) -> R) -> R {
         CACHE.with_borrow_mut(f)
@@ -66,12 +81,9 @@ impl BoundsCache {
         x: &[Vec3],
     ) -> &(Cull, CullMore) {
         let f = fi as usize;
-        if self.stamp.len() <= f {
-            // grows with the faces of the sides only (no allocation once they stop joining)
-            let n = faces.len().max(f + 1);
-            self.stamp.resize(n, 0);
-            self.bounds.resize(n, Default::default());
-        }
+        // grows with the faces of the sides only (no allocation once they stop joining, nor
+        // after `reserve_everywhere`)
+        self.reserve(faces.len().max(f + 1));
         if self.stamp[f] != generation {
             let face = &faces[f];
             let p = face.nodes.map(|n| x[n as usize]);

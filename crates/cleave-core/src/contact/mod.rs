@@ -292,6 +292,8 @@ pub struct ContactSet<'m> {
     cur: NodalForces,
     prev: NodalForces,
     forces: Vec<ContactForce>,
+    /// Faces the bounds caches of the pool's threads have room for ([`bounds_cache`]).
+    reserved: usize,
 }
 
 impl<'m> ContactSet<'m> {
@@ -345,6 +347,7 @@ impl<'m> ContactSet<'m> {
             cur: NodalForces::new(nn),
             prev: NodalForces::new(nn),
             forces,
+            reserved: 0,
         })
     }
 
@@ -434,6 +437,18 @@ impl<'m> ContactSet<'m> {
             tie,
             table: &self.table,
         };
+        // faces join between steps: room in every thread's bounds cache first, so no check
+        // allocates
+        let faces = self
+            .contacts
+            .iter()
+            .flat_map(|c| &c.sides)
+            .map(|s| s.faces.len());
+        let need = faces.max().unwrap_or(0);
+        if need > self.reserved {
+            bounds_cache::reserve_everywhere(need);
+            self.reserved = need;
+        }
         for (c, out) in self.contacts.iter_mut().zip(self.forces.iter_mut()) {
             let rebuilt;
             (*out, rebuilt) = c.compute(&inp, &mut self.cur);

@@ -11,11 +11,11 @@
 //! thread meanwhile. The bounds are a function of the face's corners alone, so the thread
 //! that works them out does not change them: results stay bit-identical on any thread count.
 //!
-//! Memory: 96 bytes per face of the largest side a thread has checked, per thread, kept for
-//! the thread's life (rayon's workers outlive a run). A thread's cache grows to the side's
-//! face count when faces join ([`reserve_everywhere`], on every thread of the pool at once) or
-//! the first time it tests a face beyond its size. A check must not call into rayon while it holds the cache (a
-//! stolen task would find it borrowed).
+//! Memory: 104 bytes (bounds and stamp) per face of the largest side, per thread, kept for the
+//! thread's life (rayon's workers outlive a run). The caches grow to the side's face count
+//! when faces join ([`reserve_everywhere`], on every thread of the pool at once, so no check
+//! allocates), or when a thread first tests a face beyond its size. A check must not call into
+//! rayon while it holds the cache (a stolen task would find it borrowed).
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicU64, Ordering};

@@ -61,6 +61,12 @@ impl<T> PerNode<T> {
     pub fn is_shared(&self) -> bool {
         self.origin.is_some()
     }
+
+    /// The deck node of each node of a split model (`None`: the values are per node, as in a
+    /// model not split, or a split model written to since).
+    pub fn origin(&self) -> Option<&[u32]> {
+        self.origin.as_deref()
+    }
 }
 
 impl<T: Clone> PerNode<T> {

@@ -1,7 +1,6 @@
 //! `cleave run DECK.k`: read, prepare, run, write.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 use cleave_core::contact::ContactSet;
@@ -55,8 +54,6 @@ pub type InterfaceTable = (Vec<SharedFace>, usize);
 pub struct Prepared {
     pub model: Model,
     pub interfaces: Option<InterfaceTable>,
-    /// Deck node of each solved node of a split model (`None`: not split).
-    pub origin: Option<Arc<[u32]>>,
     /// Each history node of the deck: its id and the solved nodes that are its copies.
     pub history_nodes: Vec<(i64, Vec<u32>)>,
     pub deck_nodes: usize,
@@ -72,7 +69,6 @@ pub fn prepare(deck: Model) -> Prepared {
         Prepared {
             model: deck,
             interfaces: None,
-            origin: None,
             history_nodes,
             deck_nodes,
         }
@@ -82,22 +78,21 @@ pub fn prepare(deck: Model) -> Prepared {
             history_nodes: history_copies(&deck, Some(&sp.origin)),
             model: sp.model,
             interfaces: Some((sp.faces, sp.interfaces)),
-            origin: Some(sp.origin),
             deck_nodes,
         }
     }
 }
 
-/// A solver for `model`, with its interfaces when it is split (`origin`: the deck node of
-/// each solved node) and its contact definitions.
+/// A solver for `model`, with its interfaces when it is split and its contact definitions
+/// (a split model's `x0` knows the deck node of each solved node).
 ///
 /// When the contact's penalty springs need a smaller time step than the elements, the run
 /// takes it and the returned warning says so; it goes to the terminal and to summary.json.
 pub fn start_solver<'m>(
     model: &'m Model,
     interfaces: Option<InterfaceTable>,
-    origin: Option<&[u32]>,
 ) -> Result<(Solver<'m>, Vec<String>), Failure> {
+    let origin = model.x0.origin();
     let mut solver = Solver::new(model)?;
     let mut warnings = solver.setup.warnings.clone();
     if let Some((faces, n)) = interfaces {
@@ -150,14 +145,12 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let Prepared {
         model,
         interfaces,
-        origin,
         history_nodes,
         deck_nodes,
     } = prepare(deck_model);
     let model = &model;
     let split = interfaces.is_some();
-    let (mut solver, warnings) = start_solver(model, interfaces, origin.as_deref())?;
-    drop(origin);
+    let (mut solver, warnings) = start_solver(model, interfaces)?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }

@@ -49,11 +49,7 @@ pub fn run_ball(
     let nodes = model.num_nodes();
     let pool = crate::run::thread_pool(Some(threads))?;
     let prepared = crate::run::prepare(model);
-    let (mut solver, _) = crate::run::start_solver(
-        &prepared.model,
-        prepared.interfaces,
-        prepared.origin.as_deref(),
-    )?;
+    let (mut solver, _) = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
     let secs = super::run_quiet(&pool, &mut solver)?;
     let steps = solver.state.step + 1;
     let ne = prepared.model.num_elements();

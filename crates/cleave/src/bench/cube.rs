@@ -42,11 +42,7 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
         });
     }
     let prepared = crate::run::prepare(model);
-    let (mut solver, _) = crate::run::start_solver(
-        &prepared.model,
-        prepared.interfaces,
-        prepared.origin.as_deref(),
-    )?;
+    let (mut solver, _) = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
     let secs = super::run_quiet(&pool, &mut solver)?;
     let result = solver.state.step;
     let ne = n * n * n;

@@ -105,8 +105,10 @@
 //! since the last step left out: their pairs are new), which bounds how far any node moved
 //! relative to any other in that step; the pair is due again when the bound has grown by D.
 //! [`schedule`] keeps each node's candidates so that those not due cost nothing: the ones due
-//! within [`HOT_STEPS`] steps are looked at every step, the others wait in a heap. The bound
-//! restarts at zero at each full build (a pair kept keeps what is left of its clearance). A pair
+//! within [`HOT_STEPS`] steps are looked at every step, the others wait in a heap; a node none
+//! of whose candidates is due is not looked at (each node's earliest due is kept in a dense
+//! array; a node in contact has its face due every step, so a node skipped is out of contact
+//! and its hit stays empty). The bound restarts at zero at each full build (a pair kept keeps what is left of its clearance). A pair
 //! whose bounds' clearance exceeds the margin plus the current spread leaves the node's list:
 //! until the next full build the face's corners move relative to the node by less than that
 //! (the relative displacement since x_ref is below the spread now and below the margin later),
@@ -983,6 +985,11 @@ struct Pass {
     /// Candidate faces of each node of the node side: a few in its [`Sched`], the others here.
     cand: Vec<Vec<Cand>>,
     sched: Vec<Sched>,
+    /// The earliest `due` of each node's candidates ([`Sched::next_due`]), or -inf when the
+    /// node must be checked at the next step (its candidates or contact changed outside a
+    /// check). A node whose `next` is not due is not looked at: it tests nothing, and it is
+    /// out of contact (a node in contact has its face due at every step).
+    next: Vec<f32>,
     /// Scratch: the nodes an incremental search renews; the nodes with a force this step.
     mark: Vec<bool>,
     active: Vec<bool>,
@@ -1001,6 +1008,7 @@ impl Pass {
             extra: BucketGrid::default(),
             cand: vec![Vec::new(); nodes],
             sched: vec![Sched::default(); nodes],
+            next: vec![f32::NEG_INFINITY; nodes],
             mark: vec![false; nodes],
             active: vec![false; nodes],
             ft: vec![[0.0; 3]; nodes],
@@ -1283,6 +1291,7 @@ impl Contact {
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
                 pass.cand.resize_with(n, Vec::new);
                 pass.sched.resize(n, Sched::default());
+                pass.next.resize(n, f32::NEG_INFINITY);
                 pass.mark.resize(n, false);
                 pass.active.resize(n, false);
                 pass.ft.resize(n, [0.0; 3]);
@@ -1482,6 +1491,7 @@ impl Contact {
                 .enumerate()
                 .with_min_len(NODE_CHUNK / 4)
                 .for_each(|(i, (list, sched))| q.run(i, list, sched));
+            pass.next.fill(f32::NEG_INFINITY);
         }
         self.pending.clear();
         self.dirty = false;
@@ -1569,6 +1579,7 @@ impl Contact {
                     for pass in passes.iter_mut().filter(|p| p.node_side == si) {
                         pass.hits[i as usize] = pass.hits[from as usize];
                         pass.ft[i as usize] = pass.ft[from as usize];
+                        pass.next[i as usize] = f32::NEG_INFINITY;
                     }
                 }
             }
@@ -1705,6 +1716,7 @@ impl Contact {
                 extra,
                 cand,
                 sched,
+                next,
                 mark,
                 ..
             } = pass;
@@ -1724,6 +1736,7 @@ impl Contact {
                 for &i in scratch.iter() {
                     let i = i as usize;
                     q.run(i, &mut cand[i], &mut sched[i]);
+                    next[i] = f32::NEG_INFINITY;
                 }
             } else {
                 for &i in scratch.iter() {
@@ -1731,13 +1744,15 @@ impl Contact {
                 }
                 cand.par_iter_mut()
                     .zip(sched.par_iter_mut())
+                    .zip(next.par_iter_mut())
                     .zip(mark.par_iter_mut())
                     .enumerate()
                     .with_min_len(NODE_CHUNK)
-                    .for_each(|(i, ((list, sched), mark))| {
+                    .for_each(|(i, (((list, sched), next), mark))| {
                         if *mark {
                             *mark = false;
                             q.run(i, list, sched);
+                            *next = f32::NEG_INFINITY;
                         }
                     });
             }
@@ -1756,6 +1771,7 @@ impl Contact {
                     // (a node without a lead yet gets one, and new lists, at the next search)
                     let i = side.group.get(i as usize).copied().unwrap_or(i) as usize;
                     pass.sched[i].renew(&mut pass.cand[i]);
+                    pass.next[i] = f32::NEG_INFINITY;
                 }
             }
             side.renewed.clear();
@@ -1805,6 +1821,7 @@ impl Contact {
             let Pass {
                 cand,
                 sched,
+                next,
                 ft,
                 hits,
                 active,
@@ -1831,18 +1848,29 @@ impl Contact {
                 friction: *friction,
                 inp,
             };
-            hits.par_iter_mut()
-                .zip(ft.par_iter_mut())
-                .zip(cand.par_iter_mut())
-                .zip(sched.par_iter_mut())
-                .zip(active.par_iter_mut())
+            // only the nodes with a due candidate (`next`): the others test nothing and are
+            // out of contact, so their hit and friction stay zero and `active` false
+            let chunk = NODE_CHUNK;
+            next.par_chunks_mut(chunk)
+                .zip(hits.par_chunks_mut(chunk))
+                .zip(ft.par_chunks_mut(chunk))
+                .zip(cand.par_chunks_mut(chunk))
+                .zip(sched.par_chunks_mut(chunk))
+                .zip(active.par_chunks_mut(chunk))
                 .enumerate()
-                .with_min_len(NODE_CHUNK)
-                .for_each(|(i, ((((hit, ft), list), sched), active))| {
-                    if let Some(new) = ctx.check(i, list, sched, hit, *ft) {
-                        (*hit, *ft) = new;
+                .for_each(|(c, (((((next, hits), ft), cand), sched), active))| {
+                    for (k, due) in next.iter_mut().enumerate() {
+                        if !schedule::is_due(*due, motion) {
+                            continue;
+                        }
+                        let (hit, ft) = (&mut hits[k], &mut ft[k]);
+                        let (list, sched) = (&mut cand[k], &mut sched[k]);
+                        if let Some(new) = ctx.check(c * chunk + k, list, sched, hit, *ft) {
+                            (*hit, *ft) = new;
+                        }
+                        active[k] = hit.fn_mag(ctx.faces) != 0.0;
+                        *due = sched.next_due(list);
                     }
-                    *active = hit.fn_mag(ctx.faces) != 0.0;
                 });
             // NOTE: serial scatter in the order the nodes joined the side: the sums depend
             // neither on the threads nor on the nodes' places. Pass 0 has the slave nodes;

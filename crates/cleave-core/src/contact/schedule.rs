@@ -8,7 +8,9 @@
 //! any others at the end of the node's list; and the *cold* ones, a min-heap on `due` at the
 //! start of the list, of which only the top is looked at (its `due` is kept in the [`Sched`]
 //! too). A node whose hot candidates are not due and whose heap top is not due costs one
-//! read of its [`Sched`]. A test may also drop its pair from the node's list.
+//! read of its [`Sched`]; the caller keeps each node's earliest due ([`Sched::next_due`]) in a
+//! dense array, so such a node costs it 4 bytes. A test may also drop its pair from the
+//! node's list.
 //!
 //! The candidates tested at a step are exactly those with `due <= motion` (or NaN), whatever
 //! group they are in; the order in which they are tested differs from the list's, so the
@@ -71,7 +73,7 @@ pub fn down(v: f64) -> f32 {
 
 /// Whether a candidate is due: `due <= motion`, or NaN.
 #[inline]
-fn is_due(due: f32, motion: f64) -> bool {
+pub fn is_due(due: f32, motion: f64) -> bool {
     (due as f64).partial_cmp(&motion) != Some(std::cmp::Ordering::Greater)
 }
 
@@ -97,6 +99,24 @@ impl Sched {
             .chain(list)
             .filter(|c| !is_due(c.due, motion))
             .count()
+    }
+
+    /// The earliest `due` of the node's candidates (`-inf` if one is NaN, `+inf` when there
+    /// is none): while the motion bound is below it, [`Sched::visit`] tests nothing.
+    pub fn next_due(&self, list: &[Cand]) -> f32 {
+        let hot = &list[self.cold as usize..];
+        let mut next = self.top;
+        for c in self.hot[..self.n_hot as usize].iter().chain(hot) {
+            if c.due.is_nan() {
+                return f32::NEG_INFINITY;
+            }
+            next = next.min(c.due);
+        }
+        if next.is_nan() {
+            f32::NEG_INFINITY
+        } else {
+            next
+        }
     }
 
     /// Move every candidate into `list` (in no particular order), for a new search.
@@ -338,6 +358,9 @@ mod tests {
                 want.sort_unstable();
                 got.sort_unstable();
                 assert_eq!(got, want, "{n} candidates, step {step}");
+                // the earliest due, as the plain list has it
+                let earliest = plain.iter().fold(f32::INFINITY, |m, c| m.min(c.due));
+                assert_eq!(sched.next_due(&list), earliest, "{n}: step {step}");
                 total += got.len();
                 let mut all: Vec<Cand> = sched.hot[..sched.n_hot as usize]
                     .iter()

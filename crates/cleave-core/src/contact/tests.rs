@@ -831,6 +831,15 @@ fn nodes_with_new_faces_are_due_at_once() {
             .sum()
     };
     assert!(waiting(c) > 0);
+    // and no node is looked at: each one's earliest due is ahead of the motion bound
+    let looked_at = |c: &Contact| -> usize {
+        let p = &c.passes[0];
+        p.next
+            .iter()
+            .filter(|&&d| schedule::is_due(d, c.motion))
+            .count()
+    };
+    assert_eq!(looked_at(c), 0);
     let k = 0;
     let sf = &sm.faces[k];
     let new = [(sf.elems[0], sf.faces[0]), (sf.elems[1], sf.faces[1])];
@@ -853,6 +862,8 @@ fn nodes_with_new_faces_are_due_at_once() {
     assert!(waiting_of(c) > 10, "{}", waiting_of(c));
     c.renew();
     assert_eq!(waiting_of(c), 0);
+    // the renewed nodes' leads are looked at again
+    assert!(looked_at(c) > 0 && looked_at(c) <= 8, "{}", looked_at(c));
     assert!(c.sides[0].renewed.is_empty());
 }
 

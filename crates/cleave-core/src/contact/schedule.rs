@@ -9,8 +9,7 @@
 //! start of the list, of which only the top is looked at (its `due` is kept in the [`Sched`]
 //! too). A node whose hot candidates are not due and whose heap top is not due costs one
 //! read of its [`Sched`]; the caller keeps each node's earliest due ([`Sched::next_due`]) in a
-//! dense array, so such a node costs it 4 bytes. A test may also drop its pair from the
-//! node's list.
+//! dense array, so such a node costs it 4 bytes.
 //!
 //! The candidates tested at a step are exactly those with `due <= motion` (or NaN), whatever
 //! group they are in; the order in which they are tested differs from the list's, so the
@@ -166,28 +165,24 @@ impl Sched {
         self.top = if cold > 0 { list[0].due } else { f32::INFINITY };
     }
 
-    /// Test the candidates due at `motion`: `test(face)` returns the pair's clearance and
-    /// whether to drop the pair from the list; a pair kept is due again at
-    /// `motion + clearance`, and is hot if that is by `hot_until` (which must be at least
-    /// `motion`).
+    /// Test the candidates due at `motion`: `test(face)` returns the pair's clearance; the
+    /// pair is due again at `motion + clearance`, and is hot if that is by `hot_until` (which
+    /// must be at least `motion`).
     #[inline]
     pub fn visit(
         &mut self,
         list: &mut Vec<Cand>,
         motion: f64,
         hot_until: f64,
-        mut test: impl FnMut(u32) -> (f64, bool),
+        mut test: impl FnMut(u32) -> f64,
     ) {
         let mut cold = self.cold as usize;
         let heap_due = is_due(self.top, motion);
         if self.n_hot == 0 && cold == list.len() && !heap_due {
             return;
         }
-        // the next due, or None to drop the pair
-        let mut next = |face: u32| {
-            let (clear, drop) = test(face);
-            (!drop).then(|| down(motion + clear))
-        };
+        // the next due
+        let mut next = |face: u32| down(motion + test(face));
         let hot = |due: f32| is_due(due, hot_until);
         // inline hot candidates
         let mut k = 0;
@@ -197,11 +192,7 @@ impl Sched {
                 k += 1;
                 continue;
             }
-            let Some(due) = next(c.face) else {
-                self.n_hot -= 1;
-                self.hot[k] = self.hot[self.n_hot as usize];
-                continue;
-            };
+            let due = next(c.face);
             if hot(due) {
                 self.hot[k].due = due;
                 k += 1;
@@ -224,10 +215,7 @@ impl Sched {
                 k += 1;
                 continue;
             }
-            let Some(due) = next(c.face) else {
-                list.swap_remove(k);
-                continue;
-            };
+            let due = next(c.face);
             list[k].due = due;
             if !hot(due) {
                 // into the heap; the candidate at `cold` (already seen) takes its place
@@ -246,25 +234,18 @@ impl Sched {
         while heap_due && cold > 0 && is_due(list[0].due, motion) {
             let c = list[0];
             let due = next(c.face);
-            if let Some(due) = due.filter(|&d| !hot(d)) {
+            if !hot(due) {
                 list[0].due = due;
                 sift_down(&mut list[..cold], 0);
             } else {
-                // out of the heap: dropped, or to the first place of the list's hot candidates
+                // out of the heap, to the first place of the list's hot candidates
                 list.swap(0, cold - 1);
                 cold -= 1;
                 sift_down(&mut list[..cold], 0);
-                match due {
-                    None => {
-                        list.swap_remove(cold);
-                    }
-                    Some(due) => {
-                        list[cold].due = due;
-                        if (self.n_hot as usize) < HOT {
-                            self.hot[self.n_hot as usize] = list.swap_remove(cold);
-                            self.n_hot += 1;
-                        }
-                    }
+                list[cold].due = due;
+                if (self.n_hot as usize) < HOT {
+                    self.hot[self.n_hot as usize] = list.swap_remove(cold);
+                    self.n_hot += 1;
                 }
             }
         }
@@ -311,7 +292,8 @@ mod tests {
     /// Over 400 steps of random motion and random clearances (many zero, some tiny, some
     /// large), the faces tested each step are exactly those a plain list with one `due` per
     /// candidate says are due, for nodes with 0 to 40 candidates (so the inline hot places
-    /// overflow), with drops, searches (`gather` / `split`) and renewals now and then.
+    /// overflow), with searches (`gather` / `split`, some taking candidates out of the list
+    /// and bringing back those out) and renewals now and then.
     #[test]
     fn tests_exactly_the_due_candidates() {
         let mut r = Rng(5);
@@ -339,8 +321,6 @@ mod tests {
                         _ => h as f64,
                     }
                 };
-                // drop now and then
-                let drop = |face: u32, step: usize| (face as usize + step).is_multiple_of(41);
                 let mut want: Vec<u32> = plain
                     .iter_mut()
                     .filter(|c| is_due(c.due, motion))
@@ -349,11 +329,10 @@ mod tests {
                         c.face
                     })
                     .collect();
-                plain.retain(|c| !(want.contains(&c.face) && drop(c.face, step)));
                 let mut got = Vec::new();
                 sched.visit(&mut list, motion, hot_until, |f| {
                     got.push(f);
-                    (clearance(f, step), drop(f, step))
+                    clearance(f, step)
                 });
                 want.sort_unstable();
                 got.sort_unstable();
@@ -378,15 +357,19 @@ mod tests {
                     plain.iter_mut().for_each(|c| c.due = f32::NEG_INFINITY);
                 }
                 if step % 53 == 20 {
-                    // a search brings the dropped candidates back
-                    for f in 0..n as u32 {
-                        if !plain.iter().any(|c| c.face == f) {
-                            plain.push(Cand::new(f));
-                            list.push(Cand::new(f));
-                        }
+                    // a search: some candidates leave the list, those out come back
+                    let leaves = |f: u32| (f as usize + step).is_multiple_of(5);
+                    sched.gather(&mut list);
+                    let absent: Vec<u32> = (0..n as u32)
+                        .filter(|&f| !plain.iter().any(|c| c.face == f))
+                        .collect();
+                    list.retain(|c| !leaves(c.face));
+                    plain.retain(|c| !leaves(c.face));
+                    for f in absent {
+                        plain.push(Cand::new(f));
+                        list.push(Cand::new(f));
                     }
                     plain.sort_unstable_by_key(|c| c.face);
-                    sched.gather(&mut list);
                     sched.split(&mut list, hot_until);
                 }
             }

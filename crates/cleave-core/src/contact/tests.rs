@@ -1218,3 +1218,88 @@ fn chained_copies_are_left_out_of_the_search() {
     assert_eq!((s.closed, s.released), (2, 2));
     assert!(same_deck_pairs(&cs) > 0);
 }
+
+/// Random warped faces and nodes: how many of the node's motions relative to the corners, of
+/// at most `scale` times the pair's first due ([`first_due`], from the search sphere at these
+/// positions), bring it into contact; and how many pairs had a positive first due.
+fn first_due_crossings(scale_: f64, seed: u64) -> (usize, usize) {
+    let mut rng = Rng(seed);
+    let (mut positive, mut touched) = (0, 0);
+    for _ in 0..3000 {
+        let warp = rng.range(0.0, 0.3);
+        let mut x = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        for q in x.iter_mut() {
+            *q = [
+                q[0] + rng.range(-0.2, 0.2),
+                q[1] + rng.range(-0.2, 0.2),
+                rng.range(-warp, warp),
+            ];
+        }
+        let face = Face {
+            elem: 0,
+            face: 0,
+            nodes: [0, 1, 2, 3],
+            k: 1.0,
+            depth: rng.range(0.05, 0.5),
+        };
+        let margin = rng.range(0.0, 0.2);
+        let sphere = search_sphere(&face, &x, margin);
+        let p: [Vec3; 4] = std::array::from_fn(|a| x[a]);
+        let b = FaceBounds::new(&p);
+        for _ in 0..20 {
+            let s = [
+                rng.range(-1.5, 2.5),
+                rng.range(-1.5, 2.5),
+                rng.range(-1.5, 1.5),
+            ];
+            let due = first_due(sphere, s, margin);
+            if due <= 0.0 {
+                continue;
+            }
+            positive += 1;
+            let d = scale_ * due as f64;
+            for k in 0..4 {
+                // first all corners straight at the node, then at random, mostly towards it
+                let at = sub(s, b.c);
+                let at = scale(at, d / norm(at));
+                let q = p.map(|c| {
+                    if k == 0 {
+                        return add(c, at);
+                    }
+                    let mut m = [0.0; 3];
+                    for v in m.iter_mut() {
+                        *v = rng.range(-1.0, 1.0);
+                    }
+                    m = add(m, scale(at, 2.0 / d));
+                    add(c, scale(m, d * rng.range(0.5, 1.0) / norm(m)))
+                });
+                let touch = penalty::project(&q, s).is_some_and(|pr| {
+                    pr.gap < -GAP_TOL * FaceBounds::new(&q).r && pr.gap > -face.depth
+                });
+                touched += touch as usize;
+            }
+        }
+    }
+    (positive, touched)
+}
+
+/// A pair that a full build lists first waits for its clearance from the face's search sphere
+/// ([`first_due`]): no motion of the corners relative to the node within it brings them into
+/// contact (random warped faces, depths and margins; 4 motions a pair). The check has teeth:
+/// motions of 3 times the clearance do.
+#[test]
+fn first_due_from_the_sphere_is_never_crossed() {
+    let (positive, touched) = first_due_crossings(1.0, 31);
+    assert!(
+        positive > 20_000,
+        "{positive} pairs with a positive first due"
+    );
+    assert_eq!(touched, 0, "{touched} crossings");
+    let (_, touched) = first_due_crossings(3.0, 31);
+    assert!(touched > 0, "motions of 3 clearances never touched");
+}

@@ -527,8 +527,28 @@ pub fn reactions(w: &[f64; 4], f: Vec3) -> [Vec3; 4] {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
+
+    /// A random warped unit face: corners of the unit square moved by up to 0.2 in its plane
+    /// and up to a random warp (below 0.3) out of it.
+    pub(crate) fn warped_face(rng: &mut crate::contact::search::tests::Rng) -> [Vec3; 4] {
+        let warp = rng.range(0.0, 0.3);
+        let mut p = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        for q in p.iter_mut() {
+            *q = [
+                q[0] + rng.range(-0.2, 0.2),
+                q[1] + rng.range(-0.2, 0.2),
+                rng.range(-warp, warp),
+            ];
+        }
+        p
+    }
 
     fn rel(a: f64, b: f64) -> f64 {
         (a - b).abs() / b.abs().max(1e-300)
@@ -586,20 +606,7 @@ mod tests {
         let mut rng = crate::contact::search::tests::Rng(11);
         let (mut contacts, mut rejected) = (0, 0);
         for _ in 0..2000 {
-            let warp = rng.range(0.0, 0.3);
-            let mut p = [
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [1.0, 1.0, 0.0],
-                [0.0, 1.0, 0.0],
-            ];
-            for q in p.iter_mut() {
-                *q = [
-                    q[0] + rng.range(-0.2, 0.2),
-                    q[1] + rng.range(-0.2, 0.2),
-                    rng.range(-warp, warp),
-                ];
-            }
+            let p = warped_face(&mut rng);
             let b = FaceBounds::new(&p);
             let depth = rng.range(0.05, 0.5);
             let gap_min = 1e-9 * b.r;
@@ -633,20 +640,7 @@ mod tests {
         let mut rng = crate::contact::search::tests::Rng(23);
         let (mut rejected, mut big, mut touched) = (0, 0, 0);
         for _ in 0..4000 {
-            let warp = rng.range(0.0, 0.3);
-            let mut p = [
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [1.0, 1.0, 0.0],
-                [0.0, 1.0, 0.0],
-            ];
-            for q in p.iter_mut() {
-                *q = [
-                    q[0] + rng.range(-0.2, 0.2),
-                    q[1] + rng.range(-0.2, 0.2),
-                    rng.range(-warp, warp),
-                ];
-            }
+            let p = warped_face(&mut rng);
             let b = FaceBounds::new(&p);
             let depth = rng.range(0.05, 0.5);
             let gap_min = 1e-9 * b.r;

@@ -1226,20 +1226,7 @@ fn first_due_crossings(scale_: f64, seed: u64) -> (usize, usize) {
     let mut rng = Rng(seed);
     let (mut positive, mut touched) = (0, 0);
     for _ in 0..3000 {
-        let warp = rng.range(0.0, 0.3);
-        let mut x = vec![
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [0.0, 1.0, 0.0],
-        ];
-        for q in x.iter_mut() {
-            *q = [
-                q[0] + rng.range(-0.2, 0.2),
-                q[1] + rng.range(-0.2, 0.2),
-                rng.range(-warp, warp),
-            ];
-        }
+        let x = penalty::tests::warped_face(&mut rng).to_vec();
         let face = Face {
             elem: 0,
             face: 0,

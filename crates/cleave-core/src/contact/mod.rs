@@ -161,7 +161,8 @@
 //! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us), on this project's 2-core machine, one
 //! thread, runs alternating with the build of the session's start (16afc31): 0.530-0.540 us
 //! per element step, contact 44% of the step (16afc31: 0.704-0.707 us, 54%). Per step, with
-//! the margin at 0.1: about 11,000 nodes on the surface, 3,800 leads, 1,700 pair tests, 49
+//! the margin at 0.1: about 11,000 nodes on the surface, 3,800 leads, 1,700 pair tests (1,262
+//! since the first due from the sphere and no drops, session 8; 776 nodes test a pair), 49
 //! projections, bounds worked out for 740 faces of 3,100 listed (at 20,000 elements: 65,000
 //! nodes, 22,000 leads, 10,900 tests of which 62% are rejected by the bounds with a clearance
 //! of more than [`HOT_STEPS`] steps, 460 projections). Timers added for one run

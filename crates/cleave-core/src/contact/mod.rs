@@ -1025,6 +1025,17 @@ thread_local! {
     static OLD: std::cell::RefCell<Vec<Cand>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
+/// A full build or an incremental search ([`Query::run`]).
+#[derive(Clone, Copy, Debug)]
+enum SearchKind {
+    /// A full build: the motion bound restarts at zero, so `rebase` (the bound before) is
+    /// subtracted from the `due` kept; the faces' spheres are of the current positions, made
+    /// with `margin`, so a new pair is first due at its sphere clearance ([`first_due`]).
+    Full { rebase: f64, margin: f64 },
+    /// An incremental search: a `due` kept stays; a new pair is due at once.
+    Incremental,
+}
+
 /// What a search for candidates reads.
 struct Query<'a> {
     grid: &'a BucketGrid,
@@ -1037,12 +1048,8 @@ struct Query<'a> {
     x_ref: &'a [Vec3],
     tie: &'a [u32],
     chains: &'a Chains,
-    /// Subtracted from the `due` kept (a full build restarts the motion bound at zero).
-    rebase: f64,
-    /// At a full build (the faces' spheres are of the current positions), the margin they
-    /// were made with: a new pair is first due at its sphere clearance ([`first_due`]). None:
-    /// at once.
-    build_margin: Option<f64>,
+    /// Full or incremental search.
+    kind: SearchKind,
     /// Candidates due by this are hot.
     hot_until: f64,
 }
@@ -1051,11 +1058,13 @@ impl Query<'_> {
     /// Node i's candidates from the grids: faces whose box and sphere (built from `x_ref`)
     /// hold the node's `x_ref` position and that hold neither the node nor a node tied to it,
     /// nor a node it is chained to through closed cracks ([`closure::Chains`]).
-    /// A face it had keeps its `due` (less `rebase`): the bound on a pair holds whether or not
-    /// the pair is listed; a new one is due at once, or at a full build at its sphere
-    /// clearance (the later of the two for a face it had).
-    /// A node that is not its set's lead gets no candidates.
-    fn run(&self, i: usize, list: &mut Vec<Cand>, sched: &mut Sched) {
+    /// A face it had keeps its `due` (less the bound before a full build): the bound on a
+    /// pair holds whether or not the pair is listed; a new one is due at once, or at a full
+    /// build at its sphere clearance (the later of the two for a face it had).
+    /// A node that is not its set's lead gets no candidates. The node is checked at the next
+    /// step (`next` = -inf, [`Pass::next`]).
+    fn run(&self, i: usize, list: &mut Vec<Cand>, sched: &mut Sched, next: &mut f32) {
+        *next = f32::NEG_INFINITY;
         sched.gather(list);
         if self.group[i] != i as u32 {
             list.clear();
@@ -1081,9 +1090,9 @@ impl Query<'_> {
             list.clear();
             let new = |f: u32| Cand {
                 face: f,
-                due: match self.build_margin {
-                    Some(m) => first_due(fs.spheres[f as usize], p, m),
-                    None => f32::NEG_INFINITY,
+                due: match self.kind {
+                    SearchKind::Full { margin, .. } => first_due(fs.spheres[f as usize], p, margin),
+                    SearchKind::Incremental => f32::NEG_INFINITY,
                 },
             };
             self.grid
@@ -1095,9 +1104,13 @@ impl Query<'_> {
                 |f| keep(f + base),
                 |f| list.push(new(f + base)),
             );
+            let rebase = match self.kind {
+                SearchKind::Full { rebase, .. } => rebase,
+                SearchKind::Incremental => 0.0,
+            };
             for c in list.iter_mut() {
                 if let Ok(j) = old.binary_search_by_key(&c.face, |c| c.face) {
-                    c.due = c.due.max(schedule::down(old[j].due as f64 - self.rebase));
+                    c.due = c.due.max(schedule::down(old[j].due as f64 - rebase));
                 }
             }
         });
@@ -1507,6 +1520,7 @@ impl Contact {
                 extra,
                 cand,
                 sched,
+                next,
                 ..
             } = pass;
             let q = Query {
@@ -1518,16 +1532,15 @@ impl Contact {
                 x_ref,
                 tie,
                 chains,
-                rebase,
-                build_margin: Some(m),
+                kind: SearchKind::Full { rebase, margin: m },
                 hot_until,
             };
             cand.par_iter_mut()
                 .zip(sched.par_iter_mut())
+                .zip(next.par_iter_mut())
                 .enumerate()
                 .with_min_len(NODE_CHUNK / 4)
-                .for_each(|(i, (list, sched))| q.run(i, list, sched));
-            pass.next.fill(f32::NEG_INFINITY);
+                .for_each(|(i, ((list, sched), next))| q.run(i, list, sched, next));
         }
         self.pending.clear();
         self.dirty = false;
@@ -1765,15 +1778,13 @@ impl Contact {
                 x_ref,
                 tie,
                 chains,
-                rebase: 0.0,
-                build_margin: None,
+                kind: SearchKind::Incremental,
                 hot_until,
             };
             if scratch.len() < NODE_CHUNK {
                 for &i in scratch.iter() {
                     let i = i as usize;
-                    q.run(i, &mut cand[i], &mut sched[i]);
-                    next[i] = f32::NEG_INFINITY;
+                    q.run(i, &mut cand[i], &mut sched[i], &mut next[i]);
                 }
             } else {
                 for &i in scratch.iter() {
@@ -1788,8 +1799,7 @@ impl Contact {
                     .for_each(|(i, (((list, sched), next), mark))| {
                         if *mark {
                             *mark = false;
-                            q.run(i, list, sched);
-                            *next = f32::NEG_INFINITY;
+                            q.run(i, list, sched, next);
                         }
                     });
             }

@@ -280,6 +280,19 @@ pub struct Control {
     pub q2: f64,
     /// SLSFAC, default 0.1.
     pub slsfac: f64,
+    /// PENOPT: the stiffness of a contact pair.
+    pub penalty: PenaltyRule,
+}
+
+/// `*CONTROL_CONTACT` PENOPT: which stiffness a node-to-face contact pair takes
+/// ([`crate::contact::surface::FaceTable::pair_stiffness`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PenaltyRule {
+    /// PENOPT = 0 or 1 (LS-DYNA's default): the smaller of the face's and the node's.
+    #[default]
+    Smaller,
+    /// PENOPT = 2: the face's ("master segment stiffness").
+    Face,
 }
 
 impl Default for Control {
@@ -293,6 +306,7 @@ impl Default for Control {
             q1: 1.5,
             q2: 0.06,
             slsfac: 0.1,
+            penalty: PenaltyRule::Smaller,
         }
     }
 }

@@ -217,6 +217,9 @@ fn base_deck_is_read_completely() {
         (1e-3, 0.8, Hourglass::Stiffness, 0.05)
     );
     assert_eq!((c.q1, c.q2, c.slsfac), (1.2, 0.05, 0.2));
+    assert_eq!(c.penalty, PenaltyRule::Smaller); // PENOPT blank: 1
+    let t = with("*CONTROL_CONTACT\n0.2\n", "*CONTROL_CONTACT\n0.2,,,,2\n");
+    assert_eq!(parse(&t).control.penalty, PenaltyRule::Face);
     assert_eq!(
         (m.output.glstat_dt, m.output.nodout_dt, m.output.d3plot_dt),
         (1e-5, 2e-5, 1e-4)
@@ -744,6 +747,12 @@ fn unsupported_options_are_errors() {
         ("2, 1, 0, 1, 0.5", "2, 1, 1, 1, 0.5", "VAD", "not supported"),
         ("4, 0.05", "6, 0.05", "IHQ", "not supported"),
         (
+            "*CONTROL_CONTACT\n0.2\n",
+            "*CONTROL_CONTACT\n0.2, 0, 0, 0, 4\n",
+            "PENOPT",
+            "not supported",
+        ),
+        (
             "*SECTION_SOLID\n1, 1",
             "*SECTION_SOLID\n1, 2",
             "ELFORM",
@@ -1173,6 +1182,7 @@ fn round_trip_model() -> Model {
             q1: 1.0,
             q2: 0.1,
             slsfac: 0.15,
+            penalty: PenaltyRule::Face,
         },
         output: OutputRequests {
             glstat_dt: 1.0e-6,

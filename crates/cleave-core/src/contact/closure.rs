@@ -15,21 +15,26 @@
 //! n   = unit normal of the mid-surface (the mid-points of the 4 pairs), out of A into B
 //! d_k = x(b_k) - x(a_k),   g_k = d_k . n      (g_k < 0: B has entered A)
 //! f_k = -k g_k n + f_t     on b_k, and -f_k on a_k, while g_k < 0
-//! k   = k_A + k_B          (k_A = SLSFAC K A^2 / V of face A, [`super::surface::FaceTable`])
+//! k   = k(B, a) + k(A, b)  (k(B, a): the spring of a node a against face B,
+//!                           [`super::surface::FaceTable::pair_stiffness`])
 //! ```
 //!
 //! with `f_t` the Coulomb friction of the contact definition ([`super::friction`]: elastic
 //! trial `f_t - k du_t`, capped at `mu |f_n|`, du_t the pair's tangential slip over the step).
-//! The stiffness is that of the two node-to-face passes at a node of the pair (a spring k_B
-//! on a_k against B, k_A on b_k against A), so where a node has one crack face (a crack one
-//! element wide, the edge of a crack) the closure pushes back as node-to-face contact would:
+//! The stiffness is that of the two node-to-face passes at a node of the pair (a_k against B,
+//! b_k against A: with PENOPT 1, the smaller of the face's `SLSFAC K A^2 / V` and the node's,
+//! the least node of the four for all pairs; for two like elements, k_A + k_B), so where a
+//! node has one crack face (a crack one element wide, the edge of a crack) the closure pushes
+//! back as node-to-face contact would:
 //! the broken bar pushed back in `tests/contact.rs` closes to 3.7% of h either way. Where
 //! several crack faces share a node, each adds its pair (node-to-face would give one spring
 //! per node and side): up to four times stiffer inside a flat crack. It stays stable at the
-//! contact time step ([`super::ContactSet::stable_dt`]): a pair's copies of mass m held by
-//! 2k vibrate at `omega^2 = 4k/m`, the case that step is made for, and n pairs between two
-//! sets of n copies each (a flat crack: 4 faces, 4 copies a side) at the same frequency.
-//! The pairs act in equal and opposite forces: momentum is kept exactly.
+//! contact time step ([`super::ContactSet::stable_dt`]): each of the two springs is at most
+//! the stiffness of either copy (the copies of one deck node have the same), so a pair's
+//! copies held by them vibrate at `omega^2 <= 2 k_a/m_a + 2 k_b/m_b`, the case that step is
+//! made for, and n pairs between two sets of n copies each (a flat crack: 4 faces, 4 copies a
+//! side) at the same frequency (PENOPT 2's step covers the stiffest face on the lightest
+//! node). The pairs act in equal and opposite forces: momentum is kept exactly.
 //!
 //! While a crack is *closed* this way, the node-to-face search leaves out the pairs it covers:
 //! a node (or a node tied to it) that is a partner of a corner of a face is not tested against
@@ -72,7 +77,7 @@ pub(super) struct Closure {
     /// `b[k]` its partner on B.
     pub a: [u32; 4],
     pub b: [u32; 4],
-    /// Penalty per pair, k_A + k_B.
+    /// Penalty per pair (module docs).
     pub k: f64,
     /// Tangential force on b_k at the last step (zero when the pair was open).
     pub ft: [Vec3; 4],

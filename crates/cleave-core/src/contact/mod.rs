@@ -3,7 +3,8 @@
 //! exterior faces of hexahedral parts (deformable or rigid), with Coulomb friction, after the
 //! LS-DYNA theory manual (penalty method, SOFT = 0; friction).
 //!
-//! - [`surface`]: exterior faces, the faces of each side, penalty stiffness `k = SLSFAC K A^2/V`.
+//! - [`surface`]: exterior faces, the faces of each side, penalty stiffness `k = SLSFAC K A^2/V`
+//!   of a face, a node's (its stiffest face), and a pair's (the smaller: PENOPT 1).
 //! - [`search`]: the bucket grids that find each node's candidate faces.
 //! - [`schedule`]: when each candidate pair is tested again.
 //! - [`penalty`]: closest point on a bilinear face, gap, normal force and its reaction; the
@@ -158,9 +159,10 @@
 //!
 //! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
-//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us), on this project's 2-core machine, one
-//! thread, runs alternating with the build of the session's start (16afc31): 0.530-0.540 us
-//! per element step, contact 44% of the step (16afc31: 0.704-0.707 us, 54%). Per step, with
+//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us; 2267 since PENOPT 1), on this project's
+//! 2-core machine, one thread, runs alternating with the build of the session's start
+//! (16afc31): 0.530-0.540 us per element step, contact 44% of the step (16afc31: 0.704-0.707
+//! us, 54%). Per step, with
 //! the margin at 0.1: about 11,000 nodes on the surface, 3,800 leads, 1,700 pair tests (1,262
 //! since the first due from the sphere and no drops, session 8; 776 nodes test a pair), 49
 //! projections, bounds worked out for 740 faces of 3,100 listed (at 20,000 elements: 65,000
@@ -189,7 +191,7 @@ use std::collections::HashSet;
 use rayon::prelude::*;
 
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
-use crate::model::{ContactDef, Model};
+use crate::model::{ContactDef, Model, PenaltyRule};
 use bounds_cache::BoundsCache;
 pub use closure::Crack;
 use closure::{Chains, Closure};
@@ -326,7 +328,7 @@ impl<'m> ContactSet<'m> {
         } else {
             exterior_faces(&deck_conn, |_| true)
         };
-        let table = FaceTable::new(model);
+        let table = FaceTable::new(model, origin);
         let mut contacts = Vec::with_capacity(model.contacts.len());
         for def in &model.contacts {
             let ctx = Build {
@@ -486,20 +488,59 @@ impl<'m> ContactSet<'m> {
 
     /// A time step the penalty springs are stable with, to compare with the element step.
     ///
-    /// For each pass, `dt = sqrt(m_min / k_max)`: m_min the smallest nodal mass among the
-    /// pass's nodes and face nodes, k_max the stiffest face. Derivation: a node of mass m in
-    /// contact is held by its own penalty spring k and, in the symmetric pass, by the spring of
-    /// the node that penetrates it; two such masses joined by 2k vibrate at
-    /// `omega^2 = 2k (1/m + 1/m) = 4k/m`, and central differences need `dt <= 2/omega`.
-    /// Infinite when there is no face. `mass` is the mass each node has against a spring: the
-    /// solver gives a rigid body's nodes the body's mass. A node copy of a split model counts
-    /// with its own mass, the least its coincident set can be left with. (Against a rigid face
-    /// the bound could be sqrt(2) larger; tried, the stick of the friction test then creeps.)
+    /// PENOPT 1 (the default): `dt = min over the nodes n of sqrt(m_n / k_n)`, k_n the node's
+    /// stiffness
+    /// ([`FaceTable::node_stiffness`]), over every node that is or may come to be on a
+    /// surface (the nodes of the sides' faces, and all nodes of the elements of the parts
+    /// whose failed interfaces join a side). Derivation: a pair's spring is at most the
+    /// stiffness of its node and of each of its face's nodes (the pair takes the smaller of
+    /// the face's and the node's, and a face is one of the faces that set its nodes'
+    /// stiffness: [`FaceTable::pair_stiffness`]). A node of mass m in contact is held by its
+    /// own spring and, in the symmetric pass, by the spring of the node that penetrates it;
+    /// two such masses joined by 2k vibrate at `omega^2 = 2k (1/m_a + 1/m_b) <= 2 k_a/m_a +
+    /// 2 k_b/m_b <= 4 max(k/m)`, and central differences need `dt <= 2/omega`. A closed crack's
+    /// pair is two such springs ([`closure`]). Infinite when there is no face. `mass` is the
+    /// mass each node has against a spring: the solver gives a rigid body's nodes the body's
+    /// mass. A node copy of a split model counts with its own mass, the least its coincident
+    /// set can be left with. For a cube element of side l (k = SLSFAC K l, m = rho l^3 / 8)
+    /// this is `l sqrt(rho / (8 SLSFAC K))`, 1.1 times `l / sqrt(K / rho)` at SLSFAC 0.1, so
+    /// longer than the element's step `l / c` for any material (`c^2 = (K + 4G/3) / rho`).
+    /// (Against a rigid face the bound could be sqrt(2) larger; tried, the stick of the
+    /// friction test then creeps.) PENOPT 2, where any node takes any face's spring:
+    /// `dt = sqrt(min m_n / max k_n)` over the same nodes.
     pub fn stable_dt(&self, mass: &[f64]) -> f64 {
-        self.contacts
-            .iter()
-            .map(|c| c.stable_dt(mass))
-            .fold(f64::INFINITY, f64::min)
+        let model = self.table.model();
+        let mut on = vec![false; mass.len()];
+        for side in self.contacts.iter().flat_map(|c| &c.sides) {
+            for &n in &side.nodes {
+                on[n as usize] = true;
+            }
+            for (e, conn) in model.conn.iter().enumerate() {
+                let part = model.elem_part[e] as usize;
+                if side.parts.get(part).copied().unwrap_or(false) {
+                    conn.iter().for_each(|&n| on[n as usize] = true);
+                }
+            }
+        }
+        let springs = (0..mass.len() as u32)
+            .filter(|&n| on[n as usize])
+            .map(|n| (mass[n as usize], self.table.node_stiffness(n)))
+            .filter(|&(m, k)| m > 0.0 && k > 0.0);
+        match model.control.penalty {
+            PenaltyRule::Smaller => springs
+                .map(|(m, k)| (m / k).sqrt())
+                .fold(f64::INFINITY, f64::min),
+            PenaltyRule::Face => {
+                let (m, k) = springs.fold((f64::INFINITY, 0.0f64), |(m0, k0), (m, k)| {
+                    (m0.min(m), k0.max(k))
+                });
+                if k > 0.0 {
+                    (m / k).sqrt()
+                } else {
+                    f64::INFINITY
+                }
+            }
+        }
     }
 
     /// Search statistics, all definitions.
@@ -951,13 +992,14 @@ struct Hit {
 }
 
 impl Hit {
-    /// `|f_n| = -k engaged`, k the stiffness of the hit face (of `faces`, the face side's).
+    /// `|f_n| = -k engaged`, k the pair's: the smaller of the hit face's stiffness (of
+    /// `faces`, the face side's) and the node's, `k_node` ([`FaceTable::pair_stiffness`]).
     #[inline]
-    fn fn_mag(&self, faces: &[Face]) -> f64 {
+    fn fn_mag(&self, faces: &[Face], k_node: f64) -> f64 {
         if self.face == NONE {
             0.0
         } else {
-            -faces[self.face as usize].k * self.engaged
+            -faces[self.face as usize].k.min(k_node) * self.engaged
         }
     }
 }
@@ -1381,7 +1423,14 @@ impl Contact {
         for k in 0..4 {
             self.chains.link(a[k], b[k], true);
         }
-        let k = table.stiffness(fa) + table.stiffness(fb);
+        // each pair as the two node-to-face springs at it: a_k against B, b_k against A, each
+        // the smaller of the face's and the node's stiffness (the copies of one deck node
+        // have the same; the least of the four pairs for all)
+        let k_node = a
+            .iter()
+            .map(|&n| table.node_stiffness(n))
+            .fold(f64::INFINITY, f64::min);
+        let k = table.stiffness(fb).min(k_node) + table.stiffness(fa).min(k_node);
         self.closures.push(Closure::new(crack.faces, a, b, k));
     }
 
@@ -1418,27 +1467,6 @@ impl Contact {
             false
         });
     }
-
-    fn stable_dt(&self, mass: &[f64]) -> f64 {
-        let mut dt = f64::INFINITY;
-        for p in &self.passes {
-            let fs = &self.sides[p.face_side];
-            let k_max = fs.faces.iter().map(|f| f.k).fold(0.0, f64::max);
-            if k_max.is_nan() || k_max <= 0.0 {
-                continue;
-            }
-            let m_min = self.sides[p.node_side]
-                .nodes
-                .iter()
-                .chain(&fs.nodes)
-                .map(|&n| mass[n as usize])
-                .filter(|&m| m > 0.0)
-                .fold(f64::INFINITY, f64::min);
-            dt = dt.min((m_min / k_max).sqrt());
-        }
-        dt
-    }
-
     /// One pass over the nodes of the sides: the motion bound grows by the diagonal of the
     /// box of the nodes' displacements over the last step (nodes that joined since are not
     /// counted: their pairs are new); returns the diagonal of the box of the displacements
@@ -1906,7 +1934,8 @@ impl Contact {
                         if let Some(new) = ctx.check(c * chunk + k, list, sched, hit, *ft) {
                             (*hit, *ft) = new;
                         }
-                        active[k] = hit.fn_mag(ctx.faces) != 0.0;
+                        let k_node = inp.table.node_stiffness(ctx.nodes[c * chunk + k]);
+                        active[k] = hit.fn_mag(ctx.faces, k_node) != 0.0;
                         *due = sched.next_due(list);
                     }
                 });
@@ -1926,7 +1955,7 @@ impl Contact {
                     acc.add(face.nodes[a], scale(hit.f, -hit.w[a]));
                 }
                 out.force = add(out.force, scale(hit.f, sign));
-                out.normal += hit.fn_mag(&fs.faces);
+                out.normal += hit.fn_mag(&fs.faces, inp.table.node_stiffness(ns.nodes[i]));
                 out.pairs += 1;
             }
         }
@@ -2098,7 +2127,13 @@ impl NodeCheck<'_> {
         prev: &Hit,
         ft_prev: Vec3,
     ) -> Option<(Hit, Vec3)> {
-        let StepInput { x, v, dt_prev, .. } = *self.inp;
+        let StepInput {
+            x,
+            v,
+            dt_prev,
+            table,
+            ..
+        } = *self.inp;
         let s = self.nodes[i];
         let mut xs: Option<Vec3> = None;
         let mut best: Option<(u32, Projection)> = None;
@@ -2132,19 +2167,20 @@ impl NodeCheck<'_> {
             Previous::Free
         } else {
             Previous::Other {
-                k: self.faces[prev.face as usize].k,
+                k: table.pair_stiffness(self.faces[prev.face as usize].k, s),
                 engaged: prev.engaged,
             }
         };
-        let e = engage(before, face.k, pr.gap, approach);
+        let k = table.pair_stiffness(face.k, s);
+        let e = engage(before, k, pr.gap, approach);
 
-        let f_n = normal_force(face.k, e.engaged, pr.normal);
-        let fn_mag = -face.k * e.engaged;
+        let f_n = normal_force(k, e.engaged, pr.normal);
+        let fn_mag = -k * e.engaged;
         let mut f_t = [0.0; 3];
         if !self.friction.is_frictionless() && fn_mag > 0.0 {
             let v_t = sub(v_rel, scale(pr.normal, dot(v_rel, pr.normal)));
             let mu = self.friction.coefficient(norm(v_t));
-            f_t = tangential_force(ft_prev, pr.normal, scale(v_t, dt_prev), face.k, mu * fn_mag).0;
+            f_t = tangential_force(ft_prev, pr.normal, scale(v_t, dt_prev), k, mu * fn_mag).0;
         }
         let hit = Hit {
             face: fi,

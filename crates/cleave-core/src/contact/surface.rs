@@ -12,7 +12,7 @@ use std::collections::HashMap;
 
 use crate::element::hex8::{quad_area, volume, FACES};
 use crate::math::Vec3;
-use crate::model::{ContactSurface, Model};
+use crate::model::{ContactSurface, Model, PenaltyRule};
 
 /// A face: element index and local face number (0..6, [`FACES`] order).
 pub type FaceId = (u32, u8);
@@ -72,16 +72,32 @@ pub fn exterior_faces(conn: &[[u32; 8]], elem_filter: impl Fn(u32) -> bool) -> V
 /// materials too, from their E and PR), A the face area and V the element volume.
 /// The depth limit is [`DEPTH_FRACTION`] `* V / A`. A degenerate face or element gets 0 for
 /// both.
+///
+/// A pair's spring is the smaller of the face's stiffness and the node's
+/// ([`FaceTable::pair_stiffness`]), as LS-DYNA's default `*CONTROL_CONTACT` PENOPT = 1
+/// ("minimum of master segment and slave node"); PENOPT = 2 takes the face's alone. The node's stiffness is that of the stiffest
+/// element face holding its deck node, in the deck mesh ([`FaceTable::node_stiffness`]): the
+/// copies of a split model have their deck node's, so until an interface fails a split model
+/// has the springs of the same mesh unsplit. The minimum keeps a light node off a stiff face's
+/// spring: a copy of a small ball element against the big faces of a rigid plate gets its own
+/// element's stiffness, so the springs are stable at a step set by each node's own mass and
+/// faces ([`super::ContactSet::stable_dt`]), not by the lightest node against the stiffest face
+/// of the model.
 #[derive(Clone, Debug)]
 pub struct FaceTable<'m> {
     model: &'m Model,
     /// Mean of sqrt(A) over all faces: a length scale for the search margin.
     pub mean_size: f64,
+    /// Stiffness of each solved node (its deck node's): the largest `k` of the element faces
+    /// holding the deck node.
+    node_k: Vec<f64>,
 }
 
 impl<'m> FaceTable<'m> {
-    /// For the elements of `model` (connectivity `model.conn`, coordinates `model.x0`).
-    pub fn new(model: &'m Model) -> Self {
+    /// For the elements of `model` (connectivity `model.conn`, coordinates `model.x0`);
+    /// `origin[i]` is the deck node of solved node i in a split model, `None` when the model
+    /// is not split.
+    pub fn new(model: &'m Model, origin: Option<&[u32]>) -> Self {
         let ne = model.num_elements();
         let mut sum = 0.0;
         for c in &model.conn {
@@ -91,7 +107,31 @@ impl<'m> FaceTable<'m> {
             }
         }
         let mean_size = if ne > 0 { sum / (6 * ne) as f64 } else { 0.0 };
-        Self { model, mean_size }
+        let mut t = Self {
+            model,
+            mean_size,
+            node_k: Vec::new(),
+        };
+        t.node_k = t.node_stiffnesses(origin);
+        t
+    }
+
+    /// [`FaceTable::node_stiffness`] of every solved node.
+    fn node_stiffnesses(&self, origin: Option<&[u32]>) -> Vec<f64> {
+        let nn = self.model.num_nodes();
+        let deck = |n: u32| origin.map_or(n, |o| o[n as usize]) as usize;
+        let n_deck = (0..nn as u32).map(|n| deck(n) + 1).max().unwrap_or(0);
+        let mut k_deck = vec![0.0f64; n_deck];
+        for (e, c) in self.model.conn.iter().enumerate() {
+            for f in 0..FACES.len() as u8 {
+                let k = self.stiffness((e as u32, f));
+                for n in face_nodes(c, f) {
+                    let d = &mut k_deck[deck(n)];
+                    *d = d.max(k);
+                }
+            }
+        }
+        (0..nn as u32).map(|n| k_deck[deck(n)]).collect()
     }
 
     /// The model the faces are of.
@@ -115,6 +155,23 @@ impl<'m> FaceTable<'m> {
             self.model.control.slsfac * bulk * area * area / v
         } else {
             0.0
+        }
+    }
+
+    /// Stiffness of solved node `n`: the largest [`FaceTable::stiffness`] of the element faces
+    /// holding its deck node (all elements, deck mesh).
+    #[inline]
+    pub fn node_stiffness(&self, n: u32) -> f64 {
+        self.node_k[n as usize]
+    }
+
+    /// The spring of node `n` against a face of stiffness `k_face`: the smaller of the two
+    /// (PENOPT 1, the default), or the face's (PENOPT 2).
+    #[inline]
+    pub fn pair_stiffness(&self, k_face: f64, n: u32) -> f64 {
+        match self.model.control.penalty {
+            PenaltyRule::Smaller => k_face.min(self.node_k[n as usize]),
+            PenaltyRule::Face => k_face,
         }
     }
 
@@ -281,7 +338,7 @@ mod tests {
     #[test]
     fn stiffness_of_a_face() {
         let m = box_model([1, 1, 1], [2.0, 1.0, 0.5], mat(), 1.0);
-        let t = FaceTable::new(&m);
+        let t = FaceTable::new(&m, None);
         let k_bulk = 3e9 / (3.0 * (1.0 - 0.5)); // 2e9
         let v = 1.0;
         // face 0 (bottom, z = 0): A = 2

@@ -237,7 +237,9 @@ fn friction_slides_and_sticks() {
         master: Some(ContactSurface::Part(0)),
         ..def(false, fs, fd, dc)
     });
-    let k = 0.1 * K;
+    // the pair's spring: the small block's nodes (0.1 K A^2 / V = 0.1 K 0.2) are softer than
+    // the big block's face (0.1 K), and a pair takes the smaller (PENOPT 1)
+    let k = 0.02 * K;
     let f_n = k * delta;
     let nn = m.num_nodes();
     let bottom: Vec<usize> = (8..16).filter(|&i| m.x0[i][2] < 1.0).collect();
@@ -275,7 +277,7 @@ fn friction_slides_and_sticks() {
 
 /// Near the edge of a block a node penetrates the top by delta = 0.01 and the side by its
 /// distance to it (0.1 < depth 0.4): it takes the top (the nearest surface point), force
-/// k delta along +z.
+/// k delta along +z, k = 0.02 K the small block's node stiffness (below the face's 0.1 K).
 #[test]
 fn nearest_face_wins_near_an_edge() {
     let delta = 0.01;
@@ -294,7 +296,7 @@ fn nearest_face_wins_near_an_edge() {
     assert_eq!(st.pairs, 4);
     for i in (8..16).filter(|&i| m.x0[i][2] < 1.0) {
         assert!(
-            rel(f[i][2], 0.1 * K * delta) < 1e-12 && f[i][0] == 0.0,
+            rel(f[i][2], 0.02 * K * delta) < 1e-12 && f[i][0] == 0.0,
             "{:?}",
             f[i]
         );
@@ -516,6 +518,43 @@ fn stable_step_of_the_springs() {
     assert!(rel(dt, (m_min / k).sqrt()) < 1e-12, "{dt}");
     let c = mat().wave_speed();
     assert!(rel(dt / (0.5 / c), 1.5) < 1e-12, "{}", dt / (0.5 / c));
+}
+
+/// PENOPT: a pair takes the smaller of the face's and the node's stiffness (1, the default) or
+/// the face's (2), and the stable step follows the rule. A 0.2 cube (nodes: m = rho 0.2^3 / 8 =
+/// 1, k = 0.1 K 0.2^4 / 0.2^3 = 0.02 K) sinks by delta into a unit cube (nodes: m = 125,
+/// faces and nodes: k = 0.1 K). Rule 1: 0.02 K, and dt = min sqrt(m / k) = sqrt(1 / 0.02 K)
+/// (the unit cube's nodes: sqrt(1250 / K)); rule 2: 0.1 K, and dt = sqrt(m_min / k_max) =
+/// sqrt(1 / 0.1 K), the light node against the stiff face.
+#[test]
+fn penalty_rule_sets_the_pair_spring_and_the_stable_step() {
+    let delta = 0.01;
+    for (rule, k, dt) in [
+        (PenaltyRule::Smaller, 0.02 * K, (1.0 / (0.02 * K)).sqrt()),
+        (PenaltyRule::Face, 0.1 * K, (1.0 / (0.1 * K)).sqrt()),
+    ] {
+        let mut m = two_blocks(
+            [1, 1, 1],
+            [1.0; 3],
+            [1, 1, 1],
+            [0.2; 3],
+            [0.7, 0.4, 1.0 - delta],
+        );
+        m.control.penalty = rule;
+        m.contacts.push(def(true, 0.0, 0.0, 0.0));
+        let mut cs = ContactSet::new(&m, None).unwrap();
+        let nn = m.num_nodes();
+        let mut f = zeros(nn);
+        let st = cs.compute(&m.x0.to_vec(), &zeros(nn), 0.0, &[], &mut f);
+        assert_eq!(st.pairs, 4, "{rule:?}");
+        for i in (8..16).filter(|&i| m.x0[i][2] < 1.0) {
+            assert!(rel(f[i][2], k * delta) < 1e-12, "{rule:?}: {:?}", f[i]);
+        }
+        let mass = Setup::new(&m).unwrap().mass;
+        assert!(rel(mass[8], 1.0) < 1e-12);
+        let got = cs.stable_dt(&mass);
+        assert!(rel(got, dt) < 1e-12, "{rule:?}: {got} vs {dt}");
+    }
 }
 
 /// Interfaces of a fully split 4x4x2 block fail at random steps while every node jitters: the
@@ -904,8 +943,9 @@ fn a_new_lead_carries_on_its_sets_contact() {
     let v = zeros(nn);
     let mut intact = vec![true; sm.faces.len()];
     let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
-    // stiffness of the lower block's top face: SLSFAC K A^2 / V = 0.1 K 9^2 / 9
-    let k = 0.9 * K;
+    // the pairs' spring: the lower block's top face has SLSFAC K A^2 / V = 0.1 K 9^2 / 9, the
+    // upper block's nodes 0.1 K (unit cubes), and a pair takes the smaller
+    let k = 0.1 * K;
     let mut tie = ties(&sm, &intact);
     for (step, dt) in [0.0, 1e-3, 1e-3].into_iter().enumerate() {
         let st = cs.compute(&x, &v, dt, &tie, &mut zeros(nn));

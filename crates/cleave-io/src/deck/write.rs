@@ -9,13 +9,17 @@
 
 use std::fmt::Write as _;
 
-use cleave_core::model::{ContactSurface, Hourglass, MaterialKind, Model, MotionTarget, Vad};
+use cleave_core::model::{
+    ContactSurface, Hourglass, MaterialKind, Model, MotionTarget, PenaltyRule, Vad,
+};
 
 /// One field of a card.
 #[derive(Clone, Copy, Debug)]
 enum F {
     I(i64),
     R(f64),
+    /// A blank field (the reader's default).
+    B,
 }
 
 /// The `$#` line naming the fields, aligned with them.
@@ -109,6 +113,7 @@ fn card(out: &mut String, fields: &[F], widths: &[usize]) {
             F::I(i) => i.to_string(),
             // wide fields keep a blank column so that neighbouring numbers stay readable
             F::R(r) => fmt_f64(r, if w >= 16 { w - 1 } else { w }),
+            F::B => String::new(),
         })
         .collect();
     if text.iter().zip(widths).all(|(s, &w)| s.len() <= w) {
@@ -202,7 +207,16 @@ fn controls(o: &mut String, m: &Model) {
         &["q1", "q2"],
         &[F::R(c.q1), F::R(c.q2)],
     );
-    simple(o, "*CONTROL_CONTACT", &["slsfac"], &[F::R(c.slsfac)]);
+    let penopt = match c.penalty {
+        PenaltyRule::Smaller => 1,
+        PenaltyRule::Face => 2,
+    };
+    simple(
+        o,
+        "*CONTROL_CONTACT",
+        &["slsfac", "rwpnal", "islchk", "shlthk", "penopt"],
+        &[F::R(c.slsfac), F::B, F::B, F::B, F::I(penopt)],
+    );
     let r = &m.output;
     for (kw, dt) in [
         ("*DATABASE_GLSTAT", r.glstat_dt),

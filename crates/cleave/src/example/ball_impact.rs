@@ -40,16 +40,19 @@ pub const END_TIME: f64 = 10e-3;
 pub const RADIUS: f64 = 0.005;
 /// Penalty scale of the contact (`*CONTROL_CONTACT` SLSFAC; LS-DYNA's default is 0.1).
 ///
-/// The plate's faces set the stiffness of the ball's nodes against it (k = SLSFAC K A^2/V of
-/// a 4 mm brick), and with SLSFAC 0.1 these springs are much softer than the alumina behind
-/// them. Measured without separation, 2800 elements, 50 us (`cleave example ball-impact
-/// --no-separation`, `cleave run --end-time 50e-6`), the peak contact force against Hertz's
-/// 83.4 kN (rigid plate, E* = E/(1 - nu^2)): 53.0 kN at 0.1, 64.6 kN at 0.3, 79.6 kN at 1.0.
-/// With separation, the 2800-element ball at 0.1 stays whole (121 interfaces fail by 150 us);
-/// at 0.2 it breaks up (README). Stiffer springs shorten the step (the summary says so): the
-/// 2800-element ball takes 2457 steps to 50 us at 0.1, 3473 at 0.2 and 4254 at 0.3, where its
-/// elements alone would need about 1900. The coarse balls are softer still: at 0.2 the 648-element one cracks
-/// (125 interfaces by 40 us) but stays whole.
+/// A pair's spring is the smaller of its face's and its node's (`*CONTROL_CONTACT` PENOPT 1,
+/// LS-DYNA's default): against the plate, the ball's nodes (k = SLSFAC K A^2/V of their
+/// elements, softer than the plate's 4 mm bricks), and with SLSFAC 0.1 these springs are much
+/// softer than the alumina behind them. Measured without separation, 2800 elements, 50 us
+/// (`cleave example ball-impact`, `cleave run --end-time 50e-6 --no-separation`, the contact
+/// force every 0.25 us), the peak contact force against Hertz's 83.4 kN (rigid plate,
+/// E* = E/(1 - nu^2)): 51.1 kN at 0.1, 57.5 kN at 0.2, 62.7 kN at 0.3, 78.1 kN at 1.0. With
+/// separation, the 2800-element ball at 0.1 stays whole (100 interfaces fail by 50 us, no
+/// piece comes off); at 0.2 it breaks up (README; 1633 interfaces, 11 pieces), at 0.3 too
+/// (2050, 10 pieces). The elements set the time step at 0.2 (2265 steps to 50 us); at 0.3 the
+/// springs do from the start (2.48e-8 s before TSSFAC, the elements 2.90e-8 s; the summary
+/// says so; 2287 steps). The coarse balls are softer still: at 0.2 the 648-element one cracks (136
+/// interfaces by 40 us) but stays whole.
 pub const SLSFAC: f64 = 0.2;
 /// Gap between the ball and the plate (m).
 pub const GAP: f64 = 1e-4;

@@ -1,6 +1,6 @@
 //! `*CONTROL_...` and `*DATABASE_...` keywords (LS-DYNA Keyword Manual, Vol. I).
 
-use cleave_core::model::Hourglass;
+use cleave_core::model::{Hourglass, PenaltyRule};
 
 use super::Reader;
 use crate::deck::error::DeckError;
@@ -130,7 +130,9 @@ fn bulk_viscosity(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
 }
 
 /// `*CONTROL_CONTACT`: SLSFAC RWPNAL ISLCHK SHLTHK PENOPT THKCHG ORIEN ENMASS; SLSFAC blank
-/// or 0 means 0.1. The optional further cards are ignored.
+/// or 0 means 0.1; PENOPT 0 or 1 (blank: 1) the smaller of the face's and the node's
+/// stiffness, 2 the face's (3 to 5 are the shell and slave-node variants: errors). The other
+/// fields and the optional further cards are ignored.
 fn contact(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.card_or_defaults(W10)?;
     let v = c.f64_nz(0, "SLSFAC", 0.1)?;
@@ -138,6 +140,16 @@ fn contact(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
         return Err(c.field_err("SLSFAC", format!("{v} must not be negative")));
     }
     deck.control.slsfac = v;
+    deck.control.penalty = match c.i64_or(4, "PENOPT", 1)? {
+        0 | 1 => PenaltyRule::Smaller,
+        2 => PenaltyRule::Face,
+        v => {
+            return Err(c.field_err(
+                "PENOPT",
+                format!("{v} not supported (0, 1: the smaller of face and node; 2: the face's)"),
+            ))
+        }
+    };
     r.ignore_rest();
     Ok(())
 }

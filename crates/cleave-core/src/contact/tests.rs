@@ -70,6 +70,18 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
+/// A 0.2 cube (part 1, nodes 8..16) sunk by `delta` into the top of a unit cube (part 0), its
+/// lower corner at (x, y).
+fn small_cube_on_unit_cube(x: f64, y: f64, delta: f64) -> Model {
+    two_blocks(
+        [1, 1, 1],
+        [1.0; 3],
+        [1, 1, 1],
+        [0.2; 3],
+        [x, y, 1.0 - delta],
+    )
+}
+
 /// A separation group on material 0: MODEL 1 of strength `sigmax`.
 fn separation_group(sigmax: f64) -> crate::model::SeparationDef {
     crate::model::SeparationDef {
@@ -225,13 +237,7 @@ fn segment_set_side() {
 fn friction_slides_and_sticks() {
     let delta = 1e-3;
     let (fs, fd, dc) = (0.5, 0.3, 2.0);
-    let mut m = two_blocks(
-        [1, 1, 1],
-        [1.0; 3],
-        [1, 1, 1],
-        [0.2; 3],
-        [0.4, 0.4, 1.0 - delta],
-    );
+    let mut m = small_cube_on_unit_cube(0.4, 0.4, delta);
     m.contacts.push(ContactDef {
         slave: ContactSurface::Part(1),
         master: Some(ContactSurface::Part(0)),
@@ -281,13 +287,7 @@ fn friction_slides_and_sticks() {
 #[test]
 fn nearest_face_wins_near_an_edge() {
     let delta = 0.01;
-    let mut m = two_blocks(
-        [1, 1, 1],
-        [1.0; 3],
-        [1, 1, 1],
-        [0.2; 3],
-        [0.7, 0.4, 1.0 - delta],
-    );
+    let mut m = small_cube_on_unit_cube(0.7, 0.4, delta);
     m.contacts.push(def(true, 0.0, 0.0, 0.0));
     let mut cs = ContactSet::new(&m, None).unwrap();
     let nn = m.num_nodes();
@@ -533,13 +533,7 @@ fn penalty_rule_sets_the_pair_spring_and_the_stable_step() {
         (PenaltyRule::Smaller, 0.02 * K, (1.0 / (0.02 * K)).sqrt()),
         (PenaltyRule::Face, 0.1 * K, (1.0 / (0.1 * K)).sqrt()),
     ] {
-        let mut m = two_blocks(
-            [1, 1, 1],
-            [1.0; 3],
-            [1, 1, 1],
-            [0.2; 3],
-            [0.7, 0.4, 1.0 - delta],
-        );
+        let mut m = small_cube_on_unit_cube(0.7, 0.4, delta);
         m.control.penalty = rule;
         m.contacts.push(def(true, 0.0, 0.0, 0.0));
         let mut cs = ContactSet::new(&m, None).unwrap();

@@ -5,8 +5,8 @@
 //! velocity of the node and the face's contact point.
 //!
 //! Force: an elastic trial `f* = f_prev - k du_t`, where f_prev is the node's tangential force
-//! of the previous step rotated into the current tangent plane (magnitude kept), k the penalty
-//! stiffness of the face and du_t the tangential relative displacement over the step. When
+//! of the previous step rotated into the current tangent plane (magnitude kept), k the pair's
+//! penalty stiffness (`super::surface::FaceTable::pair_stiffness`) and du_t the tangential relative displacement over the step. When
 //! `|f*| <= mu |f_n|` the pair sticks and `f_t = f*`; otherwise it slides and
 //! `f_t = mu |f_n| f* / |f*|`.
 

@@ -64,7 +64,8 @@
 //!
 //! Forces: normal `f_n = -k g n` on the node, plus friction `f_t` ([`friction`]); the face's
 //! nodes get `-N_a(xi, eta) (f_n + f_t)`, N_a the bilinear shape functions at the contact point.
-//! k is the stiffness of the face (LS-DYNA: the master segment's).
+//! k is the pair's ([`FaceTable::pair_stiffness`]): the smaller of the face's and the node's
+//! (PENOPT 1, LS-DYNA's default), or the face's (PENOPT 2, the master segment's).
 //!
 //! Before projecting, a node is tested against cheap exact bounds of the face
 //! ([`penalty::Cull`], from [`penalty::FaceBounds`]: sphere, mean-plane slab, lateral
@@ -507,11 +508,20 @@ impl<'m> ContactSet<'m> {
     /// longer than the element's step `l / c` for any material (`c^2 = (K + 4G/3) / rho`).
     /// (Against a rigid face the bound could be sqrt(2) larger; tried, the stick of the
     /// friction test then creeps.) PENOPT 2, where any node takes any face's spring:
-    /// `dt = sqrt(min m_n / max k_n)` over the same nodes.
+    /// `dt = sqrt(min m_n / max k_n)` over the same nodes. Each definition on its own; the
+    /// least over the definitions.
     pub fn stable_dt(&self, mass: &[f64]) -> f64 {
+        self.contacts
+            .iter()
+            .map(|c| self.springs_dt(c, mass))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// [`ContactSet::stable_dt`] of one definition.
+    fn springs_dt(&self, c: &Contact, mass: &[f64]) -> f64 {
         let model = self.table.model();
         let mut on = vec![false; mass.len()];
-        for side in self.contacts.iter().flat_map(|c| &c.sides) {
+        for side in &c.sides {
             for &n in &side.nodes {
                 on[n as usize] = true;
             }
@@ -985,21 +995,22 @@ struct Hit {
     w: [f64; 4],
     /// Total force on the node (normal + friction).
     f: Vec3,
-    /// Engaged penetration and offset ([`engagement`]); the stiffness is the face's (faces
-    /// keep their index in a side, so `face` names the same face in later steps).
+    /// Engaged penetration and offset ([`engagement`]); the stiffness is the pair's, of the
+    /// node and this face (faces keep their index in a side, so `face` names the same face in
+    /// later steps).
     engaged: f64,
     offset: f64,
 }
 
 impl Hit {
-    /// `|f_n| = -k engaged`, k the pair's: the smaller of the hit face's stiffness (of
-    /// `faces`, the face side's) and the node's, `k_node` ([`FaceTable::pair_stiffness`]).
+    /// `|f_n| = -k engaged`, k the pair's of model node `node` and the hit face (of `faces`,
+    /// the face side's): [`FaceTable::pair_stiffness`].
     #[inline]
-    fn fn_mag(&self, faces: &[Face], k_node: f64) -> f64 {
+    fn fn_mag(&self, faces: &[Face], table: &FaceTable, node: u32) -> f64 {
         if self.face == NONE {
             0.0
         } else {
-            -faces[self.face as usize].k.min(k_node) * self.engaged
+            -table.pair_stiffness(faces[self.face as usize].k, node) * self.engaged
         }
     }
 }
@@ -1423,14 +1434,17 @@ impl Contact {
         for k in 0..4 {
             self.chains.link(a[k], b[k], true);
         }
-        // each pair as the two node-to-face springs at it: a_k against B, b_k against A, each
-        // the smaller of the face's and the node's stiffness (the copies of one deck node
-        // have the same; the least of the four pairs for all)
-        let k_node = a
-            .iter()
-            .map(|&n| table.node_stiffness(n))
-            .fold(f64::INFINITY, f64::min);
-        let k = table.stiffness(fb).min(k_node) + table.stiffness(fa).min(k_node);
+        // each pair as the two node-to-face springs at it: a_k against B, b_k against A (the
+        // copies of one deck node have the same stiffness; the softest of the four pairs for
+        // all)
+        let soft = (0..4)
+            .min_by(|&i, &j| {
+                let (ki, kj) = (table.node_stiffness(a[i]), table.node_stiffness(a[j]));
+                ki.total_cmp(&kj)
+            })
+            .unwrap_or(0);
+        let k = table.pair_stiffness(table.stiffness(fb), a[soft])
+            + table.pair_stiffness(table.stiffness(fa), b[soft]);
         self.closures.push(Closure::new(crack.faces, a, b, k));
     }
 
@@ -1934,8 +1948,8 @@ impl Contact {
                         if let Some(new) = ctx.check(c * chunk + k, list, sched, hit, *ft) {
                             (*hit, *ft) = new;
                         }
-                        let k_node = inp.table.node_stiffness(ctx.nodes[c * chunk + k]);
-                        active[k] = hit.fn_mag(ctx.faces, k_node) != 0.0;
+                        let node = ctx.nodes[c * chunk + k];
+                        active[k] = hit.fn_mag(ctx.faces, inp.table, node) != 0.0;
                         *due = sched.next_due(list);
                     }
                 });
@@ -1955,7 +1969,7 @@ impl Contact {
                     acc.add(face.nodes[a], scale(hit.f, -hit.w[a]));
                 }
                 out.force = add(out.force, scale(hit.f, sign));
-                out.normal += hit.fn_mag(&fs.faces, inp.table.node_stiffness(ns.nodes[i]));
+                out.normal += hit.fn_mag(&fs.faces, inp.table, ns.nodes[i]);
                 out.pairs += 1;
             }
         }

@@ -544,6 +544,9 @@ fn penalty_rule_sets_the_pair_spring_and_the_stable_step() {
         for i in (8..16).filter(|&i| m.x0[i][2] < 1.0) {
             assert!(rel(f[i][2], k * delta) < 1e-12, "{rule:?}: {:?}", f[i]);
         }
+        // the resultant of rcforc.csv sums the same springs
+        let normal = cs.forces()[0].normal;
+        assert!(rel(normal, 4.0 * k * delta) < 1e-12, "{rule:?}: {normal}");
         let mass = Setup::new(&m).unwrap().mass;
         assert!(rel(mass[8], 1.0) < 1e-12);
         let got = cs.stable_dt(&mass);

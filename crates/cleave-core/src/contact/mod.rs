@@ -186,6 +186,7 @@ pub mod penalty;
 pub mod schedule;
 pub mod search;
 pub mod surface;
+mod touching;
 
 use std::collections::HashSet;
 
@@ -202,6 +203,7 @@ use penalty::{normal_force, off_corners, project, Cull, CullMore, Projection, IN
 use schedule::{Cand, Sched};
 use search::{Aabb, BucketGrid};
 use surface::{covered_parts, exterior_faces, face_nodes, side_faces, FaceId, FaceTable};
+use touching::Touching;
 
 const NONE: u32 = u32::MAX;
 
@@ -562,7 +564,7 @@ impl<'m> ContactSet<'m> {
         let mut s = ContactStats::default();
         for c in &self.contacts {
             s.faces += c.sides.iter().map(|sd| sd.faces.len()).sum::<usize>();
-            s.nodes += c.passes.iter().map(|p| p.hits.len()).sum::<usize>();
+            s.nodes += c.passes.iter().map(|p| p.next.len()).sum::<usize>();
             s.candidates += c
                 .passes
                 .iter()
@@ -1053,12 +1055,10 @@ struct Pass {
     /// check). A node whose `next` is not due is not looked at: it tests nothing, and it is
     /// out of contact (a node in contact has its face due at every step).
     next: Vec<f32>,
-    /// Scratch: the nodes an incremental search renews; the nodes with a force this step.
+    /// Scratch: the nodes an incremental search renews.
     mark: Vec<bool>,
-    active: Vec<bool>,
-    /// Tangential force of the last step, per node of the node side.
-    ft: Vec<Vec3>,
-    hits: Vec<Hit>,
+    /// The hit and the tangential force of the last step of each node in contact.
+    touching: Touching,
 }
 
 impl Pass {
@@ -1073,9 +1073,7 @@ impl Pass {
             sched: vec![Sched::default(); nodes],
             next: vec![f32::NEG_INFINITY; nodes],
             mark: vec![false; nodes],
-            active: vec![false; nodes],
-            ft: vec![[0.0; 3]; nodes],
-            hits: vec![Hit::default(); nodes],
+            touching: Touching::new(NODE_CHUNK, nodes),
         }
     }
 }
@@ -1401,9 +1399,7 @@ impl Contact {
                 pass.sched.resize(n, Sched::default());
                 pass.next.resize(n, f32::NEG_INFINITY);
                 pass.mark.resize(n, false);
-                pass.active.resize(n, false);
-                pass.ft.resize(n, [0.0; 3]);
-                pass.hits.resize(n, Hit::default());
+                pass.touching.resize(n);
             }
         }
         self.pending.extend_from_slice(ids);
@@ -1675,8 +1671,11 @@ impl Contact {
                 };
                 if from != i {
                     for pass in passes.iter_mut().filter(|p| p.node_side == si) {
-                        pass.hits[i as usize] = pass.hits[from as usize];
-                        pass.ft[i as usize] = pass.ft[from as usize];
+                        let (hit, ft) = match pass.touching.get(from as usize) {
+                            Some(t) => (t.hit, t.ft),
+                            None => (Hit::default(), [0.0; 3]),
+                        };
+                        pass.touching.set(i as usize, hit, ft);
                         pass.next[i as usize] = f32::NEG_INFINITY;
                     }
                 }
@@ -1728,16 +1727,14 @@ impl Contact {
                 let Pass {
                     cand,
                     sched,
-                    ft,
-                    hits,
+                    touching,
                     ..
                 } = pass;
                 Side::permute(order, seen, |a, b| {
                     cand.swap(a, b);
                     sched.swap(a, b);
-                    ft.swap(a, b);
-                    hits.swap(a, b);
                 });
+                touching.permute(order);
             }
             for (k, &n) in side.nodes.iter().enumerate() {
                 side.local[n as usize] = k as u32;
@@ -1925,9 +1922,7 @@ impl Contact {
                 cand,
                 sched,
                 next,
-                ft,
-                hits,
-                active,
+                touching,
                 ..
             } = pass;
             // exhaustive: every candidate is due and hot
@@ -1947,40 +1942,41 @@ impl Contact {
                 inp,
             };
             // only the nodes with a due candidate (`next`): the others test nothing and are
-            // out of contact, so their hit and friction stay zero and `active` false
+            // out of contact (their hit and friction are empty, kept as they are)
             let chunk = NODE_CHUNK;
             next.par_chunks_mut(chunk)
-                .zip(hits.par_chunks_mut(chunk))
-                .zip(ft.par_chunks_mut(chunk))
                 .zip(cand.par_chunks_mut(chunk))
                 .zip(sched.par_chunks_mut(chunk))
-                .zip(active.par_chunks_mut(chunk))
+                .zip(touching.chunks())
                 .enumerate()
-                .for_each(|(c, (((((next, hits), ft), cand), sched), active))| {
+                .for_each(|(c, (((next, cand), sched), mut touch))| {
                     for (k, due) in next.iter_mut().enumerate() {
+                        let old = touch.take(k);
                         if !schedule::is_due(*due, motion) {
+                            if let Some(old) = old {
+                                touch.keep(old);
+                            }
                             continue;
                         }
-                        let (hit, ft) = (&mut hits[k], &mut ft[k]);
+                        let (mut hit, mut ft) =
+                            old.map_or((Hit::default(), [0.0; 3]), |t| (t.hit, t.ft));
                         let (list, sched) = (&mut cand[k], &mut sched[k]);
-                        if let Some(new) = ctx.check(c * chunk + k, list, sched, hit, *ft) {
-                            (*hit, *ft) = new;
+                        if let Some(new) = ctx.check(c * chunk + k, list, sched, &hit, ft) {
+                            (hit, ft) = new;
                         }
                         let node = ctx.nodes[c * chunk + k];
-                        active[k] = hit.fn_mag(ctx.faces, inp.table, node) != 0.0;
+                        let active = hit.fn_mag(ctx.faces, inp.table, node) != 0.0;
+                        touch.put(k, hit, ft, active);
                         *due = sched.next_due(list);
                     }
                 });
+            touching.swap();
             // NOTE: serial scatter in the order the nodes joined the side: the sums depend
             // neither on the threads nor on the nodes' places. Pass 0 has the slave nodes;
             // pass 1 the master nodes, whose reactions act on the slave faces.
             let sign = if p == 0 { 1.0 } else { -1.0 };
-            for &i in &ns.by_rank {
-                let i = i as usize;
-                if !active[i] {
-                    continue;
-                }
-                let hit = &hits[i];
+            for (i, touch) in touching.by_rank(&ns.rank) {
+                let hit = &touch.hit;
                 let face = &fs.faces[hit.face as usize];
                 acc.add(ns.nodes[i], hit.f);
                 for a in 0..4 {

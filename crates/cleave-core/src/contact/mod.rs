@@ -1492,6 +1492,7 @@ impl Contact {
         let (mut step, mut since) = (Spread::default(), Spread::default());
         for side in &mut self.sides {
             let tracked = side.tracked;
+            let group = &side.group;
             let (a, b) = side
                 .nodes
                 .par_chunks(4 * NODE_CHUNK)
@@ -1501,6 +1502,13 @@ impl Contact {
                     let first = c * 4 * NODE_CHUNK;
                     let (mut a, mut b) = (Spread::default(), Spread::default());
                     for (k, (&n, t)) in nodes.iter().zip(trail.iter_mut()).enumerate() {
+                        // a tied copy moves with its set's lead, which stands for it: only
+                        // leads are watched (a new lead takes its trail from the lead before,
+                        // `regroup_where`)
+                        let g = group.get(first + k).copied().unwrap_or(NONE);
+                        if g != NONE && g as usize != first + k {
+                            continue;
+                        }
                         let p = x[n as usize];
                         if first + k < tracked {
                             a.add(sub(p, t[0]));
@@ -1658,6 +1666,11 @@ impl Contact {
                 }
                 if side.group[i as usize] != i {
                     continue;
+                }
+                // a new lead: its last position is that of the lead before (tied until now;
+                // [`Contact::track`] watched only that one)
+                if old != NONE && old != i {
+                    side.trail[i as usize][0] = side.trail[old as usize][0];
                 }
                 // a new lead carries on its set's contact (engagement and friction history):
                 // it sits where the set's lead before sat (that of any member that was on the

@@ -182,6 +182,7 @@ pub mod bounds_cache;
 pub mod closure;
 pub mod engagement;
 pub mod friction;
+mod node_faces;
 pub mod penalty;
 pub mod schedule;
 pub mod search;
@@ -199,6 +200,7 @@ pub use closure::Crack;
 use closure::{Chains, Closure};
 use engagement::{engage, Previous};
 use friction::{tangential_force, Friction};
+use node_faces::NodeFaces;
 use penalty::{normal_force, off_corners, project, Cull, CullMore, Projection, INSIDE_TOL};
 use schedule::{Cand, Sched};
 use search::{Aabb, BucketGrid};
@@ -662,7 +664,7 @@ struct Side {
     /// Index of each model node in `nodes`, or NONE.
     local: Vec<u32>,
     /// The faces of each node of `nodes` (indices into `faces`).
-    node_faces: Vec<Vec<u32>>,
+    node_faces: NodeFaces,
     /// The *lead* of each node's coincident set on this side (an index into `nodes`: the
     /// member with the lowest model number; the node itself when untied), and the chain of the
     /// other members from each lead (`next`, NONE-terminated). Only leads are checked
@@ -707,7 +709,7 @@ impl Side {
             trail: Vec::new(),
             tracked: 0,
             local: vec![NONE; num_nodes],
-            node_faces: Vec::new(),
+            node_faces: NodeFaces::default(),
             group: Vec::new(),
             next: Vec::new(),
             prev_group: Vec::new(),
@@ -732,7 +734,9 @@ impl Side {
         }
         s.rank = (0..s.nodes.len() as u32).collect();
         s.by_rank = s.rank.clone();
-        s.node_faces = vec![Vec::new(); s.nodes.len()];
+        // linked again in the sorted places
+        s.node_faces = NodeFaces::default();
+        s.node_faces.resize(s.nodes.len());
         for f in 0..s.faces.len() {
             s.link(f);
         }
@@ -742,10 +746,10 @@ impl Side {
 
     /// Record face `f` as a face of each of its nodes.
     fn link(&mut self, f: usize) {
-        self.node_faces.resize_with(self.nodes.len(), Vec::new);
+        self.node_faces.resize(self.nodes.len());
         for n in self.faces[f].nodes {
             let i = self.local[n as usize];
-            self.node_faces[i as usize].push(f as u32);
+            self.node_faces.push(i, f as u32);
             self.renewed.push(i);
         }
     }
@@ -862,11 +866,10 @@ impl Side {
     /// is the sum of the area-weighted normals of the faces of its coincident set's members on
     /// the side (the surface of the deck node it copies), in the order of the member chain.
     fn frame(&self, i: usize) -> NodeFrame {
-        NodeFrame::of(self.members(i as u32).flat_map(|k| {
-            self.node_faces[k as usize]
-                .iter()
-                .map(|&f| self.normals[f as usize])
-        }))
+        NodeFrame::of(
+            self.members(i as u32)
+                .flat_map(|k| self.node_faces.of(k).map(|f| self.normals[f as usize])),
+        )
     }
 
     /// Add a face unless present (its new nodes are appended to `nodes`); true when added.

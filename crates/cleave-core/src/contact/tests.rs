@@ -1060,9 +1060,9 @@ fn a_leads_normal_is_its_deck_nodes() {
     }
     // each copy's own faces point along one axis only
     let own = NodeFrame::of(
-        side.node_faces[lead]
-            .iter()
-            .map(|&f| side.normals[f as usize]),
+        side.node_faces
+            .of(lead as u32)
+            .map(|f| side.normals[f as usize]),
     );
     assert!(
         own.n.iter().filter(|v| v.abs() > 0.99).count() == 1,

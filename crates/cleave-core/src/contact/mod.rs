@@ -657,9 +657,9 @@ struct Side {
     parts: Vec<bool>,
     /// Nodes of the faces: ascending at the start, then in the order their faces joined.
     nodes: Vec<u32>,
-    /// Position of each node of `nodes` at the last step (the nodes `..tracked` have one) and
-    /// at the last full build (`Contact::x_ref`, kept here in the order of `nodes`).
-    trail: Vec<[Vec3; 2]>,
+    /// Position of each node of `nodes` at the last step (the leads `..tracked` have one; at
+    /// the last full build: `Contact::x_ref`).
+    last: Vec<Vec3>,
     tracked: usize,
     /// Index of each model node in `nodes`, or NONE.
     local: Vec<u32>,
@@ -706,7 +706,7 @@ impl Side {
             present: HashSet::with_capacity(ids.len()),
             parts,
             nodes: Vec::new(),
-            trail: Vec::new(),
+            last: Vec::new(),
             tracked: 0,
             local: vec![NONE; num_nodes],
             node_faces: NodeFaces::default(),
@@ -897,7 +897,7 @@ impl Side {
                 self.rank.push(self.nodes.len() as u32);
                 self.by_rank.push(self.nodes.len() as u32);
                 self.nodes.push(n);
-                self.trail.push([[0.0; 3]; 2]);
+                self.last.push([0.0; 3]);
             }
         }
         self.link(self.faces.len() - 1);
@@ -905,12 +905,13 @@ impl Side {
     }
 
     /// The permutation that puts the nodes in space order (Morton order of their positions at
-    /// the last full build, `trail[..][1]`): `order[k].1` is the node to go to place k.
-    fn space_order(&mut self) {
+    /// the last full build, `x_ref`): `order[k].1` is the node to go to place k.
+    fn space_order(&mut self, x_ref: &[Vec3]) {
         let mut b = Aabb::empty();
-        for t in &self.trail {
-            if t[1].iter().all(|v| v.is_finite()) {
-                b.include(t[1]);
+        for &n in &self.nodes {
+            let p = x_ref[n as usize];
+            if p.iter().all(|v| v.is_finite()) {
+                b.include(p);
             }
         }
         let h = b.extent() / ((1u64 << 21) - 1) as f64;
@@ -923,8 +924,9 @@ impl Side {
             }
         };
         self.order.clear();
-        for (k, t) in self.trail.iter().enumerate() {
-            let c: [u64; 3] = std::array::from_fn(|d| cell(t[1][d], b.min[d]));
+        for (k, &n) in self.nodes.iter().enumerate() {
+            let p = x_ref[n as usize];
+            let c: [u64; 3] = std::array::from_fn(|d| cell(p[d], b.min[d]));
             let mut key = 0u64;
             for bit in 0..21 {
                 for (d, &cd) in c.iter().enumerate() {
@@ -1386,7 +1388,6 @@ impl Contact {
     fn activate(&mut self, ids: &[FaceId], table: &FaceTable) -> usize {
         let mut added = 0;
         for (si, side) in self.sides.iter_mut().enumerate() {
-            let before = side.nodes.len();
             for &id in ids {
                 let part = table.model().elem_part[id.0 as usize] as usize;
                 if side.parts.get(part).copied().unwrap_or(false) && side.add(id, table) {
@@ -1394,9 +1395,6 @@ impl Contact {
                 }
             }
             let n = side.nodes.len();
-            for k in before..n {
-                side.trail[k][1] = self.x_ref[side.nodes[k] as usize];
-            }
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
                 pass.cand.resize_with(n, Vec::new);
                 pass.sched.resize(n, Sched::default());
@@ -1493,20 +1491,21 @@ impl Contact {
     /// since the last full build (nodes that joined since included, from `x_ref`).
     fn track(&mut self, x: &[Vec3]) -> f64 {
         let (mut step, mut since) = (Spread::default(), Spread::default());
+        let x_ref = &self.x_ref;
         for side in &mut self.sides {
             let tracked = side.tracked;
             let group = &side.group;
             let (a, b) = side
                 .nodes
                 .par_chunks(4 * NODE_CHUNK)
-                .zip(side.trail.par_chunks_mut(4 * NODE_CHUNK))
+                .zip(side.last.par_chunks_mut(4 * NODE_CHUNK))
                 .enumerate()
-                .map(|(c, (nodes, trail))| {
+                .map(|(c, (nodes, last))| {
                     let first = c * 4 * NODE_CHUNK;
                     let (mut a, mut b) = (Spread::default(), Spread::default());
-                    for (k, (&n, t)) in nodes.iter().zip(trail.iter_mut()).enumerate() {
+                    for (k, (&n, t)) in nodes.iter().zip(last.iter_mut()).enumerate() {
                         // a tied copy moves with its set's lead, which stands for it: only
-                        // leads are watched (a new lead takes its trail from the lead before,
+                        // leads are watched (a new lead takes its last position from the lead before,
                         // `regroup_where`)
                         let g = group.get(first + k).copied().unwrap_or(NONE);
                         if g != NONE && g as usize != first + k {
@@ -1514,10 +1513,10 @@ impl Contact {
                         }
                         let p = x[n as usize];
                         if first + k < tracked {
-                            a.add(sub(p, t[0]));
+                            a.add(sub(p, *t));
                         }
-                        b.add(sub(p, t[1]));
-                        t[0] = p;
+                        b.add(sub(p, x_ref[n as usize]));
+                        *t = p;
                     }
                     (a, b)
                 })
@@ -1539,11 +1538,6 @@ impl Contact {
     /// again at zero.
     fn rebuild(&mut self, x: &[Vec3], tie: &[u32]) {
         self.x_ref.copy_from_slice(x);
-        for side in &mut self.sides {
-            for (t, &n) in side.trail.iter_mut().zip(&side.nodes) {
-                t[1] = x[n as usize];
-            }
-        }
         self.reorder();
         self.regroup(tie);
         let rebase = self.motion;
@@ -1673,7 +1667,7 @@ impl Contact {
                 // a new lead: its last position is that of the lead before (tied until now;
                 // [`Contact::track`] watched only that one)
                 if old != NONE && old != i {
-                    side.trail[i as usize][0] = side.trail[old as usize][0];
+                    side.last[i as usize] = side.last[old as usize];
                 }
                 // a new lead carries on its set's contact (engagement and friction history):
                 // it sits where the set's lead before sat (that of any member that was on the
@@ -1713,7 +1707,7 @@ impl Contact {
                 continue;
             }
             side.ordered = n;
-            side.space_order();
+            side.space_order(&self.x_ref);
             // the renewed nodes and the leads by model number while the places move
             for i in side.renewed.iter_mut() {
                 *i = side.nodes[*i as usize];
@@ -1724,7 +1718,7 @@ impl Contact {
             }
             let Side {
                 nodes,
-                trail,
+                last,
                 node_faces,
                 rank,
                 group,
@@ -1734,7 +1728,7 @@ impl Contact {
             } = side;
             Side::permute(order, seen, |a, b| {
                 nodes.swap(a, b);
-                trail.swap(a, b);
+                last.swap(a, b);
                 node_faces.swap(a, b);
                 rank.swap(a, b);
                 group.swap(a, b);

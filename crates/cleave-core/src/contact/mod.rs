@@ -79,8 +79,12 @@
 //! build*); of those, a face is kept when the node's x_ref also lies in its search sphere, of
 //! radius `E (r + margin) + depth` about its centroid (E = [`penalty::WEIGHT_SUM`], r the
 //! largest centroid-corner distance). The lists are reused while the displacements since x_ref
-//! have spread by less than the margin: the diagonal of their box over all the definition's
-//! nodes (the *spread*) bounds how far any node has moved relative to any other. Until then a
+//! have spread by less than the margin: the diagonal of their box over the definition's nodes
+//! (the *spread*) bounds how far any node has moved relative to any other. Only the leads of
+//! the coincident sets and the nodes not yet grouped are watched: a tied copy moves with its
+//! lead to rounding (a set's copies get its mean acceleration as `m_i a`, each divided by its
+//! own mass), under 5e-14 of the spread on the 256 and 2800 balls, well inside the 1e-9 of
+//! slack the motion bound carries (and the lead stands for its copies in the checks). Until then a
 //! node and a face it may touch have moved less than the margin relative to each other, so the
 //! node's x_ref is still in the face's box (the contact point, `sum w_a x_a` with
 //! `sum |w_a| <= E`, moved by at most E margin relative to the node; the 1.1 covers that and
@@ -103,7 +107,7 @@
 //! returns a *clearance* D: the pair cannot touch while the face's corners move by at most D
 //! relative to the node (the distance, below and above bounds of [`penalty::Cull`], and the
 //! facing bound below). Each step the definition's *motion bound* grows by the diagonal of the
-//! box of all its nodes' displacements over the step (from the positions, nodes that joined
+//! box of its watched nodes' displacements over the step (from the positions, nodes that joined
 //! since the last step left out: their pairs are new), which bounds how far any node moved
 //! relative to any other in that step; the pair is due again when the bound has grown by D.
 //! [`schedule`] keeps each node's candidates so that those not due cost nothing: the ones due
@@ -137,15 +141,17 @@
 //! springs and the frictional dissipation (both positive).
 //!
 //! # Determinism
-//! The per-node contact detection runs in parallel, but each node's result lands in its own slot
-//! (a node's nearest face, of equal gaps the lowest index, does not depend on the order its
-//! candidates are tested in); the forces are then scattered serially in a fixed order:
-//! definitions, passes, and the nodes in the order they joined the side. A full build puts each
-//! side's nodes in space order (Morton order of x_ref: neighbours, which share candidates, are
-//! checked one after the other, for the caches); the scatter order does not change with it. The
-//! results are bit-identical for any number of threads, and to those of testing every
-//! candidate every step. After the first steps no buffer grows unless faces are added or the
-//! candidate lists get longer.
+//! The per-node contact detection runs in parallel, but each chunk of nodes writes its own list
+//! of the nodes in contact ([`touching`]; a node's nearest face, of equal gaps the lowest
+//! index, does not depend on the order its candidates are tested in); the forces are then
+//! scattered serially in a fixed order: definitions, passes, and the nodes in the order they
+//! joined the side. A full build puts each side's nodes in space order (Morton order of x_ref:
+//! neighbours, which share candidates, are checked one after the other, for the caches) when
+//! more than an eighth of them joined since the last ordering; the scatter order, the leads
+//! and their member chains (by model number) do not change with it. The results are
+//! bit-identical for any number of threads, and to those of testing every candidate every
+//! step. After the first steps no buffer grows unless faces are added, the candidate lists
+//! get longer, or more nodes of a chunk touch than ever before.
 //!
 //! # Closed cracks
 //! The two faces of a failed interface start flush, each node on a corner of the face
@@ -166,8 +172,8 @@
 //! us, 54%). Per step, with
 //! the margin at 0.1: about 11,000 nodes on the surface, 3,800 leads, 1,700 pair tests (1,262
 //! since the first due from the sphere and no drops, session 8; 776 nodes test a pair), 49
-//! projections, bounds worked out for 740 faces of 3,100 listed (at 20,000 elements: 65,000
-//! nodes, 22,000 leads, 10,900 tests of which 62% are rejected by the bounds with a clearance
+//! projections, bounds worked out for 740 faces of 3,100 listed (at 20,000 elements, 12 us:
+//! 65,000 nodes, 22,000 leads, 10,900 tests of which 62% are rejected by the bounds with a clearance
 //! of more than [`HOT_STEPS`] steps, 460 projections). Timers added for one run
 //! (then removed): node checks 1.2 s, full searches 0.55 s (90), incremental searches 0.11 s
 //! (558), closed cracks 0.29 s, motion tracking 0.19 s, scatter 0.08 s, face normals 0.07 s.
@@ -657,8 +663,10 @@ struct Side {
     parts: Vec<bool>,
     /// Nodes of the faces: ascending at the start, then in the order their faces joined.
     nodes: Vec<u32>,
-    /// Position of each node of `nodes` at the last step (the leads `..tracked` have one; at
-    /// the last full build: `Contact::x_ref`).
+    /// Position at the last step of each node [`Contact::track`] watches (the leads and the
+    /// nodes not yet grouped, of `..tracked`); a tied copy's entry is stale until it becomes
+    /// a lead, when [`Contact::regroup_where`] gives it its lead's. (Positions at the last full
+    /// build: `Contact::x_ref`.)
     last: Vec<Vec3>,
     tracked: usize,
     /// Index of each model node in `nodes`, or NONE.
@@ -667,8 +675,10 @@ struct Side {
     node_faces: NodeFaces,
     /// The *lead* of each node's coincident set on this side (an index into `nodes`: the
     /// member with the lowest model number; the node itself when untied), and the chain of the
-    /// other members from each lead (`next`, NONE-terminated). Only leads are checked
-    /// (module docs, Coincident copies); valid after each search.
+    /// other members from each lead (`next`, NONE-terminated), by descending model number:
+    /// the lead's normal sums its members' faces along the chain, so the chain must not
+    /// depend on the nodes' places (which a full build may or may not change). Only leads
+    /// are checked (module docs, Coincident copies); valid after each search.
     group: Vec<u32>,
     next: Vec<u32>,
     /// `group` before the last [`Side::regroup`] (NONE for the nodes new to the side); after a
@@ -677,7 +687,8 @@ struct Side {
     /// Nodes (indices into `nodes`) that got faces since the last step: their normal changed.
     renewed: Vec<u32>,
     /// The order the nodes joined in: `rank[i]` of node i, and the node of each rank. A full
-    /// build puts `nodes` in space order (neighbours next to each other, for the caches);
+    /// build puts `nodes` in space order when many joined ([`Contact::reorder`]: neighbours
+    /// next to each other, for the caches);
     /// forces are scattered by rank, so the sums do not depend on that order.
     rank: Vec<u32>,
     by_rank: Vec<u32>,
@@ -774,7 +785,13 @@ impl Side {
                 set_lead[t] = set_lead[t].min(self.nodes[i]);
             }
         }
-        for i in 0..n {
+        // NOTE: by ascending model number (each member goes right after its lead, so the
+        // chains come out descending), whatever the places: see `group`
+        for k in 0..self.local.len() {
+            let i = self.local[k] as usize;
+            if i == NONE as usize {
+                continue;
+            }
             let t = set(i);
             let lead = if t == NONE {
                 i as u32
@@ -798,8 +815,9 @@ impl Side {
         }
     }
 
-    /// [`Side::regroup`] for the nodes `some` only (local indices, ascending, holding every
-    /// member on the side of each coincident set it touches, before and after): their leads
+    /// [`Side::regroup`] for the nodes `some` only (local indices in ascending model number,
+    /// holding every member on the side of each coincident set it touches, before and after):
+    /// their leads
     /// and chains come out as a regroup of all nodes would make them, the other nodes' are
     /// left as they are (their sets did not change).
     fn regroup_some(
@@ -829,7 +847,8 @@ impl Side {
                 set_lead[t] = set_lead[t].min(self.nodes[i as usize]);
             }
         }
-        // NOTE: ascending, as Side::regroup: the same member chains, so the same sums
+        // NOTE: by ascending model number, as Side::regroup: the same member chains, so the
+        // same sums
         for &i in some {
             let t = set(i);
             let lead = if t == NONE {
@@ -1485,10 +1504,11 @@ impl Contact {
             false
         });
     }
-    /// One pass over the nodes of the sides: the motion bound grows by the diagonal of the
-    /// box of the nodes' displacements over the last step (nodes that joined since are not
-    /// counted: their pairs are new); returns the diagonal of the box of the displacements
-    /// since the last full build (nodes that joined since included, from `x_ref`).
+    /// One pass over the watched nodes of the sides (the leads and the nodes not yet grouped:
+    /// module docs, Search): the motion bound grows by the diagonal of the box of their
+    /// displacements over the last step (nodes that joined since are not counted: their
+    /// pairs are new); returns the diagonal of the box of the displacements since the last
+    /// full build (nodes that joined since included, from `x_ref`).
     fn track(&mut self, x: &[Vec3]) -> f64 {
         let (mut step, mut since) = (Spread::default(), Spread::default());
         let x_ref = &self.x_ref;
@@ -1505,8 +1525,8 @@ impl Contact {
                     let (mut a, mut b) = (Spread::default(), Spread::default());
                     for (k, (&n, t)) in nodes.iter().zip(last.iter_mut()).enumerate() {
                         // a tied copy moves with its set's lead, which stands for it: only
-                        // leads are watched (a new lead takes its last position from the lead before,
-                        // `regroup_where`)
+                        // leads are watched (a new lead takes its last position from the
+                        // lead before, `regroup_where`)
                         let g = group.get(first + k).copied().unwrap_or(NONE);
                         if g != NONE && g as usize != first + k {
                             continue;
@@ -1640,7 +1660,8 @@ impl Contact {
                             }
                         }
                     }
-                    some.sort_unstable();
+                    // by model number (one place per model number: duplicates stay adjacent)
+                    some.sort_unstable_by_key(|&k| side.nodes[k as usize]);
                     some.dedup();
                     #[cfg(test)]
                     let mut full = side.clone();
@@ -1698,7 +1719,8 @@ impl Contact {
     /// other between full builds, while an ordering costs a sort and a pass over every array
     /// of the nodes (a fifth of a full build on the 2800 ball). The order is for the caches
     /// and the threads' shares only: forces are summed by rank, leads are the lowest model
-    /// numbers, so the results do not depend on it.
+    /// numbers and member chains go by model number, so the results do not depend on it
+    /// (`member_chains_do_not_depend_on_the_places`).
     fn reorder(&mut self) {
         for (si, side) in self.sides.iter_mut().enumerate() {
             let n = side.nodes.len();

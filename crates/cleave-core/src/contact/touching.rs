@@ -2,7 +2,7 @@
 //!
 //! A node's contact lives from step to step: its hit (face, weights, force, engagement) and
 //! its tangential force (the friction history), 104 bytes. On a fragmenting ball most nodes of
-//! the contact surface touch nothing (the 20,000-element ball: about 86,000 surface nodes, a
+//! the contact surface touch nothing (the 20,000-element ball at 20 us: about 75,000 surface nodes, a
 //! few thousand in contact), so these are kept only for the nodes that have them: per chunk
 //! of [`Touching::chunk`] nodes (the chunks of the parallel check), a list of the chunk's
 //! touching nodes in place order. A step's check walks each chunk's list of the last step

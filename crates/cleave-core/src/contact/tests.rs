@@ -1030,6 +1030,27 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
     assert!(changed > 0);
 }
 
+/// A 2 x 2 x 2 cube with its corner element 7 removed (a notch), split, with single-surface
+/// contact and every interface intact: the split model, its ties, and the deck node at the
+/// centre (1, 1, 1).
+fn notched_cube() -> (crate::separation::split::SplitModel, Vec<u32>, u32) {
+    let mut deck = single_part_model(BoxMesh::new([2, 2, 2], [2.0; 3]), mat(), 1.0);
+    remove_element(&mut deck, 7);
+    let centre = deck.x0.iter().position(|p| *p == [1.0; 3]).unwrap() as u32;
+    let sm = split_with_contact(deck, 1e30);
+    let tie = ties(&sm, &vec![true; sm.faces.len()]);
+    (sm, tie, centre)
+}
+
+/// The contact of a split model after one step at rest.
+fn first_step<'m>(sm: &'m crate::separation::split::SplitModel, tie: &[u32]) -> ContactSet<'m> {
+    let m = &sm.model;
+    let nn = m.num_nodes();
+    let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    cs.compute(&m.x0.to_vec(), &zeros(nn), 0.0, tie, &mut zeros(nn));
+    cs
+}
+
 /// A lead's normal is its deck node's: a 2 x 2 x 2 unit block with its top corner element
 /// (x, y, z > 1) removed and every element split. The centre deck node (1, 1, 1) is on the
 /// notch's three faces, each on a different copy: the floor (+z, on the element below the
@@ -1037,15 +1058,8 @@ fn a_lower_copy_joining_the_surface_carries_on_its_sets_contact() {
 /// lead's own faces alone would give one axis.
 #[test]
 fn a_leads_normal_is_its_deck_nodes() {
-    let mut deck = single_part_model(BoxMesh::new([2, 2, 2], [2.0; 3]), mat(), 1.0);
-    remove_element(&mut deck, 7);
-    let centre = deck.x0.iter().position(|p| *p == [1.0; 3]).unwrap() as u32;
-    let sm = split_with_contact(deck, 1e30);
-    let m = &sm.model;
-    let nn = m.num_nodes();
-    let tie = ties(&sm, &vec![true; sm.faces.len()]);
-    let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
-    cs.compute(&m.x0.to_vec(), &zeros(nn), 0.0, &tie, &mut zeros(nn));
+    let (sm, tie, centre) = notched_cube();
+    let cs = first_step(&sm, &tie);
     let side = &cs.contacts()[0].sides[0];
     let on_side: Vec<usize> = (0..side.nodes.len())
         .filter(|&i| sm.origin[side.nodes[i] as usize] == centre)
@@ -1076,14 +1090,8 @@ fn a_leads_normal_is_its_deck_nodes() {
 /// joined, so the same run may see them in other places.
 #[test]
 fn member_chains_do_not_depend_on_the_places() {
-    let mut deck = single_part_model(BoxMesh::new([2, 2, 2], [2.0; 3]), mat(), 1.0);
-    remove_element(&mut deck, 7);
-    let sm = split_with_contact(deck, 1e30);
-    let m = &sm.model;
-    let nn = m.num_nodes();
-    let tie = ties(&sm, &vec![true; sm.faces.len()]);
-    let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
-    cs.compute(&m.x0.to_vec(), &zeros(nn), 0.0, &tie, &mut zeros(nn));
+    let (sm, tie, _) = notched_cube();
+    let cs = first_step(&sm, &tie);
     let side = &cs.contacts()[0].sides[0];
     // the chains as model numbers, by lead
     let chains = |s: &Side| {

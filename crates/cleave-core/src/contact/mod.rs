@@ -777,59 +777,25 @@ impl Side {
 
     /// The leads and member chains of the nodes' coincident sets under `tie` (`set_lead`:
     /// scratch, NONE everywhere, left so); the nodes whose lead changed are pushed to
-    /// `changed`, each with its lead before (NONE for a node new to the side).
-    fn regroup(&mut self, tie: &[u32], set_lead: &mut Vec<u32>, changed: &mut Vec<(u32, u32)>) {
-        let n = self.nodes.len();
-        self.group.resize(n, NONE);
-        self.prev_group.clear();
-        self.prev_group.extend_from_slice(&self.group);
-        self.next.clear();
-        self.next.resize(n, NONE);
-        let set = |i: usize| tie.get(self.nodes[i] as usize).copied().unwrap_or(NONE);
-        for i in 0..n {
-            let t = set(i) as usize;
-            if t != NONE as usize {
-                if set_lead.len() <= t {
-                    set_lead.resize(t + 1, NONE);
-                }
-                set_lead[t] = set_lead[t].min(self.nodes[i]);
-            }
-        }
-        // NOTE: by ascending model number (each member goes right after its lead, so the
-        // chains come out descending), whatever the places: see `group`
-        for k in 0..self.local.len() {
-            let i = self.local[k] as usize;
-            if i == NONE as usize {
-                continue;
-            }
-            let t = set(i);
-            let lead = if t == NONE {
-                i as u32
-            } else {
-                self.local[set_lead[t as usize] as usize]
-            };
-            if self.group[i] != lead {
-                changed.push((i as u32, self.group[i]));
-                self.group[i] = lead;
-            }
-            if lead != i as u32 {
-                self.next[i] = self.next[lead as usize];
-                self.next[lead as usize] = i as u32;
-            }
-        }
-        for i in 0..n {
-            let t = set(i);
-            if t != NONE {
-                set_lead[t as usize] = NONE;
-            }
-        }
+    /// `changed`, each with its lead before (NONE for a node new to the side). A
+    /// [`Side::regroup_some`] of every node (`all`: scratch for their places, in ascending
+    /// model number).
+    fn regroup(
+        &mut self,
+        tie: &[u32],
+        set_lead: &mut Vec<u32>,
+        changed: &mut Vec<(u32, u32)>,
+        all: &mut Vec<u32>,
+    ) {
+        all.clear();
+        all.extend(self.local.iter().copied().filter(|&i| i != NONE));
+        self.regroup_some(all, tie, set_lead, changed);
     }
 
-    /// [`Side::regroup`] for the nodes `some` only (local indices in ascending model number,
-    /// holding every member on the side of each coincident set it touches, before and after):
-    /// their leads
-    /// and chains come out as a regroup of all nodes would make them, the other nodes' are
-    /// left as they are (their sets did not change).
+    /// The leads and member chains (see `group`) of the nodes `some` only (local indices in
+    /// ascending model number, holding every member on the side of each coincident set it
+    /// touches, before and after): they come out as a regroup of all nodes would make them,
+    /// the other nodes' are left as they are (their sets did not change).
     fn regroup_some(
         &mut self,
         some: &[u32],
@@ -857,8 +823,8 @@ impl Side {
                 set_lead[t] = set_lead[t].min(self.nodes[i as usize]);
             }
         }
-        // NOTE: by ascending model number, as Side::regroup: the same member chains, so the
-        // same sums
+        // NOTE: by ascending model number (each member goes right after its lead, so the
+        // chains come out descending), whatever the places: see `group`
         for &i in some {
             let t = set(i);
             let lead = if t == NONE {
@@ -1685,12 +1651,12 @@ impl Contact {
                     // tests: the same leads and member chains as a regroup of every node
                     #[cfg(test)]
                     {
-                        full.regroup(tie, &mut Vec::new(), &mut Vec::new());
+                        full.regroup(tie, &mut Vec::new(), &mut Vec::new(), &mut Vec::new());
                         assert_eq!(full.group, side.group, "regroup_some: leads");
                         assert_eq!(full.next, side.next, "regroup_some: member chains");
                     }
                 }
-                None => side.regroup(tie, set_lead, changed),
+                None => side.regroup(tie, set_lead, changed, some),
             }
             for &(i, old) in changed.iter() {
                 // the set's normal changed: the facing part of its clearances is void

@@ -1117,7 +1117,7 @@ fn member_chains_do_not_depend_on_the_places() {
         rev.local[rev.nodes[k] as usize] = k as u32;
     }
     rev.group.fill(NONE);
-    rev.regroup(&tie, &mut Vec::new(), &mut Vec::new());
+    rev.regroup(&tie, &mut Vec::new(), &mut Vec::new(), &mut Vec::new());
     let (a, b) = (chains(side), chains(&rev));
     assert!(a.iter().any(|c| c.len() >= 3), "a set of three on the side");
     assert_eq!(a, b);

@@ -873,12 +873,13 @@ impl Side {
             return false;
         }
         let nodes = face_nodes(&table.model().conn[id.0 as usize], id.1);
+        let (k, depth) = table.stiffness_and_depth(id);
         self.faces.push(Face {
             elem: id.0,
             face: id.1,
             nodes,
-            k: table.stiffness(id),
-            depth: table.depth(id),
+            k,
+            depth,
         });
         self.boxes.push(Aabb {
             min: [0.0; 3],

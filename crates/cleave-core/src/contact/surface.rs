@@ -123,9 +123,12 @@ impl<'m> FaceTable<'m> {
         let n_deck = (0..nn as u32).map(|n| deck(n) + 1).max().unwrap_or(0);
         let mut k_deck = vec![0.0f64; n_deck];
         for (e, c) in self.model.conn.iter().enumerate() {
-            for f in 0..FACES.len() as u8 {
-                let k = self.stiffness((e as u32, f));
-                for n in face_nodes(c, f) {
+            let xe: [Vec3; 8] = std::array::from_fn(|a| self.model.x0[c[a] as usize]);
+            let v = volume(&xe);
+            for (f, corners) in FACES.iter().enumerate() {
+                let p = corners.map(|a| xe[a]);
+                let k = self.stiffness_of(e, quad_area(p[0], p[1], p[2], p[3]), v);
+                for n in face_nodes(c, f as u8) {
                     let d = &mut k_deck[deck(n)];
                     *d = d.max(k);
                 }
@@ -150,8 +153,20 @@ impl<'m> FaceTable<'m> {
     /// Penalty stiffness of a face (force per length).
     pub fn stiffness(&self, id: FaceId) -> f64 {
         let (area, v) = self.geometry(id);
+        self.stiffness_of(id.0 as usize, area, v)
+    }
+
+    /// Penalty stiffness and depth limit of a face, from one pass over its element.
+    pub fn stiffness_and_depth(&self, id: FaceId) -> (f64, f64) {
+        let (area, v) = self.geometry(id);
+        (self.stiffness_of(id.0 as usize, area, v), depth_of(area, v))
+    }
+
+    /// `SLSFAC K A^2 / V` of a face of area `area` of element `e` of volume `v` (0 when
+    /// degenerate).
+    fn stiffness_of(&self, e: usize, area: f64, v: f64) -> f64 {
         if v > 0.0 && area > 0.0 {
-            let bulk = self.model.element_material(id.0 as usize).bulk_modulus();
+            let bulk = self.model.element_material(e).bulk_modulus();
             self.model.control.slsfac * bulk * area * area / v
         } else {
             0.0
@@ -178,11 +193,16 @@ impl<'m> FaceTable<'m> {
     /// Largest penetration that still counts as contact with a face.
     pub fn depth(&self, id: FaceId) -> f64 {
         let (area, v) = self.geometry(id);
-        if v > 0.0 && area > 0.0 {
-            DEPTH_FRACTION * v / area
-        } else {
-            0.0
-        }
+        depth_of(area, v)
+    }
+}
+
+/// `DEPTH_FRACTION V / A` (0 when degenerate).
+fn depth_of(area: f64, v: f64) -> f64 {
+    if v > 0.0 && area > 0.0 {
+        DEPTH_FRACTION * v / area
+    } else {
+        0.0
     }
 }
 

@@ -319,8 +319,8 @@ pub struct ContactStats {
 pub struct ContactSet<'m> {
     contacts: Vec<Contact>,
     table: FaceTable<'m>,
-    cur: NodalForces,
-    prev: NodalForces,
+    /// The contact forces on the nodes at this step and the last.
+    nodal: NodalForces,
     forces: Vec<ContactForce>,
     /// Faces the bounds caches of the pool's threads have room for ([`bounds_cache`]).
     reserved: usize,
@@ -337,7 +337,7 @@ impl<'m> ContactSet<'m> {
     ///
     /// Errors: a segment of a segment set that is no element face, a surface-to-surface
     /// definition without a master side.
-    pub fn new(model: &'m Model, origin: Option<&[u32]>) -> Result<Self, String> {
+    pub fn new(model: &'m Model, origin: Option<&'m [u32]>) -> Result<Self, String> {
         let deck_conn: Vec<[u32; 8]> = match origin {
             Some(o) => model
                 .conn
@@ -374,8 +374,7 @@ impl<'m> ContactSet<'m> {
         Ok(Self {
             contacts,
             table,
-            cur: NodalForces::new(nn),
-            prev: NodalForces::new(nn),
+            nodal: NodalForces::new(nn),
             forces,
             reserved: 0,
         })
@@ -454,11 +453,10 @@ impl<'m> ContactSet<'m> {
         tie: &[u32],
         f: &mut [Vec3],
     ) -> ContactStep {
-        let nn = self.cur.len();
+        let nn = self.nodal.len();
         assert!(x.len() == nn && v.len() == nn && f.len() == nn);
         assert!(tie.is_empty() || tie.len() == nn);
-        std::mem::swap(&mut self.cur, &mut self.prev);
-        self.cur.clear();
+        self.nodal.next_step();
         let mut step = ContactStep::default();
         let inp = StepInput {
             x,
@@ -481,16 +479,16 @@ impl<'m> ContactSet<'m> {
         }
         for (c, out) in self.contacts.iter_mut().zip(self.forces.iter_mut()) {
             let rebuilt;
-            (*out, rebuilt) = c.compute(&inp, &mut self.cur);
+            (*out, rebuilt) = c.compute(&inp, &mut self.nodal);
             step.pairs += out.pairs;
             step.rebuilt |= rebuilt;
         }
         // NOTE: fixed order: last step's nodes, then this step's, each in insertion order.
         let mut work = 0.0;
-        for (i, fi) in self.prev.iter() {
+        for (i, fi) in self.nodal.last_step() {
             work += dot(fi, v[i as usize]);
         }
-        for (i, fi) in self.cur.iter() {
+        for (i, fi) in self.nodal.iter() {
             let i = i as usize;
             work += dot(fi, v[i]);
             f[i] = add(f[i], fi);
@@ -506,7 +504,7 @@ impl<'m> ContactSet<'m> {
 
     /// The contact force on each node of the last `compute` (nodes in first-touched order).
     pub fn nodal_forces(&self) -> impl Iterator<Item = (u32, Vec3)> + '_ {
-        self.cur.iter()
+        self.nodal.iter()
     }
 
     /// A time step the penalty springs are stable with, to compare with the element step.
@@ -596,15 +594,20 @@ impl<'m> ContactSet<'m> {
     }
 }
 
-/// Sparse nodal forces: the force of each node touched since the last clear, in the order
-/// first touched, and each node's place in that list (4 bytes a node, instead of a dense force
-/// array of 24; only the surface nodes in contact are touched).
+/// Sparse nodal forces: the force of each node touched at this step, in the order first
+/// touched, and each node's place in that list (4 bytes a node, instead of a dense force array
+/// of 24; only the surface nodes in contact are touched); and the same lists of the last step,
+/// for the energy's trapezoid.
 #[derive(Clone, Debug)]
 struct NodalForces {
-    /// Place of each node in `touched` / `f`, or NONE.
+    /// Place of each node in `touched` / `f`, or NONE (one array for both steps: the last
+    /// step's nodes are only read in sequence).
     slot: Vec<u32>,
     touched: Vec<u32>,
     f: Vec<Vec3>,
+    /// The nodes and forces of the last step.
+    last_touched: Vec<u32>,
+    last_f: Vec<Vec3>,
 }
 
 impl NodalForces {
@@ -613,6 +616,8 @@ impl NodalForces {
             slot: vec![NONE; n],
             touched: Vec::new(),
             f: Vec::new(),
+            last_touched: Vec::new(),
+            last_f: Vec::new(),
         }
     }
     /// Number of nodes.
@@ -634,10 +639,20 @@ impl NodalForces {
     fn iter(&self) -> impl Iterator<Item = (u32, Vec3)> + '_ {
         self.touched.iter().copied().zip(self.f.iter().copied())
     }
-    fn clear(&mut self) {
+    /// The same of the last step.
+    fn last_step(&self) -> impl Iterator<Item = (u32, Vec3)> + '_ {
+        self.last_touched
+            .iter()
+            .copied()
+            .zip(self.last_f.iter().copied())
+    }
+    /// A new step: this step's forces become the last step's, and none is touched.
+    fn next_step(&mut self) {
         for &i in &self.touched {
             self.slot[i as usize] = NONE;
         }
+        std::mem::swap(&mut self.touched, &mut self.last_touched);
+        std::mem::swap(&mut self.f, &mut self.last_f);
         self.touched.clear();
         self.f.clear();
     }
@@ -704,9 +719,6 @@ struct Side {
     by_rank: Vec<u32>,
     /// Number of nodes at the last space ordering ([`Contact::reorder`]).
     ordered: usize,
-    /// Scratch of the reordering.
-    order: Vec<(u64, u32)>,
-    seen: Vec<bool>,
     /// Search box and search sphere (centre, radius^2) of each face, from the positions of
     /// the last full build.
     boxes: Vec<Aabb>,
@@ -738,8 +750,6 @@ impl Side {
             rank: Vec::new(),
             by_rank: Vec::new(),
             ordered: 0,
-            order: Vec::new(),
-            seen: Vec::new(),
             boxes: Vec::new(),
             spheres: Vec::new(),
             base: 0,
@@ -902,7 +912,7 @@ impl Side {
 
     /// The permutation that puts the nodes in space order (Morton order of their positions at
     /// the last full build, `trail[..][1]`): `order[k].1` is the node to go to place k.
-    fn space_order(&mut self) {
+    fn space_order(&self) -> Vec<(u64, u32)> {
         let mut b = Aabb::empty();
         for t in &self.trail {
             if t[1].iter().all(|v| v.is_finite()) {
@@ -918,7 +928,7 @@ impl Side {
                 0 // also NaN, and h = 0
             }
         };
-        self.order.clear();
+        let mut order = Vec::with_capacity(self.trail.len());
         for (k, t) in self.trail.iter().enumerate() {
             let c: [u64; 3] = std::array::from_fn(|d| cell(t[1][d], b.min[d]));
             let mut key = 0u64;
@@ -927,9 +937,10 @@ impl Side {
                     key |= ((cd >> bit) & 1) << (3 * bit + d);
                 }
             }
-            self.order.push((key, k as u32));
+            order.push((key, k as u32));
         }
-        self.order.sort_unstable();
+        order.sort_unstable();
+        order
     }
 
     /// Apply `order` (place k gets node `order[k].1`) by cycles of swaps: `swap(a, b)` must
@@ -1712,7 +1723,11 @@ impl Contact {
                 continue;
             }
             side.ordered = n;
-            side.space_order();
+            // scratch allocated here and freed at the end: a reordering comes only with a full
+            // build after many nodes joined, and keeping its 17 bytes a node took 1.3 MB of the
+            // 20,000-element ball's peak
+            let order = side.space_order();
+            let mut seen = Vec::new();
             // the renewed nodes and the leads by model number while the places move
             for i in side.renewed.iter_mut() {
                 *i = side.nodes[*i as usize];
@@ -1727,11 +1742,9 @@ impl Contact {
                 node_faces,
                 rank,
                 group,
-                order,
-                seen,
                 ..
             } = side;
-            Side::permute(order, seen, |a, b| {
+            Side::permute(&order, &mut seen, |a, b| {
                 nodes.swap(a, b);
                 trail.swap(a, b);
                 node_faces.swap(a, b);
@@ -1745,11 +1758,11 @@ impl Contact {
                     touching,
                     ..
                 } = pass;
-                Side::permute(order, seen, |a, b| {
+                Side::permute(&order, &mut seen, |a, b| {
                     cand.swap(a, b);
                     sched.swap(a, b);
                 });
-                touching.permute(order);
+                touching.permute(&order);
             }
             for (k, &n) in side.nodes.iter().enumerate() {
                 side.local[n as usize] = k as u32;
@@ -2003,12 +2016,14 @@ impl Contact {
             }
         }
         // closed cracks: serial, in the order they closed
+        let frictionless = self.friction.is_frictionless();
         for c in &self.closures {
             for k in 0..4 {
                 if c.fn_mag[k] > 0.0 {
-                    acc.add(c.b[k], c.f[k]);
-                    acc.add(c.a[k], scale(c.f[k], -1.0));
-                    out.force = add(out.force, c.f[k]);
+                    let f = c.force(k, frictionless);
+                    acc.add(c.b[k], f);
+                    acc.add(c.a[k], scale(f, -1.0));
+                    out.force = add(out.force, f);
                     out.normal += c.fn_mag[k];
                     out.pairs += 1;
                 }

@@ -151,7 +151,8 @@
 //! and their member chains (by model number) do not change with it. The results are
 //! bit-identical for any number of threads, and to those of testing every candidate every
 //! step. After the first steps no buffer grows unless faces are added, the candidate lists
-//! get longer, or more nodes of a chunk touch than ever before.
+//! get longer, or more nodes of a chunk touch than ever before; the space ordering, which comes
+//! only after many nodes joined, allocates its scratch and frees it.
 //!
 //! # Closed cracks
 //! The two faces of a failed interface start flush, each node on a corner of the face

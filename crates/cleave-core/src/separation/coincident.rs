@@ -39,8 +39,12 @@ pub struct CoincidentSets {
     stack: Vec<u32>,
     piece: Vec<u32>,
     incident: Vec<u32>,
-    /// Mean acceleration of each set (scratch of `average_forces`; None: dead or massless).
-    accel: Vec<Option<Vec3>>,
+    /// Each set's mean acceleration at the last `average_forces` and `1 / sum m` of its
+    /// members (0: dead or massless, its forces left alone; NaN: not worked out since the set
+    /// was made). The masses are summed once per set, not at every step: the gather of each
+    /// set's members is the averaging's cost (its members lie in different elements' blocks),
+    /// and the masses were half of what it read.
+    accel: Vec<(Vec3, f64)>,
 }
 
 const SHARED: u32 = u32::MAX - 1;
@@ -272,6 +276,11 @@ impl CoincidentSets {
             };
             if p == 0 {
                 self.ranges[s] = (at, size);
+                // its members changed: its mass is summed again (new sets get theirs when
+                // `accel` grows)
+                if let Some(a) = self.accel.get_mut(s) {
+                    a.1 = f64::NAN;
+                }
             } else {
                 self.ranges.push((at, size));
             }
@@ -284,31 +293,38 @@ impl CoincidentSets {
 
     /// Give every set its mean acceleration: f_i <- m_i (sum f) / (sum m), sums in ascending
     /// member order. Massless sets are left alone.
+    ///
+    /// `mass` must be the same at every call (the solver's lumped masses): each set's
+    /// `1 / sum m` is kept from the first call after the set was made.
     pub fn average_forces(&mut self, f: &mut [Vec3], mass: &[f64]) {
         // each set's mean acceleration (its members summed in ascending order), then each
         // tied node's share: two parallel passes, the same numbers for any thread count
         let (members, ranges) = (&self.members, &self.ranges);
-        self.accel.resize(ranges.len(), None);
+        self.accel.resize(ranges.len(), ([0.0; 3], f64::NAN));
         {
             let f: &[Vec3] = f;
             self.accel
                 .par_iter_mut()
                 .zip(ranges.par_iter())
                 .with_min_len(SET_CHUNK)
-                .for_each(|(a, &(st, l))| {
-                    *a = None;
-                    if l < 2 {
+                .for_each(|((a, inv_m), &(st, l))| {
+                    let set = &members[st as usize..(st + l) as usize];
+                    if inv_m.is_nan() {
+                        let mt: f64 = if l < 2 {
+                            0.0
+                        } else {
+                            set.iter().fold(0.0, |mt, &n| mt + mass[n as usize])
+                        };
+                        *inv_m = if mt > 0.0 { 1.0 / mt } else { 0.0 };
+                    }
+                    if *inv_m == 0.0 {
                         return;
                     }
                     let mut ft = [0.0; 3];
-                    let mut mt = 0.0;
-                    for &n in &members[st as usize..(st + l) as usize] {
+                    for &n in set {
                         ft = add(ft, f[n as usize]);
-                        mt += mass[n as usize];
                     }
-                    if mt > 0.0 {
-                        *a = Some(scale(ft, 1.0 / mt));
-                    }
+                    *a = scale(ft, *inv_m);
                 });
         }
         let (node_set, accel) = (&self.node_set, &self.accel);
@@ -318,7 +334,8 @@ impl CoincidentSets {
             .for_each(|(n, fi)| {
                 let s = node_set[n];
                 if s != NONE {
-                    if let Some(a) = accel[s as usize] {
+                    let (a, inv_m) = accel[s as usize];
+                    if inv_m != 0.0 {
                         *fi = scale(a, mass[n]);
                     }
                 }
@@ -449,6 +466,51 @@ mod tests {
                 let a = scale(f[m as usize], 1.0 / mass[m as usize]);
                 assert!((0..3).all(|d| (a[d] - a0[d]).abs() < 1e-12 * a0[d].abs().max(1.0)));
             }
+        }
+    }
+
+    /// Each set's summed mass is kept between steps: after interfaces fail and the sets split,
+    /// each piece gets the mean acceleration of its own members, bit for bit `sum f / sum m`
+    /// worked out afresh (members in ascending order), at every failure of the 12 interfaces
+    /// around the block's centre.
+    #[test]
+    fn averaging_after_splits_uses_each_pieces_own_mass() {
+        let sm = split_block();
+        let n = sm.model.num_nodes();
+        let mut intact = vec![true; sm.faces.len()];
+        let mut cs = CoincidentSets::build(n, &sm.faces, &intact);
+        let mass: Vec<f64> = (0..n).map(|i| 1.0 + (i % 5) as f64 * 0.37).collect();
+        let forces = |k: usize| -> Vec<Vec3> {
+            (0..n)
+                .map(|i| [(i * k) as f64 * 0.1, 1.0 - i as f64, (k % 3) as f64])
+                .collect()
+        };
+        let order = [5usize, 0, 11, 3, 8, 1, 10, 6, 2, 9, 4, 7];
+        for (step, &failed) in order.iter().enumerate() {
+            let f0 = forces(step + 1);
+            let mut f = f0.clone();
+            cs.average_forces(&mut f, &mass);
+            let mut live = 0;
+            for set in cs.sets() {
+                live += 1;
+                let (mut ft, mut mt) = ([0.0; 3], 0.0);
+                for &m in set {
+                    ft = add(ft, f0[m as usize]);
+                    mt += mass[m as usize];
+                }
+                let a = scale(ft, 1.0 / mt);
+                for &m in set {
+                    assert_eq!(f[m as usize], scale(a, mass[m as usize]), "step {step}");
+                }
+            }
+            for i in 0..n {
+                if cs.set_of(i as u32).is_none() {
+                    assert_eq!(f[i], f0[i], "a free node keeps its force");
+                }
+            }
+            assert!(live > 0);
+            intact[failed] = false;
+            cs.split_after_failure(&sm.faces, &intact, &[failed]);
         }
     }
 }

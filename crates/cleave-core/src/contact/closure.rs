@@ -41,7 +41,7 @@
 //!
 //! While a crack is *closed* this way, the node-to-face search leaves out the pairs it covers:
 //! a node (or a node tied to it) that is a partner of a corner of a face is not tested against
-//! that face ([`super::Side::partner`]). The closure holds only while the faces still lie on
+//! that face ([`Chains::held`]). The closure holds only while the faces still lie on
 //! each other: once any pair has slid along the mid-surface by more than [`SLIP`] times the
 //! shortest edge of A, or the faces have turned apart by more than [`TURN`] (their normals),
 //! the crack is *released* for good: the node-to-face search takes its faces back (the nodes

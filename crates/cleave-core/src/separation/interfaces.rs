@@ -373,7 +373,9 @@ impl Separation {
         work
     }
 
-    /// Each coincident set gets its mean acceleration: f_i <- m_i sum f / sum m.
+    /// Each coincident set gets its mean acceleration: f_i <- m_i sum f / sum m. `mass` must be
+    /// the same at every call (the solver's lumped masses): each set's sum is kept until it
+    /// splits ([`CoincidentSets::average_forces`]).
     pub fn tie(&mut self, f: &mut [Vec3], mass: &[f64]) {
         self.sets.average_forces(f, mass);
     }

@@ -127,7 +127,7 @@ pub fn inverse(a: &Mat3) -> Option<Mat3> {
     ])
 }
 
-/// Rotation matrix exp([w]x) for a rotation vector w (Rodrigues' formula).
+/// Rotation matrix `exp([w]x)` for a rotation vector w (Rodrigues' formula).
 pub fn rotation_from_vector(w: Vec3) -> Mat3 {
     let th = norm(w);
     if th < 1e-300 {

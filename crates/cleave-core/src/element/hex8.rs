@@ -38,7 +38,7 @@ pub const FACES: [[usize; 4]; 6] = [
     [3, 0, 4, 7],
 ];
 
-/// Jacobian dx/dxi at natural point `p`: J[i][j] = sum_a x_a[i] dN_a/dxi_j.
+/// Jacobian dx/dxi at natural point `p`: `J[i][j] = sum_a x_a[i] dN_a/dxi_j`.
 pub fn jacobian_at(x: &[Vec3; 8], p: [f64; 3]) -> Mat3 {
     let mut j = [[0.0; 3]; 3];
     for (a, xa) in x.iter().enumerate() {
@@ -86,7 +86,7 @@ pub fn centre_gradients(x: &[Vec3; 8]) -> Option<(f64, [Vec3; 8])> {
     Some((8.0 * det, gradients_from_inverse(&jinv)))
 }
 
-/// J(0)[i][k] = 1/8 sum_a x_a[i] s_a[k], with s_a the corner's natural coordinates.
+/// `J(0)[i][k] = 1/8 sum_a x_a[i] s_a[k]`, with s_a the corner's natural coordinates.
 #[inline]
 pub fn centre_jacobian(x: &[Vec3; 8]) -> Mat3 {
     let mut j = [[0.0; 3]; 3];
@@ -110,7 +110,7 @@ pub fn det_inverse(j: &Mat3) -> Option<(f64, Mat3)> {
     inverse(j).map(|inv| (d, inv))
 }
 
-/// b_a[i] = dN_a/dx_i = sum_k s_a[k]/8 Jinv[k][i].
+/// `b_a[i] = dN_a/dx_i = sum_k s_a[k]/8 Jinv[k][i]`.
 #[inline]
 pub fn gradients_from_inverse(jinv: &Mat3) -> [Vec3; 8] {
     let mut b = [[0.0; 3]; 8];

@@ -2,7 +2,7 @@
 //!
 //! Every law is hypoelastic in the Jaumann (Hughes-Winget) sense: the element kernel first
 //! rotates the stress and any tensorial history with the incremental rotation, then calls
-//! [`SolidLaw::update`] with the rate-of-deformation increment `d_eps = D dt` (tensor
+//! [`SolidParams::update`] with the rate-of-deformation increment `d_eps = D dt` (tensor
 //! components, LS-DYNA order xx yy zz xy yz zx).
 
 mod elastic;

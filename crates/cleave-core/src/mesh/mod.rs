@@ -13,7 +13,7 @@ pub use sphere::ogrid_sphere;
 
 use crate::math::Vec3;
 
-/// A structured block of nx x ny x nz hexahedra spanning [0,lx] x [0,ly] x [0,lz].
+/// A structured block of nx x ny x nz hexahedra spanning `[0,lx] x [0,ly] x [0,lz]`.
 /// Nodes are numbered x fastest, then y, then z; elements likewise. The other generators
 /// return the same type: points and LS-DYNA-ordered hexahedra.
 #[derive(Clone, Debug, Default)]

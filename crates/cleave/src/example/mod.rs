@@ -6,7 +6,7 @@
 //! | `ball-impact` | the paper's section 4.1: an alumina ball of 10 mm diameter (O-grid mesh of 256 to 20000 elements, `--elements`) at 75 m/s onto and 50 m/s along a rigid steel plate, fracturing by MODEL 1 at 310 MPa, 10 ms ([`ball_impact`]). |
 //! | `three-point-bend` | the paper's section 4.2: a notched steel beam (200 x 75 x 25 mm, notch 25 mm) hit at mid-span by a rigid tup at a constant 10 m/s, a separation strip ahead of the notch (MODEL 1 at 2 GPa, or `--model 3` cohesive), 0.3 ms ([`three_point_bend`]). |
 //!
-//! The builders return the [`Model`]; `example` applies the options and writes the deck.
+//! The builders return the [`Model`](cleave_core::model::Model); `example` applies the options and writes the deck.
 
 pub mod ball_impact;
 mod taylor_bar;

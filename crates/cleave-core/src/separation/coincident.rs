@@ -370,6 +370,21 @@ mod tests {
         split_model(&m)
     }
 
+    /// The 12 interfaces around the block's centre, in a scrambled order.
+    const FAILURE_ORDER: [usize; 12] = [5, 0, 11, 3, 8, 1, 10, 6, 2, 9, 4, 7];
+
+    /// The split 2 x 2 x 2 block with every interface intact, and its sets.
+    fn split_block_with_sets() -> (
+        crate::separation::split::SplitModel,
+        Vec<bool>,
+        CoincidentSets,
+    ) {
+        let sm = split_block();
+        let intact = vec![true; sm.faces.len()];
+        let cs = CoincidentSets::build(sm.model.num_nodes(), &sm.faces, &intact);
+        (sm, intact, cs)
+    }
+
     /// Partition of all nodes into sets, computed from scratch (independent of the splitting).
     fn partition(s: &CoincidentSets) -> Vec<Vec<u32>> {
         let mut v: Vec<Vec<u32>> = s.sets().map(|x| x.to_vec()).collect();
@@ -402,15 +417,13 @@ mod tests {
     /// exactly as the remaining faces connect them.
     #[test]
     fn sets_split_exactly_as_the_intact_faces_say() {
-        let sm = split_block();
+        let (sm, mut intact, mut cs) = split_block_with_sets();
         let n = sm.model.num_nodes();
-        let mut intact = vec![true; sm.faces.len()];
-        let mut cs = CoincidentSets::build(n, &sm.faces, &intact);
         let centre: Vec<u32> = (0..n as u32)
             .filter(|&i| sm.model.x0[i as usize] == [1.0, 1.0, 1.0])
             .collect();
         assert_eq!(centre.len(), 8);
-        let order = [5usize, 0, 11, 3, 8, 1, 10, 6, 2, 9, 4, 7];
+        let order = FAILURE_ORDER;
         for (step, &f) in order.iter().enumerate() {
             intact[f] = false;
             cs.split_after_failure(&sm.faces, &intact, &[f]);
@@ -475,17 +488,15 @@ mod tests {
     /// around the block's centre.
     #[test]
     fn averaging_after_splits_uses_each_pieces_own_mass() {
-        let sm = split_block();
+        let (sm, mut intact, mut cs) = split_block_with_sets();
         let n = sm.model.num_nodes();
-        let mut intact = vec![true; sm.faces.len()];
-        let mut cs = CoincidentSets::build(n, &sm.faces, &intact);
         let mass: Vec<f64> = (0..n).map(|i| 1.0 + (i % 5) as f64 * 0.37).collect();
         let forces = |k: usize| -> Vec<Vec3> {
             (0..n)
                 .map(|i| [(i * k) as f64 * 0.1, 1.0 - i as f64, (k % 3) as f64])
                 .collect()
         };
-        let order = [5usize, 0, 11, 3, 8, 1, 10, 6, 2, 9, 4, 7];
+        let order = FAILURE_ORDER;
         for (step, &failed) in order.iter().enumerate() {
             let f0 = forces(step + 1);
             let mut f = f0.clone();

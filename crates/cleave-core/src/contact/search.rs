@@ -57,9 +57,17 @@ impl Aabb {
             max: self.max.map(|v| v + r),
         }
     }
+    /// Whether `p` lies in the box (false for a NaN coordinate). The six comparisons are
+    /// combined without short-circuit: no branch to mispredict in the searches' loops, where
+    /// about a quarter of the boxes tested hold the node.
     #[inline]
     pub fn contains(&self, p: Vec3) -> bool {
-        (0..3).all(|d| self.min[d] <= p[d] && p[d] <= self.max[d])
+        (self.min[0] <= p[0])
+            & (p[0] <= self.max[0])
+            & (self.min[1] <= p[1])
+            & (p[1] <= self.max[1])
+            & (self.min[2] <= p[2])
+            & (p[2] <= self.max[2])
     }
     /// Largest edge length.
     #[inline]
@@ -104,6 +112,9 @@ const LEVEL_RATIO: f64 = 4.0;
 
 /// Boxes larger than `h0 LEVEL_RATIO^MAX_LEVEL` (or of non-finite extent) share the last level.
 const MAX_LEVEL: usize = 16;
+
+/// Faces of a cell whose boxes are tested at a time in [`BucketGrid::faces_at`].
+const BLOCK: usize = 64;
 
 /// A level's cells are this many times smaller than its largest box: a box then covers at most
 /// 3 x 3 x 3 cells, and a query looks at the faces of a cell whose boxes overlap a region
@@ -176,9 +187,21 @@ impl BucketGrid {
         for level in &self.levels[..self.used] {
             if let Some(c) = level.cell_of(p) {
                 let range = level.start[c] as usize..level.start[c + 1] as usize;
-                for &f in &level.items[range] {
-                    if boxes[f as usize].contains(p) && keep(f) {
-                        push(f);
+                // the faces whose box holds p are packed into a block without a branch per
+                // face, then kept or not, in the same order: on the fracturing 2800 ball a
+                // node's cell lists 66 faces of which 18 hold it, and the branch per face
+                // made the full builds' searches a third slower
+                let mut block = [0u32; BLOCK];
+                for items in level.items[range].chunks(BLOCK) {
+                    let mut n = 0;
+                    for &f in items {
+                        block[n] = f;
+                        n += boxes[f as usize].contains(p) as usize;
+                    }
+                    for &f in &block[..n] {
+                        if keep(f) {
+                            push(f);
+                        }
                     }
                 }
             }

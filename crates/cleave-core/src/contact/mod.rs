@@ -1026,19 +1026,10 @@ struct Hit {
     /// later steps).
     engaged: f64,
     offset: f64,
-}
-
-impl Hit {
-    /// `|f_n| = -k engaged`, k the pair's of model node `node` and the hit face (of `faces`,
-    /// the face side's): [`FaceTable::pair_stiffness`].
-    #[inline]
-    fn fn_mag(&self, faces: &[Face], table: &FaceTable, node: u32) -> f64 {
-        if self.face == NONE {
-            0.0
-        } else {
-            -table.pair_stiffness(faces[self.face as usize].k, node) * self.engaged
-        }
-    }
+    /// `|f_n| = -k engaged` (0 without a face), k the pair's ([`FaceTable::pair_stiffness`]),
+    /// as the check worked it out: the step's loop and the scatter read it instead of looking
+    /// the stiffness up again.
+    fn_mag: f64,
 }
 
 impl Default for Hit {
@@ -1049,6 +1040,7 @@ impl Default for Hit {
             f: [0.0; 3],
             engaged: 0.0,
             offset: 0.0,
+            fn_mag: 0.0,
         }
     }
 }
@@ -1999,9 +1991,7 @@ impl Contact {
                         if let Some(new) = ctx.check(c * chunk + k, list, sched, &hit, ft) {
                             (hit, ft) = new;
                         }
-                        let node = ctx.nodes[c * chunk + k];
-                        let active = hit.fn_mag(ctx.faces, inp.table, node) != 0.0;
-                        touch.put(k, hit, ft, active);
+                        touch.put(k, hit, ft, hit.fn_mag != 0.0);
                         *due = sched.next_due(list);
                     }
                 });
@@ -2018,7 +2008,7 @@ impl Contact {
                     acc.add(face.nodes[a], scale(hit.f, -hit.w[a]));
                 }
                 out.force = add(out.force, scale(hit.f, sign));
-                out.normal += hit.fn_mag(&fs.faces, inp.table, ns.nodes[i]);
+                out.normal += hit.fn_mag;
                 out.pairs += 1;
             }
         }
@@ -2253,6 +2243,7 @@ impl NodeCheck<'_> {
             f: add(f_n, f_t),
             engaged: e.engaged,
             offset: e.offset,
+            fn_mag,
         };
         Some((hit, f_t))
     }

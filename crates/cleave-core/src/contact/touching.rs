@@ -1,7 +1,7 @@
 //! The nodes of a pass that touch a face, stored sparsely.
 //!
-//! A node's contact lives from step to step: its hit (face, weights, force, engagement) and
-//! its tangential force (the friction history), 104 bytes. On a fragmenting ball most nodes of
+//! A node's contact lives from step to step: its hit (face, weights, force, engagement, |f_n|) and
+//! its tangential force (the friction history), 112 bytes. On a fragmenting ball most nodes of
 //! the contact surface touch nothing (the 20,000-element ball at 20 us: about 75,000 surface nodes, a
 //! few thousand in contact), so these are kept only for the nodes that have them: per chunk
 //! of [`Touching::chunk`] nodes (the chunks of the parallel check), a list of the chunk's

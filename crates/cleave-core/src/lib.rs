@@ -9,6 +9,7 @@
 //! Deck ids appear only in the model's id tables and in messages; everything else uses dense
 //! internal indices (`u32` for nodes and elements, `usize` for parts, materials, curves).
 
+pub mod awake;
 pub mod contact;
 pub mod curve;
 pub mod element;

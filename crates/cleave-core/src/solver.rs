@@ -23,6 +23,8 @@
 
 use std::time::Instant;
 
+use crate::awake::KeepAwake;
+
 use rayon::prelude::*;
 
 use crate::contact::{ContactSet, Crack};
@@ -269,8 +271,11 @@ impl<'m> Solver<'m> {
         self.finished
     }
 
-    /// Run to the end time, showing the state to `obs` at every step.
+    /// Run to the end time, showing the state to `obs` at every step. In a rayon pool of
+    /// several threads, the other workers poll for the step's jobs until the run ends instead
+    /// of sleeping between its loops ([`KeepAwake`]).
     pub fn run(&mut self, obs: &mut dyn Observer) -> Result<(), RunError> {
+        let _awake = KeepAwake::start();
         loop {
             self.advance_to_half_step().map_err(RunError::Solver)?;
             obs.observe(self).map_err(RunError::Output)?;

@@ -33,6 +33,8 @@ pub struct BallRun {
     pub failed_interfaces: usize,
     /// Contact search statistics at the end (closed cracks, releases, builds).
     pub contact: ContactStats,
+    /// Steal time during the run (s), where the system reports it (`bench::steal_seconds`).
+    pub steal: Option<f64>,
 }
 
 /// Run the ball model with `elements` elements for `end_time`.
@@ -50,7 +52,8 @@ pub fn run_ball(
     let pool = crate::run::thread_pool(Some(threads))?;
     let prepared = crate::run::prepare(model);
     let (mut solver, _) = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
-    let secs = super::run_quiet(&pool, &mut solver)?;
+    let timing = super::run_quiet(&pool, &mut solver)?;
+    let secs = timing.secs;
     let steps = solver.state.step + 1;
     let ne = prepared.model.num_elements();
     let pm = &prepared.model;
@@ -78,6 +81,7 @@ pub fn run_ball(
         shares: [t.elements, t.interfaces, t.contact, t.nodal].map(|x| x / total),
         failed_interfaces: solver.separation().map_or(0, |s| s.num_failed()),
         contact: solver.contact().map(|c| c.stats()).unwrap_or_default(),
+        steal: timing.steal,
     })
 }
 
@@ -97,6 +101,7 @@ impl BallRun {
             "failed_interfaces": self.failed_interfaces,
             "closed_cracks": self.contact.closed,
             "released_cracks": self.contact.released,
+            "steal_s": self.steal,
         })
     }
 
@@ -121,6 +126,7 @@ impl BallRun {
                 released: u("released_cracks").unwrap_or(0),
                 ..Default::default()
             },
+            steal: f("steal_s"),
         })
     }
 }
@@ -157,5 +163,8 @@ pub fn bench_ball(a: &BenchArgs) -> Result<(), Failure> {
         "  contact: {} closed cracks, {} released to the search; {} full searches, {} incremental",
         s.closed, s.released, s.rebuilds, s.updates
     );
+    if let Some(line) = super::steal_line(r.steal) {
+        println!("{line}");
+    }
     Ok(())
 }

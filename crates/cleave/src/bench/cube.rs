@@ -43,7 +43,8 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
     }
     let prepared = crate::run::prepare(model);
     let (mut solver, _) = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
-    let secs = super::run_quiet(&pool, &mut solver)?;
+    let timing = super::run_quiet(&pool, &mut solver)?;
+    let secs = timing.secs;
     let result = solver.state.step;
     let ne = n * n * n;
     let us = 1e6 * secs / (result as f64 * ne as f64);
@@ -63,5 +64,8 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
         "  peak memory {rss:.1} MB ({:.0} bytes per element)",
         rss * 1048576.0 / ne as f64
     );
+    if let Some(line) = super::steal_line(timing.steal) {
+        println!("{line}");
+    }
     Ok(())
 }

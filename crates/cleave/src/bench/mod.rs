@@ -22,15 +22,56 @@ impl Observer for Quiet {
     }
 }
 
-/// Run `solver` to its end time on `pool`, writing nothing; returns the wall seconds.
-fn run_quiet(pool: &rayon::ThreadPool, solver: &mut Solver) -> Result<f64, Failure> {
+/// The wall time of a run, and the CPU time the host took from this virtual machine meanwhile.
+#[derive(Clone, Copy, Debug)]
+struct Timing {
+    secs: f64,
+    /// Steal time over the run, all CPUs (seconds; `None` without `/proc/stat`).
+    steal: Option<f64>,
+}
+
+/// Run `solver` to its end time on `pool`, writing nothing.
+fn run_quiet(pool: &rayon::ThreadPool, solver: &mut Solver) -> Result<Timing, Failure> {
+    let steal0 = steal_seconds();
     let start = std::time::Instant::now();
     pool.install(|| solver.run(&mut Quiet))
         .map_err(|e| match e {
             RunError::Solver(e) => Failure::from(e),
             RunError::Output(e) => Failure::Other(e.to_string()),
         })?;
-    Ok(start.elapsed().as_secs_f64())
+    let secs = start.elapsed().as_secs_f64();
+    let steal = steal_seconds().zip(steal0).map(|(b, a)| b - a);
+    Ok(Timing { secs, steal })
+}
+
+/// The steal time of all CPUs so far: the time a virtual machine's CPUs were ready to run
+/// but the host ran something else (`/proc/stat`, the 8th number of the `cpu` line, in
+/// USER_HZ ticks of 1/100 s on Linux). A benchmark on a shared host that was stolen from is
+/// slower than the machine: `cleave bench` prints it so such a run can be told apart.
+fn steal_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/stat").ok()?;
+    parse_steal(&stat)
+}
+
+fn parse_steal(stat: &str) -> Option<f64> {
+    let line = stat.lines().find(|l| l.starts_with("cpu "))?;
+    let ticks: u64 = line.split_whitespace().nth(8)?.parse().ok()?;
+    Some(ticks as f64 / 100.0)
+}
+
+/// The line `cleave bench` prints about the steal time of a run ([`steal_seconds`]).
+fn steal_line(steal: Option<f64>) -> Option<String> {
+    steal.map(|s| {
+        format!(
+            "  host steal time during the run: {:.2} s{}",
+            s,
+            if s > 0.0 {
+                " (the host ran other work on these CPUs: this timing is slower than the machine)"
+            } else {
+                ""
+            }
+        )
+    })
 }
 
 pub fn bench(a: &BenchArgs) -> Result<(), Failure> {
@@ -41,5 +82,19 @@ pub fn bench(a: &BenchArgs) -> Result<(), Failure> {
         other => Err(Failure::Input(format!(
             "unknown benchmark '{other}'; available: cube, ball, paper-tables"
         ))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn steal_is_the_eighth_number_of_the_cpu_line() {
+        let stat = "cpu  10 20 30 40 50 60 70 123 0 0\ncpu0 1 2 3 4 5 6 7 8 0 0\n";
+        assert_eq!(parse_steal(stat), Some(1.23));
+        assert_eq!(parse_steal("cpu0 1 2 3\n"), None);
+        assert_eq!(parse_steal("cpu  1 2 x 4 5 6 7 8\n"), Some(0.08));
+        assert_eq!(parse_steal("cpu  1 2 3 4 5 6 7 y\n"), None);
     }
 }

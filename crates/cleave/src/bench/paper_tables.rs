@@ -149,6 +149,18 @@ fn markdown(rows: &[Row], end: f64, threads: usize) -> String {
             );
         }
     }
+    let steal: Option<f64> = rows.iter().map(|r| r.2.steal).sum();
+    if let Some(steal) = steal {
+        let _ = writeln!(
+            s,
+            "\nHost steal time over the runs: {steal:.2} s{}",
+            if steal > 0.0 {
+                " (the host ran other work on these CPUs: some timings are slower than the machine)"
+            } else {
+                ""
+            }
+        );
+    }
     s
 }
 

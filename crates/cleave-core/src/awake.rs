@@ -6,9 +6,11 @@
 //! sums). A rayon worker that finds no work spins a little and then sleeps; the next parallel
 //! loop wakes it, and on this project's virtual machine (2 vCPUs, KVM) a wake-up costs tens of
 //! microseconds, about as much as a loop of the 2800-element ball's step. Measured with a
-//! scratch program (2 threads, 2000 steps, each a serial part then parallel loops of 150 us in
-//! all): with a serial part of about 15 us, 200-206 us a step where 165 are the ideal; with
-//! about 150 us, 342-349 us where 297 are; with the workers kept polling, 168 and 306-311 us.
+//! scratch program (2 threads, 2000 steps, each a serial part then parallel loops of 147 us on
+//! two threads): with a serial part of about 22 us, 179-206 us a step where about 169 are the
+//! ideal; with about 155 us, 334-349 us where about 302 are; with the workers kept polling,
+//! 168-179 and 306-311 us. On the 2800-element ball, two threads: 0.2932-0.3019 us per element
+//! step before, 0.2712-0.2811 after (BENCHMARKS.md, session 12).
 //!
 //! So, as OpenMP runtimes do by default for a while (`OMP_WAIT_POLICY=active`), the workers
 //! other than the one running the step poll the pool for jobs while the run goes on

@@ -66,7 +66,7 @@ fn steal_line(steal: Option<f64>) -> Option<String> {
             "  host steal time during the run: {:.2} s{}",
             s,
             if s > 0.0 {
-                " (the host ran other work on these CPUs: this timing is slower than the machine)"
+                " (CPU time the host gave to other work: the more of it, the slower this timing is than the machine)"
             } else {
                 ""
             }

@@ -155,7 +155,7 @@ fn markdown(rows: &[Row], end: f64, threads: usize) -> String {
             s,
             "\nHost steal time over the runs: {steal:.2} s{}",
             if steal > 0.0 {
-                " (the host ran other work on these CPUs: some timings are slower than the machine)"
+                " (CPU time the host gave to other work: the runs with it are slower than the machine)"
             } else {
                 ""
             }

@@ -163,8 +163,6 @@ pub fn bench_ball(a: &BenchArgs) -> Result<(), Failure> {
         "  contact: {} closed cracks, {} released to the search; {} full searches, {} incremental",
         s.closed, s.released, s.rebuilds, s.updates
     );
-    if let Some(line) = super::steal_line(r.steal) {
-        println!("{line}");
-    }
+    super::print_steal(r.steal);
     Ok(())
 }

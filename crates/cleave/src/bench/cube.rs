@@ -64,8 +64,6 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
         "  peak memory {rss:.1} MB ({:.0} bytes per element)",
         rss * 1048576.0 / ne as f64
     );
-    if let Some(line) = super::steal_line(timing.steal) {
-        println!("{line}");
-    }
+    super::print_steal(timing.steal);
     Ok(())
 }

@@ -59,19 +59,18 @@ fn parse_steal(stat: &str) -> Option<f64> {
     Some(ticks as f64 / 100.0)
 }
 
-/// The line `cleave bench` prints about the steal time of a run ([`steal_seconds`]).
-fn steal_line(steal: Option<f64>) -> Option<String> {
-    steal.map(|s| {
-        format!(
-            "  host steal time during the run: {:.2} s{}",
-            s,
+/// Print the steal time of a run ([`steal_seconds`]), when the system reports it.
+fn print_steal(steal: Option<f64>) {
+    if let Some(s) = steal {
+        println!(
+            "  host steal time during the run: {s:.2} s{}",
             if s > 0.0 {
                 " (CPU time the host gave to other work: the more of it, the slower this timing is than the machine)"
             } else {
                 ""
             }
-        )
-    })
+        );
+    }
 }
 
 pub fn bench(a: &BenchArgs) -> Result<(), Failure> {

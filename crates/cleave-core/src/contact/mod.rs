@@ -198,6 +198,12 @@
 //! 0.35-0.36 s (timers, three runs each); the contact 38.9-42.8% of the step (six runs with
 //! timers). The margin scanned again (0.05 to 0.2): the builds and the checks still trade,
 //! least at 0.07-0.1.
+//!
+//! Tried and dropped (session 13, BENCHMARKS.md): a motion bound per node (its own
+//! `|d - c|` each step plus the largest over the watched nodes, instead of the box's
+//! diagonal) cut the pair tests of the 2800 ball by 30% and left its time within noise (why
+//! was not measured; the tests saved may be cheap ones, whose face's bounds another node had
+//! already worked out that step).
 
 pub mod bounds_cache;
 pub mod closure;

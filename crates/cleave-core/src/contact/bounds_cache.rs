@@ -94,8 +94,11 @@ impl BoundsCache {
         x: &[Vec3],
     ) -> &(Cull, CullMore) {
         // grows with the faces of the sides only (no allocation once they stop joining, nor
-        // after `reserve_everywhere`)
-        self.reserve(faces.len().max(fi as usize + 1));
+        // after `reserve_everywhere`); the slots are a power of two, so this is `reserve`'s
+        // own test without its rounding
+        if self.stamp.len() < faces.len().min(MAX_SLOTS) {
+            self.reserve(faces.len());
+        }
         let k = fi as usize & (self.stamp.len() - 1);
         if self.stamp[k] != generation || self.face[k] != fi {
             let face = &faces[fi as usize];

@@ -724,12 +724,11 @@ struct Side {
     prev_group: Vec<u32>,
     /// Nodes (indices into `nodes`) that got faces since the last step: their normal changed.
     renewed: Vec<u32>,
-    /// The order the nodes joined in: `rank[i]` of node i, and the node of each rank. A full
+    /// The order the nodes joined in: `rank[i]` of node i. A full
     /// build puts `nodes` in space order when many joined ([`Contact::reorder`]: neighbours
     /// next to each other, for the caches);
     /// forces are scattered by rank, so the sums do not depend on that order.
     rank: Vec<u32>,
-    by_rank: Vec<u32>,
     /// Number of nodes at the last space ordering ([`Contact::reorder`]).
     ordered: usize,
     /// Search box and search sphere (centre, radius^2) of each face, from the positions of
@@ -761,7 +760,6 @@ impl Side {
             prev_group: Vec::new(),
             renewed: Vec::new(),
             rank: Vec::new(),
-            by_rank: Vec::new(),
             ordered: 0,
             boxes: Vec::new(),
             spheres: Vec::new(),
@@ -777,7 +775,6 @@ impl Side {
             s.local[n as usize] = i as u32;
         }
         s.rank = (0..s.nodes.len() as u32).collect();
-        s.by_rank = s.rank.clone();
         // linked again in the sorted places
         s.node_faces = NodeFaces::default();
         s.node_faces.resize(s.nodes.len());
@@ -914,7 +911,6 @@ impl Side {
             if self.local[n as usize] == NONE {
                 self.local[n as usize] = self.nodes.len() as u32;
                 self.rank.push(self.nodes.len() as u32);
-                self.by_rank.push(self.nodes.len() as u32);
                 self.nodes.push(n);
                 self.trail.push([[0.0; 3]; 2]);
             }
@@ -1772,9 +1768,6 @@ impl Contact {
             for (k, &n) in side.nodes.iter().enumerate() {
                 side.local[n as usize] = k as u32;
             }
-            for (k, &r) in side.rank.iter().enumerate() {
-                side.by_rank[r as usize] = k as u32;
-            }
             for i in side.renewed.iter_mut() {
                 *i = side.local[*i as usize];
             }
@@ -1974,8 +1967,9 @@ impl Contact {
                 friction: *friction,
                 inp,
             };
-            // only the nodes with a due candidate (`next`): the others test nothing and are
-            // out of contact (their hit and friction are empty, kept as they are)
+            // only the nodes with a due candidate (`next`): the others test nothing and keep
+            // their entry as it is (empty, unless a search just carried a set's contact over
+            // to a new lead and marked it due)
             let chunk = NODE_CHUNK;
             next.par_chunks_mut(chunk)
                 .zip(cand.par_chunks_mut(chunk))

@@ -56,6 +56,9 @@ impl NodeFaces {
     /// Nodes `a` and `b` swap places.
     pub fn swap(&mut self, a: usize, b: usize) {
         self.inline.swap(a, b);
+        if self.more.is_empty() {
+            return;
+        }
         let (a, b) = (a as u32, b as u32);
         let (ma, mb) = (self.more.remove(&a), self.more.remove(&b));
         if let Some(m) = ma {

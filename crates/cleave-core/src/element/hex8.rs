@@ -123,16 +123,23 @@ pub fn gradients_from_inverse(jinv: &Mat3) -> [Vec3; 8] {
     b
 }
 
+/// Cross product of a quadrilateral's diagonals, `(p2 - p0) x (p3 - p1)`: twice its
+/// area-weighted normal.
+#[inline]
+fn diagonal_cross(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3) -> Vec3 {
+    cross(sub(p2, p0), sub(p3, p1))
+}
+
 /// Area of a quadrilateral face: half the norm of the cross product of its diagonals.
 #[inline]
 pub fn quad_area(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3) -> f64 {
-    0.5 * crate::math::norm(cross(sub(p2, p0), sub(p3, p1)))
+    0.5 * crate::math::norm(diagonal_cross(p0, p1, p2, p3))
 }
 
 /// Area-weighted unit normal and area of a quadrilateral (diagonal cross product).
 #[inline]
 pub fn quad_normal_area(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3) -> (Vec3, f64) {
-    let c = cross(sub(p2, p0), sub(p3, p1));
+    let c = diagonal_cross(p0, p1, p2, p3);
     let n2 = dot(c, c).sqrt();
     if n2 == 0.0 {
         return ([0.0; 3], 0.0);
@@ -149,7 +156,7 @@ pub fn quad_normal_area(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3) -> (Vec3, f64) {
 pub fn max_face_area(x: &[Vec3; 8]) -> f64 {
     let mut c2max: f64 = 0.0;
     for f in FACES {
-        let c = cross(sub(x[f[2]], x[f[0]]), sub(x[f[3]], x[f[1]]));
+        let c = diagonal_cross(x[f[0]], x[f[1]], x[f[2]], x[f[3]]);
         c2max = c2max.max(dot(c, c));
     }
     0.5 * c2max.sqrt()

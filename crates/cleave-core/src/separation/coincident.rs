@@ -6,7 +6,7 @@
 //! run in a fixed order (deterministic). When interfaces fail, only the sets that hold their
 //! nodes are recomputed (connected components through the faces still tying them), and the
 //! pieces are written back in place: no set is rebuilt from scratch, nothing grows but the
-//! list of set ranges.
+//! list of set ranges and the sets' kept `1 / sum m`.
 
 use rayon::prelude::*;
 
@@ -41,7 +41,7 @@ pub struct CoincidentSets {
     incident: Vec<u32>,
     /// Each set's mean acceleration at the last `average_forces` and `1 / sum m` of its
     /// members (0: dead or massless, its forces left alone; NaN: not worked out since the set
-    /// was made). The masses are summed once per set, not at every step: the gather of each
+    /// was made or last split). The masses are summed once per set, not at every step: the gather of each
     /// set's members is the averaging's cost (its members lie in different elements' blocks),
     /// and the masses were half of what it read.
     accel: Vec<(Vec3, f64)>,

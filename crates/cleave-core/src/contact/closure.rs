@@ -47,7 +47,10 @@
 //! the crack is *released* for good: the node-to-face search takes its faces back (the nodes
 //! near them get new candidate lists at once, as when an interface fails), and the pair's
 //! friction history ends there. Openings along the normal need no release: faces that fly
-//! apart and come back straight meet as they parted, and the closure catches them.
+//! apart and come back straight meet as they parted, and the closure catches them. While no
+//! pair has opened by more than [`TIGHT`] times that edge the crack is *tight*, and a node
+//! whose every face is on a tight crack is left out of the search (the contact module's docs,
+//! Buried nodes).
 
 use super::friction::{tangential_force, Friction};
 use super::surface::FaceId;
@@ -58,6 +61,11 @@ use crate::separation::split::{copies_of, Copies};
 /// shortest edge of its face A (then the node-to-face search takes over: the node lies that
 /// far inside the face opposite, which the projection handles).
 pub const SLIP: f64 = 0.2;
+
+/// A closed crack is *tight* while no node pair has opened along the normal by more than this
+/// fraction of the shortest edge of A: only then does it bury its nodes (the search leaves
+/// out a node all of whose faces lie on tight cracks, [`super`] module docs, Buried nodes).
+pub const TIGHT: f64 = 0.2;
 
 /// ... or when the faces' unit normals n_A, n_B have turned apart: `n_A . n_B > -TURN`
 /// (cos 30 degrees = 0.866: flush faces have `n_A . n_B = -1`).
@@ -89,6 +97,8 @@ pub(super) struct Closure {
     /// forces: 72 bytes less a crack (0.6 MB on the 20,000-element ball's 8,747).
     pub n: Vec3,
     pub fn_mag: [f64; 4],
+    /// No pair has opened by more than [`TIGHT`] times A's shortest edge (at the last step).
+    pub tight: bool,
 }
 
 impl Closure {
@@ -102,6 +112,7 @@ impl Closure {
             ft: [[0.0; 3]; 4],
             n: [0.0; 3],
             fn_mag: [0.0; 4],
+            tight: true,
         }
     }
 
@@ -121,7 +132,8 @@ impl Closure {
     /// One step at positions `x` (velocities `v` over the last step `dt_prev`): whether the
     /// faces no longer lie on each other (module docs: a pair slid by more than [`SLIP`] times
     /// A's shortest edge, or the faces turned apart beyond [`TURN`]); if they still do, the
-    /// pairs' forces (on the B nodes, [`Closure::force`]; zero for open pairs).
+    /// pairs' forces (on the B nodes, [`Closure::force`]; zero for open pairs), and whether
+    /// the crack is [`Closure::tight`].
     pub fn step(&mut self, x: &[Vec3], v: &[Vec3], dt_prev: f64, friction: &Friction) -> bool {
         let pa = self.a.map(|i| x[i as usize]);
         let pb = self.b.map(|i| x[i as usize]);
@@ -153,9 +165,12 @@ impl Closure {
         }) {
             return true;
         }
+        let open = TIGHT * TIGHT * edge2;
+        self.tight = true;
         for (k, &dk) in d.iter().enumerate() {
             let g = dot(dk, n);
             if g >= 0.0 || g.is_nan() {
+                self.tight &= g * g <= open;
                 self.ft[k] = [0.0; 3];
                 self.fn_mag[k] = 0.0;
                 continue;

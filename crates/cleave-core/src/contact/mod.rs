@@ -165,6 +165,21 @@
 //! 30 degrees, is released for good and its faces go back to the search around them
 //! ([`ContactSet::activate_cracks`]).
 //!
+//! # Buried nodes
+//! A lead all of whose faces on the side (over its coincident set's members) lie on *tight*
+//! closed cracks is *buried*: its deck node sits inside the material, each of its faces held
+//! flush against the face it failed from by the closure's pairs. It gets no candidates and is
+//! not checked ([`Side::buried`], at each search); its faces stay on the surface for the other
+//! nodes (over the 2800 ball's run a node off the closed cracks found its contact on one of
+//! their faces 2,144 times). Another body could reach a buried node only by passing between the two faces of one
+//! of its cracks, so a crack stops burying its nodes once a pair has opened along the normal by
+//! more than [`closure::TIGHT`] (a fifth, as the slip that releases it) of its shortest edge:
+//! its faces are then searched around at once, as when an interface fails, and bury their
+//! nodes again from their next search when the crack shuts. Counted on the 2800 ball (one
+//! run, before the rule): the nodes that are now buried made 69% of the 2.62 million pair
+//! tests and found no contact; with the rule the ball's CSVs are byte-identical, and the
+//! contact's share of the step fell from 37-41% to 28-31% (BENCHMARKS.md, session 14).
+//!
 //! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
 //! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us; 2267 since PENOPT 1), on this project's
@@ -216,7 +231,7 @@ pub mod search;
 pub mod surface;
 mod touching;
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 
 use rayon::prelude::*;
 
@@ -278,6 +293,17 @@ pub struct Face {
     pub k: f64,
     /// Largest penetration counted as contact, `0.4 V / A`.
     pub depth: f64,
+}
+
+impl Face {
+    /// The diagonal cross product `d1 x d2` (twice the area-weighted normal) and `|d1| + |d2|`
+    /// at positions `x`, for the normals of its nodes ([`NodeFrame`]).
+    #[inline]
+    pub fn diagonal_cross(&self, x: &[Vec3]) -> (Vec3, f64) {
+        let p = self.nodes.map(|n| x[n as usize]);
+        let (d1, d2) = (sub(p[2], p[0]), sub(p[3], p[1]));
+        (cross(d1, d2), norm(d1) + norm(d2))
+    }
 }
 
 /// Resultants of one definition over the last step (for rcforc.csv).
@@ -693,8 +719,10 @@ struct StepInput<'a> {
 #[derive(Clone, Debug)]
 struct Side {
     faces: Vec<Face>,
-    /// The faces in `faces`.
-    present: HashSet<FaceId>,
+    /// The faces in `faces`, with their index.
+    present: HashMap<FaceId, u32>,
+    /// Each face of `faces` lies on a closed crack of the definition ([`closure`]).
+    closed: Vec<bool>,
     /// Parts whose failed interfaces add faces to this side.
     parts: Vec<bool>,
     /// Nodes of the faces: ascending at the start, then in the order their faces joined.
@@ -739,16 +767,14 @@ struct Side {
     /// build. Faces `..boxed` have their box.
     base: usize,
     boxed: usize,
-    /// Each face's diagonal cross product `d1 x d2` and `|d1| + |d2|` at the current
-    /// positions (for the normals of its nodes).
-    normals: Vec<(Vec3, f64)>,
 }
 
 impl Side {
     fn new(ids: &[FaceId], parts: Vec<bool>, table: &FaceTable, num_nodes: usize) -> Self {
         let mut s = Self {
             faces: Vec::with_capacity(ids.len()),
-            present: HashSet::with_capacity(ids.len()),
+            present: HashMap::with_capacity(ids.len()),
+            closed: Vec::with_capacity(ids.len()),
             parts,
             nodes: Vec::new(),
             trail: Vec::new(),
@@ -765,7 +791,6 @@ impl Side {
             spheres: Vec::new(),
             base: 0,
             boxed: 0,
-            normals: Vec::new(),
         };
         for &id in ids {
             s.add(id, table);
@@ -877,21 +902,42 @@ impl Side {
         })
     }
 
-    /// Lead `i`'s surface at the positions of the last [`Side::update_geometry`]: its normal
-    /// is the sum of the area-weighted normals of the faces of its coincident set's members on
-    /// the side (the surface of the deck node it copies), in the order of the member chain.
-    fn frame(&self, i: usize) -> NodeFrame {
-        NodeFrame::of(
-            self.members(i as u32)
-                .flat_map(|k| self.node_faces.of(k).map(|f| self.normals[f as usize])),
-        )
+    /// Mark `faces` (those of them on this side) as on a closed crack, or no longer.
+    fn set_closed(&mut self, faces: &[FaceId], closed: bool) {
+        for id in faces {
+            if let Some(&f) = self.present.get(id) {
+                self.closed[f as usize] = closed;
+            }
+        }
+    }
+
+    /// Lead `i` is *buried*: every face of its coincident set's members on the side lies on a
+    /// tight closed crack (module docs, Buried nodes).
+    fn buried(&self, i: u32) -> bool {
+        self.members(i)
+            .all(|k| self.node_faces.of(k).all(|f| self.closed[f as usize]))
+    }
+
+    /// Lead `i`'s surface at positions `x`: its normal is the sum of the area-weighted normals
+    /// of the faces of its coincident set's members on the side (the surface of the deck node
+    /// it copies), in the order of the member chain. Worked out when a check first needs it
+    /// in a step (a few hundred nodes a step on the 2800 ball, against every face's normal
+    /// each step before: 1.2% of the step).
+    fn frame(&self, i: usize, x: &[Vec3]) -> NodeFrame {
+        NodeFrame::of(self.members(i as u32).flat_map(|k| {
+            self.node_faces
+                .of(k)
+                .map(|f| self.faces[f as usize].diagonal_cross(x))
+        }))
     }
 
     /// Add a face unless present (its new nodes are appended to `nodes`); true when added.
     fn add(&mut self, id: FaceId, table: &FaceTable) -> bool {
-        if !self.present.insert(id) {
+        if self.present.contains_key(&id) {
             return false;
         }
+        self.present.insert(id, self.faces.len() as u32);
+        self.closed.push(false);
         let nodes = face_nodes(&table.model().conn[id.0 as usize], id.1);
         let (k, depth) = table.stiffness_and_depth(id);
         self.faces.push(Face {
@@ -906,7 +952,6 @@ impl Side {
             max: [0.0; 3],
         });
         self.spheres.push(([0.0; 3], 0.0));
-        self.normals.push(([0.0; 3], 0.0));
         for n in nodes {
             if self.local[n as usize] == NONE {
                 self.local[n as usize] = self.nodes.len() as u32;
@@ -978,21 +1023,6 @@ impl Side {
             self.spheres[f] = search_sphere(&self.faces[f], x_ref, margin);
         }
         self.boxed = self.faces.len();
-    }
-
-    /// The normals of all faces at the current positions (their bounds are worked out when a
-    /// check needs them, [`bounds_cache`]).
-    fn update_geometry(&mut self, x: &[Vec3]) {
-        let faces = &self.faces;
-        self.normals
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(4 * NODE_CHUNK)
-            .for_each(|(f, nf)| {
-                let p = faces[f].nodes.map(|n| x[n as usize]);
-                let (d1, d2) = (sub(p[2], p[0]), sub(p[3], p[1]));
-                *nf = (cross(d1, d2), norm(d1) + norm(d2));
-            });
     }
 }
 
@@ -1113,6 +1143,7 @@ struct Query<'a> {
     nodes: &'a [u32],
     /// The lead of each node's coincident set ([`Side::group`]).
     group: &'a [u32],
+    ns: &'a Side,
     fs: &'a Side,
     x_ref: &'a [Vec3],
     tie: &'a [u32],
@@ -1135,7 +1166,7 @@ impl Query<'_> {
     fn run(&self, i: usize, list: &mut Vec<Cand>, sched: &mut Sched, next: &mut f32) {
         *next = f32::NEG_INFINITY;
         sched.gather(list);
-        if self.group[i] != i as u32 {
+        if self.group[i] != i as u32 || self.ns.buried(i as u32) {
             list.clear();
             return;
         }
@@ -1428,8 +1459,8 @@ impl Contact {
         let [fa, fb] = crack.faces;
         let tested = self.passes.iter().any(|p| {
             let (ns, fs) = (&self.sides[p.node_side], &self.sides[p.face_side]);
-            (ns.present.contains(&fa) && fs.present.contains(&fb))
-                || (ns.present.contains(&fb) && fs.present.contains(&fa))
+            (ns.present.contains_key(&fa) && fs.present.contains_key(&fb))
+                || (ns.present.contains_key(&fb) && fs.present.contains_key(&fa))
         });
         if !tested {
             return;
@@ -1459,6 +1490,9 @@ impl Contact {
             .unwrap_or(0);
         let k = table.pair_stiffness(table.stiffness(fb), a[soft])
             + table.pair_stiffness(table.stiffness(fa), b[soft]);
+        for side in &mut self.sides {
+            side.set_closed(&crack.faces, true);
+        }
         self.closures.push(Closure::new(crack.faces, a, b, k));
     }
 
@@ -1473,6 +1507,7 @@ impl Contact {
             released,
             friction,
             scratch,
+            sides,
             ..
         } = self;
         scratch.clear();
@@ -1481,14 +1516,33 @@ impl Contact {
             .par_iter_mut()
             .zip(scratch.par_iter_mut())
             .with_min_len(NODE_CHUNK)
-            .for_each(|(c, out)| *out = c.step(inp.x, inp.v, inp.dt_prev, friction) as u32);
+            .for_each(|(c, out)| {
+                let was = c.tight;
+                let released = c.step(inp.x, inp.v, inp.dt_prev, friction);
+                *out = released as u32 | ((c.tight != was) as u32) << 1;
+            });
         let mut flags = scratch.iter();
         closures.retain(|c| {
-            if flags.next() != Some(&1) {
+            let flag = flags.next().copied().unwrap_or(0);
+            if flag & 1 == 0 {
+                if flag & 2 != 0 {
+                    // a crack that opened no longer buries its nodes: they are searched
+                    // again at once, as around a failed face; one that shut again buries
+                    // them from their next search on
+                    for side in sides.iter_mut() {
+                        side.set_closed(&c.faces, c.tight);
+                    }
+                    if !c.tight {
+                        pending.extend_from_slice(&c.faces);
+                    }
+                }
                 return true;
             }
             for k in 0..4 {
                 chains.link(c.a[k], c.b[k], false);
+            }
+            for side in sides.iter_mut() {
+                side.set_closed(&c.faces, false);
             }
             pending.extend_from_slice(&c.faces);
             *released += 1;
@@ -1593,6 +1647,7 @@ impl Contact {
                 extra,
                 nodes: &ns.nodes,
                 group: &ns.group,
+                ns,
                 fs,
                 x_ref,
                 tie,
@@ -1857,6 +1912,7 @@ impl Contact {
                 extra,
                 nodes: &ns.nodes,
                 group: &ns.group,
+                ns,
                 fs,
                 x_ref,
                 tie,
@@ -1922,9 +1978,6 @@ impl Contact {
             self.rebuild(inp.x, inp.tie);
         }
         self.renew();
-        for side in &mut self.sides {
-            side.update_geometry(inp.x);
-        }
         let mut out = ContactForce {
             id: self.id,
             ..Default::default()
@@ -2057,7 +2110,7 @@ struct NodeFrame {
 }
 
 impl NodeFrame {
-    /// From the node's faces' `(d1 x d2, |d1| + |d2|)` ([`Side::normals`]), in order.
+    /// From the node's faces' `(d1 x d2, |d1| + |d2|)` ([`Face::diagonal_cross`]), in order.
     fn of(faces: impl Iterator<Item = (Vec3, f64)>) -> Self {
         let mut n = [0.0; 3];
         let mut a = 0.0;
@@ -2111,7 +2164,7 @@ impl NodeFrame {
 
 impl NodeCheck<'_> {
     fn node_frame(&self, i: usize) -> NodeFrame {
-        self.node_side.frame(i)
+        self.node_side.frame(i, self.inp.x)
     }
 
     /// Node `i` (at `xs`) against face `fi`: a contact nearer than `best` replaces it. Returns

@@ -102,6 +102,17 @@ fn split_with_contact(mut deck: Model, sigmax: f64) -> crate::separation::split:
     crate::separation::split::split_model(&deck)
 }
 
+/// The crack of a failed interface, as the solver names it to the contact.
+fn crack_of(f: &crate::separation::split::SharedFace) -> Crack {
+    Crack {
+        faces: [(f.elems[0], f.faces[0]), (f.elems[1], f.faces[1])],
+        nodes: [
+            std::array::from_fn(|k| f.nodes[k]),
+            std::array::from_fn(|k| f.nodes[4 + k]),
+        ],
+    }
+}
+
 /// The interface between elements a and b of a split model.
 fn interface_between(sm: &crate::separation::split::SplitModel, a: u32, b: u32) -> usize {
     sm.faces[..sm.interfaces]
@@ -751,6 +762,89 @@ fn skipping_equals_testing_every_candidate_as_faces_join() {
     assert!(st.updates >= 5, "{st:?}");
 }
 
+/// Buried nodes: a 2 x 2 x 2 block of 1 x 1 x 0.25 elements, split, all 12 interfaces failing
+/// as closed cracks. The 8 copies of the centre deck node each have 3 faces, all on tight
+/// cracks: they are buried (no candidates); the copies on the block's surface are not. The
+/// half x > 1 then moves away in x in steps of 0.015: past [`closure::TIGHT`] = 0.2 of the
+/// shortest edge (0.05) its 4 cracks with the other half (1 x 0.25 faces) are no longer
+/// tight, and the centre copies, each with one face on them, are searched again in that
+/// step, by the incremental search (no full build; all faces within their reach hold a copy
+/// chained to them, so they find no candidate).
+/// Moved back, the cracks are tight again and a full build buries the copies again.
+#[test]
+fn buried_nodes_are_left_out_until_their_crack_opens() {
+    let deck = single_part_model(BoxMesh::new([2, 2, 2], [2.0, 2.0, 0.5]), mat(), 1.0);
+    let centre = deck.x0.iter().position(|p| *p == [1.0, 1.0, 0.25]).unwrap() as u32;
+    let sm = split_with_contact(deck, 1e30);
+    let m = &sm.model;
+    let nn = m.num_nodes();
+    assert_eq!(sm.interfaces, 12);
+    let tie = ties(&sm, &vec![false; sm.faces.len()]);
+    let cracks: Vec<Crack> = sm.faces[..sm.interfaces].iter().map(crack_of).collect();
+    let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    cs.activate_cracks(&cracks);
+    // (centre copies buried, centre copies with candidates, other leads not buried)
+    let census = |cs: &ContactSet| {
+        let c = &cs.contacts()[0];
+        let (side, pass) = (&c.sides[0], &c.passes[0]);
+        let mut n = (0, 0, 0);
+        for i in (0..side.nodes.len()).filter(|&i| side.group[i] as usize == i) {
+            let listed = pass.sched[i].len(&pass.cand[i]) > 0;
+            if sm.origin[side.nodes[i] as usize] == centre {
+                n.0 += side.buried(i as u32) as usize;
+                n.1 += listed as usize;
+            } else {
+                n.2 += !side.buried(i as u32) as usize;
+            }
+        }
+        n
+    };
+    let mut x = m.x0.to_vec();
+    let step = |cs: &mut ContactSet, x: &[Vec3]| {
+        cs.compute(x, &zeros(nn), 1e-6, &tie, &mut zeros(nn));
+        census(cs)
+    };
+    let at_rest = step(&mut cs, &x);
+    assert_eq!((at_rest.0, at_rest.1), (8, 0), "{at_rest:?}");
+    // each of the 8 elements' 7 corners off the centre is on the block's surface
+    assert_eq!(at_rest.2, 56, "the surface is not buried: {at_rest:?}");
+    let shift = |x: &mut Vec<Vec3>, dz: f64| {
+        for e in 0..m.num_elements() {
+            if m.x0[m.conn[e][0] as usize][0] >= 1.0 {
+                for &n in &m.conn[e] {
+                    x[n as usize][0] += dz;
+                }
+            }
+        }
+    };
+    // away in steps of 0.015: the cracks stop being tight at the fourth (0.06)
+    for k in 1..=5 {
+        shift(&mut x, 0.015);
+        let before = cs.stats();
+        let now = step(&mut cs, &x);
+        assert_eq!(
+            cs.stats().closed,
+            12,
+            "opening along the normal releases nothing"
+        );
+        if k < 4 {
+            assert_eq!((now.0, now.1), (8, 0), "shift {k}: {now:?}");
+        } else {
+            assert_eq!(now.0, 0, "shift {k}: {now:?}");
+        }
+        if k == 4 {
+            let after = cs.stats();
+            assert_eq!(after.rebuilds, before.rebuilds, "no full build");
+            assert_eq!(after.updates, before.updates + 1, "searched again at once");
+        }
+    }
+    shift(&mut x, -0.075);
+    step(&mut cs, &x);
+    cs.ties_changed();
+    let shut = step(&mut cs, &x);
+    assert_eq!((shut.0, shut.1), (8, 0), "{shut:?}");
+}
+
 /// The facing clearance is never crossed: random node surfaces (2 to 4 faces around the node)
 /// and random faces, and whenever the clearance is positive, random motions of all the points
 /// by at most half of it (so any two move relative to each other by at most the clearance):
@@ -1067,7 +1161,8 @@ fn a_leads_normal_is_its_deck_nodes() {
     assert_eq!(on_side.len(), 3, "the copies with a face on the notch");
     let lead = side.group[on_side[0]] as usize;
     assert!(on_side.iter().all(|&i| side.group[i] as usize == lead));
-    let n = side.frame(lead).n;
+    let x0 = sm.model.x0.to_vec();
+    let n = side.frame(lead, &x0).n;
     let d = 1.0 / 3f64.sqrt();
     for v in n {
         assert!((v - d).abs() < 1e-12, "{n:?}");
@@ -1076,7 +1171,7 @@ fn a_leads_normal_is_its_deck_nodes() {
     let own = NodeFrame::of(
         side.node_faces
             .of(lead as u32)
-            .map(|f| side.normals[f as usize]),
+            .map(|f| side.faces[f as usize].diagonal_cross(&x0)),
     );
     assert!(
         own.n.iter().filter(|v| v.abs() > 0.99).count() == 1,
@@ -1093,6 +1188,7 @@ fn member_chains_do_not_depend_on_the_places() {
     let (sm, tie, _) = notched_cube();
     let cs = first_step(&sm, &tie);
     let side = &cs.contacts()[0].sides[0];
+    let x0 = sm.model.x0.to_vec();
     // the chains as model numbers, by lead
     let chains = |s: &Side| {
         let mut c: Vec<Vec<u32>> = (0..s.nodes.len() as u32)
@@ -1123,7 +1219,7 @@ fn member_chains_do_not_depend_on_the_places() {
     assert_eq!(a, b);
     for i in (0..n).filter(|&i| side.group[i] as usize == i) {
         let j = rev.local[side.nodes[i] as usize] as usize;
-        let (p, q) = (side.frame(i).n, rev.frame(j).n);
+        let (p, q) = (side.frame(i, &x0).n, rev.frame(j, &x0).n);
         assert_eq!(p.map(f64::to_bits), q.map(f64::to_bits), "lead {i}");
     }
 }
@@ -1255,16 +1351,7 @@ fn chained_copies_are_left_out_of_the_search() {
     let nn = m.num_nodes();
     assert_eq!(sm.interfaces, 4);
     let tie = ties(&sm, &vec![false; sm.faces.len()]);
-    let cracks: Vec<Crack> = sm.faces[..sm.interfaces]
-        .iter()
-        .map(|f| Crack {
-            faces: [(f.elems[0], f.faces[0]), (f.elems[1], f.faces[1])],
-            nodes: [
-                std::array::from_fn(|k| f.nodes[k]),
-                std::array::from_fn(|k| f.nodes[4 + k]),
-            ],
-        })
-        .collect();
+    let cracks: Vec<Crack> = sm.faces[..sm.interfaces].iter().map(crack_of).collect();
     let same_deck_pairs = |cs: &ContactSet| {
         let c = &cs.contacts()[0];
         let (side, pass) = (&c.sides[0], &c.passes[0]);

@@ -54,7 +54,8 @@
 
 use super::friction::{tangential_force, Friction};
 use super::surface::FaceId;
-use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
+use crate::element::hex8::diagonal_cross;
+use crate::math::{add, dot, norm, scale, sub, Vec3};
 use crate::separation::split::{copies_of, Copies};
 
 /// A closed crack is released when a node pair has slid by more than this fraction of the
@@ -144,11 +145,11 @@ impl Closure {
             })
             .fold(f64::INFINITY, f64::min);
         // both normals in A's node order: flush faces give na . nb = |na| |nb|
-        let na = cross(sub(pa[2], pa[0]), sub(pa[3], pa[1]));
-        let nb = cross(sub(pb[2], pb[0]), sub(pb[3], pb[1]));
+        let na = diagonal_cross(pa[0], pa[1], pa[2], pa[3]);
+        let nb = diagonal_cross(pb[0], pb[1], pb[2], pb[3]);
         let (la, lb) = (norm(na), norm(nb));
         let m: [Vec3; 4] = std::array::from_fn(|k| scale(add(pa[k], pb[k]), 0.5));
-        let c = cross(sub(m[2], m[0]), sub(m[3], m[1]));
+        let c = diagonal_cross(m[0], m[1], m[2], m[3]);
         let lc = norm(c);
         if !(la > 0.0 && lb > 0.0 && lc > 0.0) || dot(na, nb) < TURN * la * lb {
             return true;

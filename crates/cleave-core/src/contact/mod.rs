@@ -171,14 +171,15 @@
 //! flush against the face it failed from by the closure's pairs. It gets no candidates and is
 //! not checked ([`Side::buried`], at each search); its faces stay on the surface for the other
 //! nodes (over the 2800 ball's run a node off the closed cracks found its contact on one of
-//! their faces 2,144 times). Another body could reach a buried node only by passing between the two faces of one
-//! of its cracks, so a crack stops burying its nodes once a pair has opened along the normal by
-//! more than [`closure::TIGHT`] (a fifth, as the slip that releases it) of its shortest edge:
-//! its faces are then searched around at once, as when an interface fails, and bury their
-//! nodes again from their next search when the crack shuts. Counted on the 2800 ball (one
-//! run, before the rule): the nodes that are now buried made 69% of the 2.62 million pair
-//! tests and found no contact; with the rule the ball's CSVs are byte-identical, and the
-//! contact's share of the step fell from 37-41% to 28-31% (BENCHMARKS.md, session 14).
+//! their faces 2,144 times). Another body could reach a buried node only by passing between
+//! the two faces of one of its cracks, so a crack stops burying its nodes once a pair has
+//! opened along the normal by more than [`closure::TIGHT`] (a fifth, as the slip that
+//! releases it) of its shortest edge: its faces are then searched around at once, as when an
+//! interface fails, and bury their nodes again from their next search when the crack shuts.
+//! Counted on the 2800 ball (one run, before the rule): the nodes that are now buried made
+//! 69% of the 2.62 million pair tests and found no contact; with the rule the ball's CSVs
+//! are byte-identical, and the contact's share of the step fell from 36.7-41.3% to
+//! 28.2-30.0% (one thread, five runs each; BENCHMARKS.md, session 14).
 //!
 //! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
@@ -231,11 +232,13 @@ pub mod search;
 pub mod surface;
 mod touching;
 
+use crate::element::hex8;
+use std::collections::hash_map::Entry;
 use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
+use crate::math::{add, dot, norm, scale, sub, Vec3};
 use crate::model::{ContactDef, Model, PenaltyRule};
 use bounds_cache::BoundsCache;
 pub use closure::Crack;
@@ -296,13 +299,14 @@ pub struct Face {
 }
 
 impl Face {
-    /// The diagonal cross product `d1 x d2` (twice the area-weighted normal) and `|d1| + |d2|`
-    /// at positions `x`, for the normals of its nodes ([`NodeFrame`]).
+    /// At positions `x`: the diagonal cross product `d1 x d2` (twice the area-weighted normal,
+    /// [`hex8::diagonal_cross`]) and `|d1| + |d2|`, for the normals of its nodes
+    /// ([`NodeFrame`]).
     #[inline]
-    pub fn diagonal_cross(&self, x: &[Vec3]) -> (Vec3, f64) {
+    pub fn normal_terms(&self, x: &[Vec3]) -> (Vec3, f64) {
         let p = self.nodes.map(|n| x[n as usize]);
-        let (d1, d2) = (sub(p[2], p[0]), sub(p[3], p[1]));
-        (cross(d1, d2), norm(d1) + norm(d2))
+        let diagonals = norm(sub(p[2], p[0])) + norm(sub(p[3], p[1]));
+        (hex8::diagonal_cross(p[0], p[1], p[2], p[3]), diagonals)
     }
 }
 
@@ -721,8 +725,9 @@ struct Side {
     faces: Vec<Face>,
     /// The faces in `faces`, with their index.
     present: HashMap<FaceId, u32>,
-    /// Each face of `faces` lies on a closed crack of the definition ([`closure`]).
-    closed: Vec<bool>,
+    /// Each face of `faces` lies on a tight closed crack of the definition
+    /// ([`closure::Closure::tight`]).
+    tight: Vec<bool>,
     /// Parts whose failed interfaces add faces to this side.
     parts: Vec<bool>,
     /// Nodes of the faces: ascending at the start, then in the order their faces joined.
@@ -774,7 +779,7 @@ impl Side {
         let mut s = Self {
             faces: Vec::with_capacity(ids.len()),
             present: HashMap::with_capacity(ids.len()),
-            closed: Vec::with_capacity(ids.len()),
+            tight: Vec::with_capacity(ids.len()),
             parts,
             nodes: Vec::new(),
             trail: Vec::new(),
@@ -902,11 +907,11 @@ impl Side {
         })
     }
 
-    /// Mark `faces` (those of them on this side) as on a closed crack, or no longer.
-    fn set_closed(&mut self, faces: &[FaceId], closed: bool) {
+    /// Mark `faces` (those of them on this side) as on a tight closed crack, or no longer.
+    fn set_tight(&mut self, faces: &[FaceId], tight: bool) {
         for id in faces {
             if let Some(&f) = self.present.get(id) {
-                self.closed[f as usize] = closed;
+                self.tight[f as usize] = tight;
             }
         }
     }
@@ -915,7 +920,7 @@ impl Side {
     /// tight closed crack (module docs, Buried nodes).
     fn buried(&self, i: u32) -> bool {
         self.members(i)
-            .all(|k| self.node_faces.of(k).all(|f| self.closed[f as usize]))
+            .all(|k| self.node_faces.of(k).all(|f| self.tight[f as usize]))
     }
 
     /// Lead `i`'s surface at positions `x`: its normal is the sum of the area-weighted normals
@@ -927,17 +932,17 @@ impl Side {
         NodeFrame::of(self.members(i as u32).flat_map(|k| {
             self.node_faces
                 .of(k)
-                .map(|f| self.faces[f as usize].diagonal_cross(x))
+                .map(|f| self.faces[f as usize].normal_terms(x))
         }))
     }
 
     /// Add a face unless present (its new nodes are appended to `nodes`); true when added.
     fn add(&mut self, id: FaceId, table: &FaceTable) -> bool {
-        if self.present.contains_key(&id) {
-            return false;
-        }
-        self.present.insert(id, self.faces.len() as u32);
-        self.closed.push(false);
+        match self.present.entry(id) {
+            Entry::Occupied(_) => return false,
+            Entry::Vacant(e) => e.insert(self.faces.len() as u32),
+        };
+        self.tight.push(false);
         let nodes = face_nodes(&table.model().conn[id.0 as usize], id.1);
         let (k, depth) = table.stiffness_and_depth(id);
         self.faces.push(Face {
@@ -1363,7 +1368,7 @@ impl Contact {
         for s in &sides {
             for f in &s.faces {
                 let p = f.nodes.map(|n| b.model.x0[n as usize]);
-                sum += crate::element::hex8::quad_area(p[0], p[1], p[2], p[3]).sqrt();
+                sum += hex8::quad_area(p[0], p[1], p[2], p[3]).sqrt();
                 count += 1;
             }
         }
@@ -1491,7 +1496,7 @@ impl Contact {
         let k = table.pair_stiffness(table.stiffness(fb), a[soft])
             + table.pair_stiffness(table.stiffness(fa), b[soft]);
         for side in &mut self.sides {
-            side.set_closed(&crack.faces, true);
+            side.set_tight(&crack.faces, true);
         }
         self.closures.push(Closure::new(crack.faces, a, b, k));
     }
@@ -1530,7 +1535,7 @@ impl Contact {
                     // again at once, as around a failed face; one that shut again buries
                     // them from their next search on
                     for side in sides.iter_mut() {
-                        side.set_closed(&c.faces, c.tight);
+                        side.set_tight(&c.faces, c.tight);
                     }
                     if !c.tight {
                         pending.extend_from_slice(&c.faces);
@@ -1542,7 +1547,7 @@ impl Contact {
                 chains.link(c.a[k], c.b[k], false);
             }
             for side in sides.iter_mut() {
-                side.set_closed(&c.faces, false);
+                side.set_tight(&c.faces, false);
             }
             pending.extend_from_slice(&c.faces);
             *released += 1;
@@ -2110,7 +2115,7 @@ struct NodeFrame {
 }
 
 impl NodeFrame {
-    /// From the node's faces' `(d1 x d2, |d1| + |d2|)` ([`Face::diagonal_cross`]), in order.
+    /// From the node's faces' `(d1 x d2, |d1| + |d2|)` ([`Face::normal_terms`]), in order.
     fn of(faces: impl Iterator<Item = (Vec3, f64)>) -> Self {
         let mut n = [0.0; 3];
         let mut a = 0.0;

@@ -2,7 +2,7 @@
 //! ties, activation of crack faces, lazy search, stable step and thread independence.
 
 use super::*;
-use crate::math::norm;
+use crate::math::{cross, norm};
 use crate::mesh::{single_part_model, BoxMesh};
 use crate::model::{ContactSurface, Material, MaterialKind, Part, SegmentSet};
 use crate::setup::Setup;
@@ -1171,7 +1171,7 @@ fn a_leads_normal_is_its_deck_nodes() {
     let own = NodeFrame::of(
         side.node_faces
             .of(lead as u32)
-            .map(|f| side.faces[f as usize].diagonal_cross(&x0)),
+            .map(|f| side.faces[f as usize].normal_terms(&x0)),
     );
     assert!(
         own.n.iter().filter(|v| v.abs() > 0.99).count() == 1,

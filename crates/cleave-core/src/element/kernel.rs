@@ -75,7 +75,7 @@ pub fn hex8_step(
     let (detn, jinv) = det_inverse(&jn).ok_or(InvertedElement)?;
     let vol = 8.0 * detn;
     // l = V^(1/3), the length of the bulk viscosity and (squared) of the viscous hourglass
-    let l_vol = vol.cbrt();
+    let l_vol = crate::math::cbrt(vol);
     let b = gradients_from_inverse(&jinv);
     let jv = centre_jacobian(v);
 

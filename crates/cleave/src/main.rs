@@ -2,7 +2,9 @@
 //!
 //! `main` only parses the command line, calls the command, and maps its error to the exit
 //! codes of the interface page: 0 success, 2 bad input, 3 numerical failure, 1 anything else.
+//! It first fixes the allocator's large-block threshold ([`alloc_tuning`]).
 
+mod alloc_tuning;
 mod bench;
 mod check;
 mod cli;
@@ -19,6 +21,7 @@ use clap::Parser;
 use crate::failure::Failure;
 
 fn main() {
+    alloc_tuning::fix_mmap_threshold();
     let cli = cli::Cli::parse();
     let outcome = std::panic::catch_unwind(|| dispatch(cli));
     let code = match outcome {

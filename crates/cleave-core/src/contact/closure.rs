@@ -19,25 +19,24 @@
 //!                           [`super::surface::FaceTable::pair_stiffness`])
 //! ```
 //!
-//! with `f_t` the Coulomb friction of the contact definition ([`super::friction`]: elastic
-//! trial `f_t - k du_t`, capped at `mu |f_n|`, du_t the pair's tangential slip over the step).
-//! The stiffness is that of the two node-to-face passes at a node of the pair (a_k against B,
-//! b_k against A: with PENOPT 1, the smaller of the face's `SLSFAC K A^2 / V` and the node's,
-//! the least node of the four for all pairs; for two like elements, k_A + k_B), so where a
-//! node has one crack face (a crack one element wide, the edge of a crack) the closure pushes
-//! back as node-to-face contact would:
-//! the broken bar pushed back in `tests/contact.rs` closes to 3.7% of h either way. Where
-//! several crack faces share a node, each adds its pair (node-to-face would give one spring
-//! per node and side): up to four times stiffer inside a flat crack. It stays stable at the
-//! contact time step ([`super::ContactSet::stable_dt`]): each of the two springs is at most
-//! the stiffness of either copy (the copies of one deck node have the same), so a pair's
-//! copies held by them vibrate at `omega^2 <= 2 k_a/m_a + 2 k_b/m_b`, the case that step is
-//! made for, and n pairs between two sets of n copies each (a flat crack: 4 faces, 4 copies a
-//! side) at the same frequency (PENOPT 2's step covers the stiffest face on the lightest
-//! node). Not covered: a copy in three closed cracks at once (every face of its element at a
-//! corner failed and closed, the copies around it untied) is held by three pairs, up to
-//! `omega^2 = 12 k/m` where the step allows `4 k/m`; the fragmenting balls' energy balance
-//! (1.00001 at 50 us) shows no such growth. The pairs act in equal and opposite forces: momentum is kept exactly.
+//! with `f_t` the Coulomb friction of the contact definition ([`super::friction`]: elastic trial
+//! `f_t - k du_t`, capped at `mu |f_n|`, du_t the pair's tangential slip over the step). The
+//! stiffness is that of the two node-to-face passes at a node of the pair (a_k against B, b_k
+//! against A: with PENOPT 1, the smaller of the face's `SLSFAC K A^2 / V` and the node's, the least
+//! node of the four for all pairs; for two like elements, k_A + k_B), so where a node has one crack
+//! face (a crack one element wide, the edge of a crack) the closure pushes back as node-to-face
+//! contact would: the broken bar pushed back in `tests/contact.rs` closes to 3.7% of h either way.
+//! Where several crack faces share a node, each adds its pair (node-to-face would give one spring
+//! per node and side): up to four times stiffer inside a flat crack. It stays stable at the contact
+//! time step ([`super::ContactSet::stable_dt`]): each of the two springs is at most the stiffness
+//! of either copy (the copies of one deck node have the same), so a pair's copies held by them
+//! vibrate at `omega^2 <= 2 k_a/m_a + 2 k_b/m_b`, the case that step is made for, and n pairs
+//! between two sets of n copies each (a flat crack: 4 faces, 4 copies a side) at the same frequency
+//! (PENOPT 2's step covers the stiffest face on the lightest node). Not covered: a copy in three
+//! closed cracks at once (every face of its element at a corner failed and closed, the copies
+//! around it untied) is held by three pairs, up to `omega^2 = 12 k/m` where the step allows
+//! `4 k/m`; the fragmenting balls' energy balance (1.00001 at 50 us) shows no such growth. The
+//! pairs act in equal and opposite forces: momentum is kept exactly.
 //!
 //! While a crack is *closed* this way, the node-to-face search leaves out the pairs it covers:
 //! a node (or a node tied to it) that is a partner of a corner of a face is not tested against

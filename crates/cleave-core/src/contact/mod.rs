@@ -184,22 +184,21 @@
 //! # Cost (measured)
 //! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
 //! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us; 2267 since PENOPT 1), on this project's
-//! 2-core machine, one thread, runs alternating with the build of the session's start
-//! (16afc31): 0.530-0.540 us per element step, contact 44% of the step (16afc31: 0.704-0.707
-//! us, 54%). Per step, with
-//! the margin at 0.1: about 11,000 nodes on the surface, 3,800 leads, 1,700 pair tests (1,262
-//! since the first due from the sphere and no drops, session 8; 776 nodes test a pair), 49
-//! projections, bounds worked out for 740 faces of 3,100 listed (at 20,000 elements, 12 us:
-//! 65,000 nodes, 22,000 leads, 10,900 tests of which 62% are rejected by the bounds with a clearance
-//! of more than [`HOT_STEPS`] steps, 460 projections). Timers added for one run
-//! (then removed): node checks 1.2 s, full searches 0.55 s (90), incremental searches 0.11 s
-//! (558), closed cracks 0.29 s, motion tracking 0.19 s, scatter 0.08 s, face normals 0.07 s.
-//! The node checks are bound by memory: each test reads the node's schedule, its list, the
-//! face's bounds and stamp, at about 200 ns a test. Closed cracks (c76f631) took the pairs
-//! tested in full from 29 to about 2.1 million over the run. Earlier builds: checking every
-//! copy of a set (before 0ccfa64): 1.29 and 2.44 us on 2 and 1 threads, contact 81% and 84%;
-//! before the skipping and the parallel searches: 2.09 and 3.46 us, 89%. Without separation
-//! (`--no-separation`) contact takes 2-3% of the 20,000-element ball's step.
+//! 2-core machine, one thread, runs alternating with the build of the session's start (16afc31):
+//! 0.530-0.540 us per element step, contact 44% of the step (16afc31: 0.704-0.707 us, 54%). Per
+//! step, with the margin at 0.1: about 11,000 nodes on the surface, 3,800 leads, 1,700 pair tests
+//! (1,262 since the first due from the sphere and no drops, session 8; 776 nodes test a pair), 49
+//! projections, bounds worked out for 740 faces of 3,100 listed (at 20,000 elements, 12 us: 65,000
+//! nodes, 22,000 leads, 10,900 tests of which 62% are rejected by the bounds with a clearance of
+//! more than [`HOT_STEPS`] steps, 460 projections). Timers added for one run (then removed): node
+//! checks 1.2 s, full searches 0.55 s (90), incremental searches 0.11 s (558), closed cracks 0.29
+//! s, motion tracking 0.19 s, scatter 0.08 s, face normals 0.07 s. The node checks are bound by
+//! memory: each test reads the node's schedule, its list, the face's bounds and stamp, at about 200
+//! ns a test. Closed cracks (c76f631) took the pairs tested in full from 29 to about 2.1 million
+//! over the run. Earlier builds: checking every copy of a set (before 0ccfa64): 1.29 and 2.44 us on
+//! 2 and 1 threads, contact 81% and 84%; before the skipping and the parallel searches: 2.09 and
+//! 3.46 us, 89%. Without separation (`--no-separation`) contact takes 2-3% of the 20,000-element
+//! ball's step.
 //!
 //! Session 10 (7e4e171; BENCHMARKS.md has the details): the 2800 ball at 0.560-0.574 us,
 //! contact 42-43% of the step (one thread, alternating with 38adee8: 0.600-0.626 us, 44%). Per

@@ -33,9 +33,9 @@ impl Cand {
     }
 }
 
-/// Hot candidates kept inline in a [`Sched`]. A node that a step checks tests 1.1 faces on
-/// average (the 2800 and the 20,000 ball, `cleave bench ball`), so two cover most; six (a
-/// cache line) cost 32 more bytes for each of the ~75,000 surface nodes of the 20,000 ball at 20 us.
+/// Hot candidates kept inline in a [`Sched`]. A node that a step checks tests 1.1 faces on average
+/// (the 2800 and the 20,000 ball, `cleave bench ball`), so two cover most; six (a cache line) cost
+/// 32 more bytes for each of the ~75,000 surface nodes of the 20,000 ball at 20 us.
 pub const HOT: usize = 2;
 
 /// A node's inline hot candidates and the size and top of its heap of cold ones (module docs).

@@ -74,15 +74,15 @@ pub fn exterior_faces(conn: &[[u32; 8]], elem_filter: impl Fn(u32) -> bool) -> V
 /// both.
 ///
 /// A pair's spring is the smaller of the face's stiffness and the node's
-/// ([`FaceTable::pair_stiffness`]), as LS-DYNA's default `*CONTROL_CONTACT` PENOPT = 1
-/// ("minimum of master segment and slave node"); PENOPT = 2 takes the face's alone. The node's stiffness is that of the stiffest
-/// element face holding its deck node, in the deck mesh ([`FaceTable::node_stiffness`]): the
-/// copies of a split model have their deck node's, so until an interface fails a split model
-/// has the springs of the same mesh unsplit. The minimum keeps a light node off a stiff face's
-/// spring: a copy of a small ball element against the big faces of a rigid plate gets its own
-/// element's stiffness, so the springs are stable at a step set by each node's own mass and
-/// faces ([`super::ContactSet::stable_dt`]), not by the lightest node against the stiffest face
-/// of the model.
+/// ([`FaceTable::pair_stiffness`]), as LS-DYNA's default `*CONTROL_CONTACT` PENOPT = 1 ("minimum of
+/// master segment and slave node"); PENOPT = 2 takes the face's alone. The node's stiffness is that
+/// of the stiffest element face holding its deck node, in the deck mesh
+/// ([`FaceTable::node_stiffness`]): the copies of a split model have their deck node's, so until an
+/// interface fails a split model has the springs of the same mesh unsplit. The minimum keeps a
+/// light node off a stiff face's spring: a copy of a small ball element against the big faces of a
+/// rigid plate gets its own element's stiffness, so the springs are stable at a step set by each
+/// node's own mass and faces ([`super::ContactSet::stable_dt`]), not by the lightest node against
+/// the stiffest face of the model.
 #[derive(Clone, Debug)]
 pub struct FaceTable<'m> {
     model: &'m Model,

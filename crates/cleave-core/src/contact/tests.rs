@@ -333,8 +333,8 @@ fn split_stack() -> (Model, Vec<u32>) {
 /// to the 12 deck nodes). The upper one is pushed 0.01 into the lower one.
 /// - the shared faces are not surfaces at first: no contact even when untied;
 /// - once activated, tied copies (one coincident set per deck node) never contact;
-/// - untied (the failure named to `activate`), the 4 + 4 nodes of the crack faces penetrate each other: 8 pairs, 8 k delta with
-///   k = 0.1 K.
+/// - untied (the failure named to `activate`), the 4 + 4 nodes of the crack faces penetrate each
+///   other: 8 pairs, 8 k delta with k = 0.1 K.
 #[test]
 fn ties_and_crack_faces() {
     let delta = 0.01;

@@ -1,13 +1,13 @@
 //! The nodes of a pass that touch a face, stored sparsely.
 //!
 //! A node's contact lives from step to step: its hit (face, weights, force, engagement, |f_n|) and
-//! its tangential force (the friction history), 112 bytes. On a fragmenting ball most nodes of
-//! the contact surface touch nothing (the 20,000-element ball at 20 us: about 75,000 surface nodes, a
-//! few thousand in contact), so these are kept only for the nodes that have them: per chunk
-//! of [`Touching::chunk`] nodes (the chunks of the parallel check), a list of the chunk's
-//! touching nodes in place order. A step's check walks each chunk's list of the last step
-//! while it writes the new one (two lists a chunk, swapped after the step), so the chunks
-//! stay independent and nothing is allocated once the lists have grown.
+//! its tangential force (the friction history), 112 bytes. On a fragmenting ball most nodes of the
+//! contact surface touch nothing (the 20,000-element ball at 20 us: about 75,000 surface nodes, a
+//! few thousand in contact), so these are kept only for the nodes that have them: per chunk of
+//! [`Touching::chunk`] nodes (the chunks of the parallel check), a list of the chunk's touching
+//! nodes in place order. A step's check walks each chunk's list of the last step while it writes
+//! the new one (two lists a chunk, swapped after the step), so the chunks stay independent and
+//! nothing is allocated once the lists have grown.
 //!
 //! The results do not depend on this storage: a node's contact reads and writes the same
 //! values as with one entry per node, and the forces are scattered in the order of the

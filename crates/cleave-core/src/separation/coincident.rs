@@ -39,11 +39,11 @@ pub struct CoincidentSets {
     stack: Vec<u32>,
     piece: Vec<u32>,
     incident: Vec<u32>,
-    /// Each set's mean acceleration at the last `average_forces` and `1 / sum m` of its
-    /// members (0: dead or massless, its forces left alone; NaN: not worked out since the set
-    /// was made or last split). The masses are summed once per set, not at every step: the gather of each
-    /// set's members is the averaging's cost (its members lie in different elements' blocks),
-    /// and the masses were half of what it read.
+    /// Each set's mean acceleration at the last `average_forces` and `1 / sum m` of its members (0:
+    /// dead or massless, its forces left alone; NaN: not worked out since the set was made or last
+    /// split). The masses are summed once per set, not at every step: the gather of each set's
+    /// members is the averaging's cost (its members lie in different elements' blocks), and the
+    /// masses were half of what it read.
     accel: Vec<(Vec3, f64)>,
 }
 
@@ -423,8 +423,7 @@ mod tests {
             .filter(|&i| sm.model.x0[i as usize] == [1.0, 1.0, 1.0])
             .collect();
         assert_eq!(centre.len(), 8);
-        let order = FAILURE_ORDER;
-        for (step, &f) in order.iter().enumerate() {
+        for (step, &f) in FAILURE_ORDER.iter().enumerate() {
             intact[f] = false;
             cs.split_after_failure(&sm.faces, &intact, &[f]);
             let fresh = CoincidentSets::build(n, &sm.faces, &intact);
@@ -496,8 +495,7 @@ mod tests {
                 .map(|i| [(i * k) as f64 * 0.1, 1.0 - i as f64, (k % 3) as f64])
                 .collect()
         };
-        let order = FAILURE_ORDER;
-        for (step, &failed) in order.iter().enumerate() {
+        for (step, &failed) in FAILURE_ORDER.iter().enumerate() {
             let f0 = forces(step + 1);
             let mut f = f0.clone();
             cs.average_forces(&mut f, &mass);

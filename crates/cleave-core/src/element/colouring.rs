@@ -22,11 +22,20 @@
 //! Memory: 4 bytes per chunk (the per-element force buffer it replaces took 192 bytes per
 //! element, and its node-to-corner index 4 more per corner).
 //!
+//! Classes: a split model's elements share no node, yet the element pass adds a tied copy's
+//! corner forces into its coincident set's representative, another copy of the same deck node
+//! ([`crate::separation::coincident`]). [`Colouring::with_classes`] colours the chunks by a
+//! class of each node instead (the representative of the node's set with every interface
+//! intact: the deck node, in effect), so two chunks of a colour share no deck node and write
+//! no representative in common. The colours are then those of the mesh before it was split.
+//!
 //! Soundness: the element pass writes the nodes through [`Scatter`] from several threads at
-//! once, which is race-free only because no two chunks of a colour share a node. A
-//! [`Colouring`] keeps the connectivity it was made for, its fields are private, and the solver
-//! checks it with [`Colouring::is_proper`] once and reads the elements' nodes from it, so the
-//! colours and the nodes written cannot disagree.
+//! once, which is race-free only because no two chunks of a colour write the same node. A
+//! [`Colouring`] keeps the connectivity and classes it was made for, its fields are private,
+//! and the solver checks it with [`Colouring::is_proper`] once and reads the elements' nodes
+//! from it, so the colours and the nodes written cannot disagree; with classes, the solver
+//! also checks that each node it writes for a node n is of n's class
+//! ([`Colouring::same_class`]) whenever the representatives change.
 
 use crate::math::Vec3;
 
@@ -40,6 +49,8 @@ pub const MIN_PER_COLOUR: usize = 8;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Colouring<'m> {
     conn: &'m [[u32; 8]],
+    /// Class of each node (`None`: each node its own class).
+    class: Option<Vec<u32>>,
     /// Elements per chunk (the last chunk may be shorter).
     size: usize,
     /// Colour of each chunk.
@@ -51,31 +62,59 @@ pub struct Colouring<'m> {
 impl<'m> Colouring<'m> {
     /// The colouring of the elements `conn` over `num_nodes` nodes (see the module docs).
     pub fn new(conn: &'m [[u32; 8]], num_nodes: usize) -> Self {
-        let mut best = Self::with_size(conn, num_nodes, SIZES[0]);
+        Self::best(conn, num_nodes, None)
+    }
+
+    /// The colouring of the elements `conn` over `num_nodes` nodes, two chunks clashing when
+    /// they hold nodes of one class (`class[n] < num_nodes`, one entry per node).
+    pub fn with_classes(conn: &'m [[u32; 8]], num_nodes: usize, class: Vec<u32>) -> Self {
+        assert_eq!(class.len(), num_nodes, "one class per node");
+        Self::best(conn, num_nodes, Some(class))
+    }
+
+    fn best(conn: &'m [[u32; 8]], num_nodes: usize, class: Option<Vec<u32>>) -> Self {
+        let mut best = Self::sized(conn, num_nodes, SIZES[0], class.as_deref());
         for &size in &SIZES[1..] {
             if best.chunks() >= MIN_PER_COLOUR * best.colours {
                 break;
             }
-            let next = Self::with_size(conn, num_nodes, size);
+            let next = Self::sized(conn, num_nodes, size, class.as_deref());
             // a smaller chunk only when it shares the work better
             if next.chunks() * best.colours > best.chunks() * next.colours {
                 best = next;
             }
         }
+        best.class = class;
         best
+    }
+
+    /// Whether nodes `a` and `b` are of one class.
+    #[inline]
+    pub fn same_class(&self, a: u32, b: u32) -> bool {
+        match &self.class {
+            None => a == b,
+            Some(c) => c[a as usize] == c[b as usize],
+        }
     }
 
     /// Greedy colouring of the chunks of `size` elements.
     pub fn with_size(conn: &'m [[u32; 8]], num_nodes: usize, size: usize) -> Self {
+        Self::sized(conn, num_nodes, size, None)
+    }
+
+    /// Greedy colouring of the chunks of `size` elements by the nodes' classes (the classes
+    /// themselves are not kept).
+    fn sized(conn: &'m [[u32; 8]], num_nodes: usize, size: usize, class: Option<&[u32]>) -> Self {
         let size = size.max(1);
         let chunks = conn.len().div_ceil(size);
-        // node -> chunks touching it (CSR, each chunk once per node)
+        // class -> chunks touching it (CSR, each chunk once per class)
         let mut start = vec![0u32; num_nodes + 1];
         let mut last = vec![u32::MAX; num_nodes];
+        let key = |n: u32| class.map_or(n, |c| c[n as usize]);
         let each = |f: &mut dyn FnMut(u32, u32)| {
             for (c, elems) in conn.chunks(size).enumerate() {
                 for &n in elems.iter().flatten() {
-                    f(n, c as u32);
+                    f(key(n), c as u32);
                 }
             }
         };
@@ -105,7 +144,7 @@ impl<'m> Colouring<'m> {
         let mut colours = 0;
         for (c, elems) in conn.chunks(size).enumerate() {
             for &n in elems.iter().flatten() {
-                let n = n as usize;
+                let n = key(n) as usize;
                 for &d in &touching[start[n] as usize..start[n + 1] as usize] {
                     let k = colour[d as usize];
                     if k != u32::MAX {
@@ -129,6 +168,7 @@ impl<'m> Colouring<'m> {
         }
         Self {
             conn,
+            class: None,
             size,
             colour,
             colours,
@@ -160,8 +200,9 @@ impl<'m> Colouring<'m> {
         self.colour.len()
     }
 
-    /// Whether every chunk has a colour and no two chunks of one colour share a node (what the
-    /// element pass relies on), the nodes being below `num_nodes`.
+    /// Whether every chunk has a colour and no two chunks of one colour share a node, or with
+    /// classes a class (what the element pass relies on), the nodes and classes being below
+    /// `num_nodes`.
     pub fn is_proper(&self, num_nodes: usize) -> bool {
         let conn = self.conn;
         if self.size == 0
@@ -171,6 +212,12 @@ impl<'m> Colouring<'m> {
         {
             return false;
         }
+        if let Some(c) = &self.class {
+            if c.len() != num_nodes || c.iter().any(|&k| k as usize >= num_nodes) {
+                return false;
+            }
+        }
+        let key = |n: u32| self.class.as_ref().map_or(n, |c| c[n as usize]);
         // the last chunk that touched each node: a chunk of the same colour is a clash
         let mut seen = vec![u32::MAX; num_nodes];
         for k in 0..self.colours as u32 {
@@ -179,7 +226,7 @@ impl<'m> Colouring<'m> {
                     continue;
                 }
                 for &n in elems.iter().flatten() {
-                    let slot = &mut seen[n as usize];
+                    let slot = &mut seen[key(n) as usize];
                     if *slot != u32::MAX && *slot != c as u32 && self.colour[*slot as usize] == k {
                         return false;
                     }
@@ -311,6 +358,35 @@ mod tests {
         assert!(c.is_proper(nn));
         c.colour[1] = c.colour[0]; // chunks 0 and 1 share the nodes between them
         assert!(!c.is_proper(nn));
+    }
+
+    /// A block split as a separation group splits it (8 nodes of its own per element): by
+    /// nodes its chunks share nothing and take one colour; by classes (each copy's deck node)
+    /// they get the colours of the block before the split, and a clash of classes is caught.
+    #[test]
+    fn classes_colour_a_split_block_as_the_block() {
+        let (conn, nn) = block(10);
+        let split: Vec<[u32; 8]> = (0..conn.len() as u32)
+            .map(|e| std::array::from_fn(|a| 8 * e + a as u32))
+            .collect();
+        let class: Vec<u32> = conn.iter().flatten().copied().collect();
+        let copies = split.len() * 8;
+        let by_node = Colouring::with_size(&split, copies, 16);
+        assert_eq!(by_node.colours(), 1);
+        let whole = Colouring::with_size(&conn, nn, 16);
+        let mut c = Colouring::with_classes(&split, copies, class);
+        assert_eq!(c.size(), Colouring::new(&conn, nn).size());
+        assert!(c.is_proper(copies));
+        let by_class = Colouring::sized(&split, copies, 16, c.class.as_deref());
+        assert_eq!(by_class.colour(), whole.colour());
+        assert!(
+            c.same_class(1, 8),
+            "element 1's first node is element 0's second"
+        );
+        assert!(!c.same_class(0, 1));
+        let k = c.colour[1];
+        c.colour[0] = k; // chunks 0 and 1 hold copies of the nodes between them
+        assert!(!c.is_proper(copies));
     }
 
     #[test]

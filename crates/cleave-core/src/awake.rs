@@ -1,7 +1,7 @@
 //! Keeping a pool's workers awake through a run ([`KeepAwake`]).
 //!
 //! A step of an explicit code is a chain of short parallel loops (the elements colour by
-//! colour, the interface checks, the contact's passes, the averaging, the nodal updates) with
+//! colour, the interface checks, the contact's passes, the nodal updates) with
 //! short serial parts between them (the ordered force scatters, the time step, the energy
 //! sums). A rayon worker that finds no work spins a little and then sleeps; the next parallel
 //! loop wakes it, and on this project's virtual machine (2 vCPUs, KVM) a wake-up costs tens of

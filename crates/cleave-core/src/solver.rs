@@ -3,18 +3,32 @@
 //!
 //! ```text
 //! element pass   stress update and corner forces at x^n, stable time step;   (elements)
-//!                assembled as they come: f_i = body loads + sum of corner forces
+//!                assembled as they come: f_r = body loads + sum of corner forces
 //! interfaces     failure check of intact interfaces on the new stresses; release  (faces)
 //! cohesive       softening interfaces' tractions on their 8 nodes            (faces)
 //! contact        faces of failed interfaces join; penalty and friction forces (nodes, faces)
-//! tie            coincident sets of a split model: f_i = m_i sum f / sum m    (sets)
-//! velocities     v^(n+1/2) = v^(n-1/2) + f/m (dt^(n-1/2) + dt^(n+1/2)) / 2     (nodes)
+//! velocities     v^(n+1/2) = v^(n-1/2) + f_r/M (dt^(n-1/2) + dt^(n+1/2)) / 2   (nodes)
 //! rigid bodies   F, M summed over each body; 6-dof update; nodes placed
 //! constraints    SPC, prescribed motion, rigid walls; their reactions' work
 //! energies       at t^n, with v^n between the half steps
 //! [observer]     output at t^n
 //! positions      x^(n+1) = x^n + dt^(n+1/2) v^(n+1/2); t += dt
 //! ```
+//!
+//! Coincident sets (a split model, the paper's equations 1-4): every force on a node, from an
+//! element, a cohesive face or the contact, is added into the entry r of its set's
+//! representative ([`CoincidentSets::reps`]), so f_r is the set's sum f, and each member moves
+//! with `a = f_r / M`, M the set's `sum m` ([`CoincidentSets::masses`]). Without separation r
+//! is the node itself and M its mass. The members of a set then keep equal positions and
+//! velocities bit for bit, as the deck node they came from, and no pass gathers them. The
+//! element pass writes representatives safely because its colours are those of the deck's
+//! nodes ([`Colouring::with_classes`], classes the representatives with every interface intact,
+//! each later representative checked to be of its node's class when the sets split). In a step
+//! where sets split, each piece's sum is made again from its members' elements
+//! (`Solver::sum_split_sets`) before the cohesive and contact forces come in.
+//!
+//! [`CoincidentSets::reps`]: crate::separation::coincident::CoincidentSets::reps
+//! [`CoincidentSets::masses`]: crate::separation::coincident::CoincidentSets::masses
 //!
 //! Every sum over elements or nodes is done in fixed chunks whose partial results are added in
 //! chunk order, and the element pass adds its corner forces colour by colour (each node in a
@@ -29,7 +43,7 @@ use rayon::prelude::*;
 
 use crate::contact::{ContactSet, Crack};
 use crate::element::colouring::{Colouring, Scatter};
-use crate::element::kernel::{hex8_step, KernelControls};
+use crate::element::kernel::{hex8_corner_forces, hex8_step, KernelControls};
 use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{Model, MotionTarget, Vad};
@@ -54,8 +68,8 @@ pub struct PhaseTimes {
     pub interfaces: f64,
     /// Contact search and forces.
     pub contact: f64,
-    /// Everything else of `advance_to_half_step` (cohesive forces, tie, velocities,
-    /// rigid bodies, constraints, energies) and the position update.
+    /// Everything else of `advance_to_half_step` (cohesive forces, velocities, rigid bodies,
+    /// constraints, energies) and the position update.
     pub nodal: f64,
 }
 
@@ -133,7 +147,21 @@ pub struct Solver<'m> {
     /// Colours of the element chunks, with the connectivity the element pass reads (private:
     /// checked proper once, its writes are race-free only so).
     colouring: Colouring<'m>,
+    /// Nodal forces; with separation, only the representatives' entries are used (each the sum
+    /// over its coincident set).
     f: Vec<Vec3>,
+    /// With separation, the mass of each node's coincident set (its own when in none); empty
+    /// without.
+    set_mass: Vec<f64>,
+    /// With separation, (node, element) for the nodes of several elements that a face holds
+    /// (deck nodes kept outside the groups), sorted: the elements whose forces such a node's
+    /// set sums when it splits.
+    shared_elems: Vec<(u32, u32)>,
+    /// Scratch of [`Self::sum_split_sets`]: the nodes of the sets split this step, their
+    /// elements, and a mark per node.
+    split_nodes: Vec<u32>,
+    split_elems: Vec<u32>,
+    split_mark: Vec<bool>,
     chunk_sums: Vec<ElemChunkSum>,
     node_sums: Vec<[f64; 4]>,
     finished: bool,
@@ -209,6 +237,11 @@ impl<'m> Solver<'m> {
             ctl,
             colouring,
             f: vec![[0.0; 3]; nn],
+            set_mass: Vec::new(),
+            shared_elems: Vec::new(),
+            split_nodes: Vec::new(),
+            split_elems: Vec::new(),
+            split_mark: Vec::new(),
             chunk_sums,
             node_sums: Vec::with_capacity(nn.div_ceil(NODE_CHUNK)),
             finished: false,
@@ -222,9 +255,34 @@ impl<'m> Solver<'m> {
     }
 
     /// Run a split model with its interfaces: each step the intact ones are checked for
-    /// failure, and after assembly each coincident set gets its mean acceleration (the paper's
-    /// equations 1-4), before constraints act.
+    /// failure, and each coincident set moves with its mean acceleration `sum f / sum m` (the
+    /// paper's equations 1-4; module docs), before constraints act. The interfaces must all be
+    /// intact (as [`Separation::new`] makes them): the element chunks are coloured again by
+    /// the sets' representatives, which stand for the deck nodes.
     pub fn attach_separation(&mut self, separation: Separation) {
+        assert_eq!(
+            separation.num_failed(),
+            0,
+            "attach the separation before any failure"
+        );
+        let nn = self.model.num_nodes();
+        let sets = separation.sets();
+        self.colouring = Colouring::with_classes(&self.model.conn, nn, sets.reps().to_vec());
+        // the element pass's parallel writes are race-free only with a proper colouring
+        assert!(
+            self.colouring.is_proper(nn),
+            "element chunk colouring has a clash"
+        );
+        self.chunk_sums = vec![ElemChunkSum::default(); self.colouring.chunks()];
+        self.set_mass = vec![0.0; nn];
+        sets.masses(&self.setup.mass, &mut self.set_mass);
+        self.shared_elems = (self.model.conn.iter().enumerate())
+            .flat_map(|(e, c)| c.iter().map(move |&n| (n, e as u32)))
+            .filter(|&(n, _)| sets.shared(n))
+            .collect();
+        self.shared_elems.sort_unstable();
+        self.shared_elems.dedup();
+        self.split_mark = vec![false; nn];
         self.separation = Some(separation);
     }
 
@@ -297,7 +355,6 @@ impl<'m> Solver<'m> {
         let t3 = Instant::now();
         self.add_contact_forces();
         let t4 = Instant::now();
-        self.tie_coincident_nodes();
         let dt_new = self.next_time_step(dt_crit, dt_elem)?;
         let dt_mid = 0.5 * (self.state.dt_prev + dt_new);
         self.state.dt = dt_new;
@@ -337,11 +394,19 @@ impl<'m> Solver<'m> {
             ctl,
             colouring,
             f,
+            set_mass,
             chunk_sums,
+            separation,
             ..
         } = self;
+        // a representative's entry gets its set's body load (the other members' are not read)
+        let mass = if separation.is_some() {
+            &set_mass[..]
+        } else {
+            &setup.mass[..]
+        };
         f.par_iter_mut()
-            .zip(setup.mass.par_iter())
+            .zip(mass.par_iter())
             .with_min_len(NODE_CHUNK)
             .for_each(|(fi, &m)| *fi = scale(g, m));
         let x = &state.x;
@@ -351,7 +416,9 @@ impl<'m> Solver<'m> {
         // the colouring's connectivity: the nodes written are those it was checked for
         let conn = colouring.conn();
         let (size, colour, colours) = (colouring.size(), colouring.colour(), colouring.colours());
-        let loose = self.separation.as_ref().map(|s| s.loose_elements());
+        let loose = separation.as_ref().map(|s| s.loose_elements());
+        // where node n's forces go: its set's representative (checked of n's class)
+        let reps = separation.as_ref().map(|s| s.sets().reps());
         let sink = Scatter::new(f);
         let process = |c: usize,
                        sc: &mut [crate::math::Sym3],
@@ -388,10 +455,13 @@ impl<'m> Solver<'m> {
                 ) {
                     Ok(r) => {
                         for (&n, fa) in ids.iter().zip(fe) {
+                            let to = reps.map_or(n, |r| r[n as usize]);
                             // SAFETY: this runs for the chunks of one colour at a time (the
-                            // loop below) of a colouring checked proper in `Solver::new`: no
-                            // other thread adds to node n meanwhile
-                            unsafe { sink.add(n, fa) };
+                            // loop below) of a colouring checked proper in `Solver::new` or
+                            // `attach_separation`, and `to` is of n's class (checked when the
+                            // representatives change, `check_interfaces`): no other thread adds
+                            // to it meanwhile
+                            unsafe { sink.add(to, fa) };
                         }
                         acc.de_internal += r.de_internal;
                         acc.de_hourglass += r.de_hourglass;
@@ -443,11 +513,91 @@ impl<'m> Solver<'m> {
         Ok((dt_min, dt_elem))
     }
 
-    /// Check every intact interface on the stresses at t^n; release the failed ones.
+    /// Check every intact interface on the stresses at t^n; release the failed ones. The sets
+    /// they split get their new representatives and masses (each new representative checked
+    /// to be of its node's class, what the element pass's writes rely on) and their forces
+    /// summed again ([`Self::sum_split_sets`]), so the pieces part in this very step, as in the
+    /// paper (failure check, then the averaging over the sets that remain).
     fn check_interfaces(&mut self) {
-        if let Some(sep) = &mut self.separation {
-            let s = &self.state;
-            sep.check_failure(s.t, &s.x, &s.v, &s.stress, &s.hist);
+        let Some(sep) = &mut self.separation else {
+            return;
+        };
+        let s = &self.state;
+        if sep
+            .check_failure(s.t, &s.x, &s.v, &s.stress, &s.hist)
+            .is_empty()
+        {
+            return;
+        }
+        let sets = sep.sets();
+        let reps = sets.reps();
+        for n in sets.changed_nodes() {
+            assert!(
+                self.colouring.same_class(reps[n as usize], n),
+                "node {n}: its representative left its class"
+            );
+        }
+        sets.reweigh_changed(&self.setup.mass, &mut self.set_mass);
+        self.sum_split_sets();
+    }
+
+    /// The element pass summed the forces of each set as it was before this step's failures:
+    /// each piece of a set that split gets its own sum again, `M g` and the corner forces of
+    /// its members' elements ([`hex8_corner_forces`], from the state the pass left: the same
+    /// forces bit for bit), elements in ascending order. Runs before the cohesive and contact
+    /// forces are added.
+    fn sum_split_sets(&mut self) {
+        let g = self.body_acceleration(self.state.t);
+        let Some(sep) = &self.separation else {
+            return;
+        };
+        let sets = sep.sets();
+        let reps = sets.reps();
+        let (nodes, elems, mark) = (
+            &mut self.split_nodes,
+            &mut self.split_elems,
+            &mut self.split_mark,
+        );
+        nodes.clear();
+        nodes.extend(sets.changed_nodes());
+        nodes.sort_unstable();
+        nodes.dedup();
+        elems.clear();
+        for &n in nodes.iter() {
+            mark[n as usize] = true;
+            self.f[reps[n as usize] as usize] = scale(g, self.set_mass[n as usize]);
+            match sets.owner(n) {
+                Some(e) => elems.push(e),
+                None => {
+                    let at = self.shared_elems.partition_point(|p| p.0 < n);
+                    let around = self.shared_elems[at..].iter().take_while(|p| p.0 == n);
+                    elems.extend(around.map(|p| p.1));
+                }
+            }
+        }
+        elems.sort_unstable();
+        elems.dedup();
+        let conn = self.colouring.conn();
+        let st = &self.state;
+        for &e in elems.iter() {
+            let e = e as usize;
+            if self.setup.params[self.setup.elem_mat[e] as usize].is_none() {
+                continue; // the element pass skips it too
+            }
+            let xe: [Vec3; 8] = std::array::from_fn(|a| st.x[conn[e][a] as usize]);
+            let mut fe = [[0.0; 3]; 8];
+            // the element pass found every element upright at these positions
+            hex8_corner_forces(&xe, &st.stress[e], st.bulk_q[e], &st.hg[e], &mut fe)
+                .expect("an element upright in this step's element pass");
+            for (&n, fa) in conn[e].iter().zip(fe) {
+                if mark[n as usize] {
+                    let r = reps[n as usize] as usize;
+                    self.f[r] = add(self.f[r], fa);
+                }
+            }
+        }
+        for &n in nodes.iter() {
+            mark[n as usize] = false;
         }
     }
 
@@ -460,14 +610,15 @@ impl<'m> Solver<'m> {
 
     /// Contact: the faces of the interfaces released this step join the surfaces (and the
     /// candidate lists around them are renewed, since their ties broke); then the penalty and
-    /// friction forces at x^n are added. Their work over the last step goes to the contact
-    /// energy. Before the tie, so a coincident set shares the contact force of any member;
-    /// before the rigid bodies gather their nodes' forces.
+    /// friction forces at x^n are added, each node's at its set's representative (so the set
+    /// shares the contact force of any member). Their work over the last step goes to the
+    /// contact energy. Before the rigid bodies gather their nodes' forces.
     fn add_contact_forces(&mut self) {
         let Some(contact) = &mut self.contact else {
             return;
         };
         let mut tie: &[u32] = &[];
+        let mut reps: &[u32] = &[];
         if let Some(sep) = &self.separation {
             if !sep.released().is_empty() {
                 self.new_cracks.clear();
@@ -487,17 +638,11 @@ impl<'m> Solver<'m> {
                 contact.activate_cracks(&self.new_cracks);
             }
             tie = sep.sets().node_sets();
+            reps = sep.sets().reps();
         }
         let s = &self.state;
-        let step = contact.compute(&s.x, &s.v, s.dt_prev, tie, &mut self.f);
+        let step = contact.compute_with_reps(&s.x, &s.v, s.dt_prev, tie, reps, &mut self.f);
         self.state.energy.contact += step.energy;
-    }
-
-    /// Each coincident set: f_i <- m_i sum f / sum m, so its nodes share one acceleration.
-    fn tie_coincident_nodes(&mut self) {
-        if let Some(sep) = &mut self.separation {
-            sep.tie(&mut self.f, &self.setup.mass);
-        }
     }
 
     /// Base acceleration of all body loads at time t.
@@ -541,7 +686,8 @@ impl<'m> Solver<'m> {
         Ok(dt)
     }
 
-    /// v^(n+1/2) = v^(n-1/2) + f/m dt_mid for every node, and the provisional v^n.
+    /// v^(n+1/2) = v^(n-1/2) + f/m dt_mid for every node, and the provisional v^n; with
+    /// separation f is the node's set's (at its representative) and m the set's mass.
     fn update_velocities(&mut self, dt_mid: f64) {
         let State {
             v,
@@ -557,16 +703,23 @@ impl<'m> Solver<'m> {
         } else {
             0.0
         };
-        let mass = &self.setup.mass;
         let f = &self.f;
+        let (mass, reps) = match &self.separation {
+            Some(sep) => (&self.set_mass[..], Some(sep.sets().reps())),
+            None => (&self.setup.mass[..], None),
+        };
         v.par_iter_mut()
             .zip(v_n.par_iter_mut())
             .enumerate()
             .for_each(|(i, (vi, vni))| {
                 // massless nodes (in no element) stay as they are
                 let m = mass[i];
+                let fi = match reps {
+                    Some(r) => f[r[i] as usize],
+                    None => f[i],
+                };
                 let dv = if m > 0.0 {
-                    scale(f[i], dt_mid / m)
+                    scale(fi, dt_mid / m)
                 } else {
                     [0.0; 3]
                 };

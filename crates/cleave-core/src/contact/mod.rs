@@ -82,9 +82,8 @@
 //! have spread by less than the margin: the diagonal of their box over the definition's nodes
 //! (the *spread*) bounds how far any node has moved relative to any other. Only the leads of
 //! the coincident sets and the nodes not yet grouped are watched: a tied copy moves with its
-//! lead to rounding (a set's copies get its mean acceleration as `m_i a`, each divided by its
-//! own mass), under 5e-14 of the spread on the 256 and 2800 balls, well inside the 1e-9 of
-//! slack the motion bound carries (and the lead stands for its copies in the checks). Until then a
+//! lead bit for bit (the solver gives a set one acceleration, `sum f / sum m`, for all its
+//! members), and the lead stands for its copies in the checks. Until then a
 //! node and a face it may touch have moved less than the margin relative to each other, so the
 //! node's x_ref is still in the face's box (the contact point, `sum w_a x_a` with
 //! `sum |w_a| <= E`, moved by at most E margin relative to the node; the 1.1 covers that and
@@ -484,9 +483,9 @@ impl<'m> ContactSet<'m> {
     /// - `tie[i]`: coincident set of node i, or `u32::MAX`; an empty slice means no ties;
     /// - `f`: nodal forces, to which the contact forces are added.
     ///
-    /// Call it after assembling the element forces and before tying the coincident sets (so a
-    /// set shares the contact force of any of its members), and before the rigid bodies
-    /// gather their nodes' forces.
+    /// Call it after assembling the element forces and before the velocity update (so a
+    /// coincident set shares the contact force of any of its members), and before the rigid
+    /// bodies gather their nodes' forces.
     pub fn compute(
         &mut self,
         x: &[Vec3],
@@ -495,9 +494,26 @@ impl<'m> ContactSet<'m> {
         tie: &[u32],
         f: &mut [Vec3],
     ) -> ContactStep {
+        self.compute_with_reps(x, v, dt_prev, tie, &[], f)
+    }
+
+    /// [`Self::compute`], the force on each node i added to `f[rep[i]]` (the solver's
+    /// coincident sets take their forces at their representative,
+    /// [`crate::separation::coincident::CoincidentSets::reps`]); an empty `rep` adds it to
+    /// `f[i]`.
+    pub fn compute_with_reps(
+        &mut self,
+        x: &[Vec3],
+        v: &[Vec3],
+        dt_prev: f64,
+        tie: &[u32],
+        rep: &[u32],
+        f: &mut [Vec3],
+    ) -> ContactStep {
         let nn = self.nodal.len();
         assert!(x.len() == nn && v.len() == nn && f.len() == nn);
         assert!(tie.is_empty() || tie.len() == nn);
+        assert!(rep.is_empty() || rep.len() == nn);
         self.nodal.next_step();
         let mut step = ContactStep::default();
         let inp = StepInput {
@@ -533,7 +549,8 @@ impl<'m> ContactSet<'m> {
         for (i, fi) in self.nodal.iter() {
             let i = i as usize;
             work += dot(fi, v[i]);
-            f[i] = add(f[i], fi);
+            let r = if rep.is_empty() { i } else { rep[i] as usize };
+            f[r] = add(f[r], fi);
         }
         step.energy = -0.5 * dt_prev * work;
         step

@@ -1,21 +1,22 @@
 //! Coincident node sets: the copies of a deck node tied together by intact interfaces (and
 //! permanent bonds). Each step every set shares one acceleration (the paper's equations 1-4):
-//! F = sum f_i, M = sum m_i, f_i <- m_i F / M.
+//! a = sum f_i / sum m_i.
 //!
-//! Storage: all members in one array, each set a contiguous ascending range, so a set's sums
-//! run in a fixed order (deterministic). When interfaces fail, only the sets that hold their
-//! nodes are recomputed (connected components through the faces still tying them), and the
-//! pieces are written back in place: no set is rebuilt from scratch, nothing grows but the
-//! list of set ranges and the sets' kept `1 / sum m`.
-
-use rayon::prelude::*;
+//! Storage: all members in one array, each set a contiguous ascending range. Each node also
+//! knows its set's *representative*, the set's smallest member (a node in no set is its own):
+//! the solver adds every force on a member straight into its representative's entry and gives
+//! the set one acceleration, `a = f_rep / sum m` ([`CoincidentSets::reps`],
+//! [`CoincidentSets::masses`]), so the sums over a set come out in a fixed order (the element
+//! pass's colours, then the cohesive and contact forces in their own fixed order) and no pass
+//! gathers the members. When interfaces
+//! fail, only the sets that hold their nodes are recomputed (connected components through the
+//! faces still tying them), and the pieces are written back in place: no set is rebuilt from
+//! scratch, nothing grows but the list of set ranges. A piece is a subset of the set it came
+//! from, so a node's representative is always a copy of the same deck node, a member of the
+//! node's set at the start (what keeps the element pass's writes race-free, [`crate::solver`]).
 
 use super::split::{FaceKind, SharedFace};
-use crate::math::{add, scale, Vec3};
 use crate::topology::UnionFind;
-
-/// Sets per parallel task of the averaging.
-const SET_CHUNK: usize = 1024;
 
 const NONE: u32 = u32::MAX;
 
@@ -39,12 +40,11 @@ pub struct CoincidentSets {
     stack: Vec<u32>,
     piece: Vec<u32>,
     incident: Vec<u32>,
-    /// Each set's mean acceleration at the last `average_forces` and `1 / sum m` of its members (0:
-    /// dead or massless, its forces left alone; NaN: not worked out since the set was made or last
-    /// split). The masses are summed once per set, not at every step: the gather of each set's
-    /// members is the averaging's cost (its members lie in different elements' blocks), and the
-    /// masses were half of what it read.
-    accel: Vec<(Vec3, f64)>,
+    /// Representative of each node: the smallest member of its set, or the node itself.
+    rep: Vec<u32>,
+    /// (start, len) in `members` of each piece the last [`Self::split_after_failure`] wrote, in
+    /// the order written (a later piece may lie inside an earlier one, split again).
+    changed: Vec<(u32, u32)>,
 }
 
 const SHARED: u32 = u32::MAX - 1;
@@ -106,6 +106,7 @@ impl CoincidentSets {
             count[uf.find(i) as usize] += 1;
         }
         let mut node_set = vec![NONE; num_nodes];
+        let mut rep: Vec<u32> = (0..num_nodes as u32).collect();
         let mut ranges = Vec::new();
         let mut members = Vec::new();
         let mut root_set = vec![NONE; num_nodes];
@@ -125,6 +126,7 @@ impl CoincidentSets {
             members[(ranges[s].0 + next[s]) as usize] = i;
             next[s] += 1;
             node_set[i as usize] = s as u32;
+            rep[i as usize] = members[ranges[s].0 as usize];
         }
         Self {
             members,
@@ -137,7 +139,8 @@ impl CoincidentSets {
             stack: Vec::new(),
             piece: Vec::new(),
             incident: Vec::new(),
-            accel: Vec::new(),
+            rep,
+            changed: Vec::new(),
         }
     }
 
@@ -156,6 +159,38 @@ impl CoincidentSets {
         &self.node_set
     }
 
+    /// The representative of each node: the smallest member of its set, or the node itself
+    /// when it is in no set. Always a member of the node's set as [`Self::build`] made it.
+    pub fn reps(&self) -> &[u32] {
+        &self.rep
+    }
+
+    /// The mass of each node's set, `sum m` over its members in ascending order (a node in no
+    /// set: its own mass), into `out`, for every node.
+    pub fn masses(&self, mass: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(mass);
+        for set in self.sets() {
+            weigh(set, mass, out);
+        }
+    }
+
+    /// [`Self::masses`] again for the nodes of the sets the last [`Self::split_after_failure`]
+    /// changed (`out` held the masses before it).
+    pub fn reweigh_changed(&self, mass: &[f64], out: &mut [f64]) {
+        for &(st, l) in &self.changed {
+            weigh(&self.members[st as usize..(st + l) as usize], mass, out);
+        }
+    }
+
+    /// The nodes whose set (and so representative and set mass) the last
+    /// [`Self::split_after_failure`] changed, with repeats.
+    pub fn changed_nodes(&self) -> impl Iterator<Item = u32> + '_ {
+        self.changed
+            .iter()
+            .flat_map(|&(st, l)| &self.members[st as usize..(st + l) as usize])
+            .copied()
+    }
+
     /// The set holding node `n`, if any.
     pub fn set_of(&self, n: u32) -> Option<&[u32]> {
         let s = self.node_set[n as usize];
@@ -169,6 +204,12 @@ impl CoincidentSets {
     pub fn owner(&self, n: u32) -> Option<u32> {
         let e = self.node_elem[n as usize];
         (e != NONE && e != SHARED).then_some(e)
+    }
+
+    /// Whether node `n` is a node of several elements that a face holds (a deck node kept
+    /// outside every group, on an interface or bond).
+    pub fn shared(&self, n: u32) -> bool {
+        self.node_elem[n as usize] == SHARED
     }
 
     /// The faces holding node `n`, into `out`.
@@ -197,6 +238,7 @@ impl CoincidentSets {
     /// Re-split the sets holding the nodes of `failed` faces (whose `intact` entry is already
     /// false) into the components still tied together.
     pub fn split_after_failure(&mut self, faces: &[SharedFace], intact: &[bool], failed: &[usize]) {
+        self.changed.clear();
         for &f in failed {
             for k in 0..8 {
                 let s = self.node_set[faces[f].nodes[k] as usize];
@@ -276,70 +318,25 @@ impl CoincidentSets {
             };
             if p == 0 {
                 self.ranges[s] = (at, size);
-                // its members changed: its mass is summed again (new sets get theirs when
-                // `accel` grows)
-                if let Some(a) = self.accel.get_mut(s) {
-                    a.1 = f64::NAN;
-                }
             } else {
                 self.ranges.push((at, size));
             }
+            let first = self.members[at as usize];
             for &n in &self.members[at as usize..(at + size) as usize] {
                 self.node_set[n as usize] = if size >= 2 { id } else { NONE };
+                self.rep[n as usize] = first;
             }
+            self.changed.push((at, size));
             at += size;
         }
     }
+}
 
-    /// Give every set its mean acceleration: f_i <- m_i (sum f) / (sum m), sums in ascending
-    /// member order. Massless sets are left alone.
-    ///
-    /// `mass` must be the same at every call (the solver's lumped masses): each set's
-    /// `1 / sum m` is kept from the first call after the set was made.
-    pub fn average_forces(&mut self, f: &mut [Vec3], mass: &[f64]) {
-        // each set's mean acceleration (its members summed in ascending order), then each
-        // tied node's share: two parallel passes, the same numbers for any thread count
-        let (members, ranges) = (&self.members, &self.ranges);
-        self.accel.resize(ranges.len(), ([0.0; 3], f64::NAN));
-        {
-            let f: &[Vec3] = f;
-            self.accel
-                .par_iter_mut()
-                .zip(ranges.par_iter())
-                .with_min_len(SET_CHUNK)
-                .for_each(|((a, inv_m), &(st, l))| {
-                    let set = &members[st as usize..(st + l) as usize];
-                    if inv_m.is_nan() {
-                        let mt: f64 = if l < 2 {
-                            0.0
-                        } else {
-                            set.iter().fold(0.0, |mt, &n| mt + mass[n as usize])
-                        };
-                        *inv_m = if mt > 0.0 { 1.0 / mt } else { 0.0 };
-                    }
-                    if *inv_m == 0.0 {
-                        return;
-                    }
-                    let mut ft = [0.0; 3];
-                    for &n in set {
-                        ft = add(ft, f[n as usize]);
-                    }
-                    *a = scale(ft, *inv_m);
-                });
-        }
-        let (node_set, accel) = (&self.node_set, &self.accel);
-        f.par_iter_mut()
-            .enumerate()
-            .with_min_len(4 * SET_CHUNK)
-            .for_each(|(n, fi)| {
-                let s = node_set[n];
-                if s != NONE {
-                    let (a, inv_m) = accel[s as usize];
-                    if inv_m != 0.0 {
-                        *fi = scale(a, mass[n]);
-                    }
-                }
-            });
+/// Each member of `set` gets the set's mass, summed in the order given (ascending).
+fn weigh(set: &[u32], mass: &[f64], out: &mut [f64]) {
+    let total = set.iter().fold(0.0, |t, &n| t + mass[n as usize]);
+    for &n in set {
+        out[n as usize] = total;
     }
 }
 
@@ -457,69 +454,46 @@ mod tests {
         assert_eq!(cs.sets().count(), 0, "all faces failed: every node is free");
     }
 
-    /// Averaging gives every member the set's acceleration and conserves the total force.
+    /// Representatives and set masses after each of the 12 failures around the block's centre
+    /// (scrambled order): the kept ones equal those of the sets built from scratch from the
+    /// faces still intact, bit for bit; every node's representative stays a member of its
+    /// first set (the element pass's colours rely on it); and the nodes reported changed are
+    /// all those whose representative or set mass changed.
     #[test]
-    fn averaging_conserves_force() {
-        let sm = split_block();
-        let intact = vec![true; sm.faces.len()];
-        let mut cs = CoincidentSets::build(sm.model.num_nodes(), &sm.faces, &intact);
-        let n = sm.model.num_nodes();
-        let mass: Vec<f64> = (0..n).map(|i| 1.0 + (i % 3) as f64).collect();
-        let mut f: Vec<Vec3> = (0..n).map(|i| [i as f64, -(i as f64) * 0.5, 1.0]).collect();
-        let before: Vec3 = f.iter().fold([0.0; 3], |a, b| add(a, *b));
-        cs.average_forces(&mut f, &mass);
-        let after: Vec3 = f.iter().fold([0.0; 3], |a, b| add(a, *b));
-        for d in 0..3 {
-            assert!((before[d] - after[d]).abs() < 1e-9 * before[d].abs().max(1.0));
-        }
-        for set in cs.sets() {
-            let a0 = scale(f[set[0] as usize], 1.0 / mass[set[0] as usize]);
-            for &m in set {
-                let a = scale(f[m as usize], 1.0 / mass[m as usize]);
-                assert!((0..3).all(|d| (a[d] - a0[d]).abs() < 1e-12 * a0[d].abs().max(1.0)));
-            }
-        }
-    }
-
-    /// Each set's summed mass is kept between steps: after interfaces fail and the sets split,
-    /// each piece gets the mean acceleration of its own members, bit for bit `sum f / sum m`
-    /// worked out afresh (members in ascending order), at every failure of the 12 interfaces
-    /// around the block's centre.
-    #[test]
-    fn averaging_after_splits_uses_each_pieces_own_mass() {
+    fn reps_and_masses_follow_the_splits() {
         let (sm, mut intact, mut cs) = split_block_with_sets();
         let n = sm.model.num_nodes();
         let mass: Vec<f64> = (0..n).map(|i| 1.0 + (i % 5) as f64 * 0.37).collect();
-        let forces = |k: usize| -> Vec<Vec3> {
-            (0..n)
-                .map(|i| [(i * k) as f64 * 0.1, 1.0 - i as f64, (k % 3) as f64])
-                .collect()
-        };
+        let first = cs.reps().to_vec();
+        let mut kept = vec![0.0; n];
+        cs.masses(&mass, &mut kept);
+        for set in cs.sets() {
+            let total: f64 = set.iter().map(|&m| mass[m as usize]).sum();
+            for &m in set {
+                assert_eq!(cs.reps()[m as usize], set[0]);
+                assert!((kept[m as usize] - total).abs() <= 1e-12 * total);
+            }
+        }
         for (step, &failed) in FAILURE_ORDER.iter().enumerate() {
-            let f0 = forces(step + 1);
-            let mut f = f0.clone();
-            cs.average_forces(&mut f, &mass);
-            let mut live = 0;
-            for set in cs.sets() {
-                live += 1;
-                let (mut ft, mut mt) = ([0.0; 3], 0.0);
-                for &m in set {
-                    ft = add(ft, f0[m as usize]);
-                    mt += mass[m as usize];
-                }
-                let a = scale(ft, 1.0 / mt);
-                for &m in set {
-                    assert_eq!(f[m as usize], scale(a, mass[m as usize]), "step {step}");
-                }
-            }
-            for i in 0..n {
-                if cs.set_of(i as u32).is_none() {
-                    assert_eq!(f[i], f0[i], "a free node keeps its force");
-                }
-            }
-            assert!(live > 0);
+            let (reps_before, kept_before) = (cs.reps().to_vec(), kept.clone());
             intact[failed] = false;
             cs.split_after_failure(&sm.faces, &intact, &[failed]);
+            cs.reweigh_changed(&mass, &mut kept);
+            let fresh = CoincidentSets::build(n, &sm.faces, &intact);
+            let mut fresh_masses = vec![0.0; n];
+            fresh.masses(&mass, &mut fresh_masses);
+            assert_eq!(cs.reps(), fresh.reps(), "after {} failures", step + 1);
+            assert_eq!(kept, fresh_masses, "after {} failures", step + 1);
+            let changed: Vec<u32> = cs.changed_nodes().collect();
+            for i in 0..n {
+                let r = cs.reps()[i] as usize;
+                assert_eq!(first[r], first[i], "node {i}: its rep left its first set");
+                if cs.reps()[i] != reps_before[i] || kept[i] != kept_before[i] {
+                    assert!(changed.contains(&(i as u32)), "node {i} not reported");
+                }
+            }
+            assert!(!changed.is_empty(), "each failure splits a set");
         }
+        assert_eq!(kept, mass, "all faces failed: each node its own mass");
     }
 }

@@ -324,7 +324,8 @@ impl Separation {
         }
     }
 
-    /// Add the cohesive forces of the softening interfaces to `f` (positions x^n) and return the
+    /// Add the cohesive forces of the softening interfaces to `f` (positions x^n), each node's
+    /// into its coincident set's representative ([`CoincidentSets::reps`]), and return the
     /// work they absorbed since the last call, the trapezoid 1/2 (f_prev + f) . (d - d_prev)
     /// over the openings (the same rule as the element energies). An interface whose four
     /// points are fully open becomes free.
@@ -335,8 +336,10 @@ impl Separation {
             status,
             laws,
             cohesive,
+            sets,
             ..
         } = self;
+        let rep = sets.reps();
         for c in cohesive.iter_mut() {
             let face = &faces[c.interface as usize];
             let law = laws[face.group as usize].expect("softening interfaces have a law");
@@ -357,8 +360,9 @@ impl Separation {
                     w,
                 );
                 let d = d[k];
-                f[a] = add(f[a], fa);
-                f[b] = sub(f[b], fa);
+                let (ra, rb) = (rep[a] as usize, rep[b] as usize);
+                f[ra] = add(f[ra], fa);
+                f[rb] = sub(f[rb], fa);
                 // force on b is -fa and b - a opens by d - d_prev: work absorbed = fa . dd
                 work += 0.5 * dot(add(c.f_prev[k], fa), sub(d, c.d_prev[k]));
                 c.d_prev[k] = d;
@@ -371,13 +375,6 @@ impl Separation {
         }
         cohesive.retain(|c| status[c.interface as usize] == Status::Softening);
         work
-    }
-
-    /// Each coincident set gets its mean acceleration: f_i <- m_i sum f / sum m. `mass` must be
-    /// the same at every call (the solver's lumped masses): each set's sum is kept until it
-    /// splits ([`CoincidentSets::average_forces`]).
-    pub fn tie(&mut self, f: &mut [Vec3], mass: &[f64]) {
-        self.sets.average_forces(f, mass);
     }
 
     /// Fragments: connected components of elements through shared nodes and through every

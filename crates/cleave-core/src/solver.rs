@@ -153,9 +153,9 @@ pub struct Solver<'m> {
     /// With separation, the mass of each node's coincident set (its own when in none); empty
     /// without.
     set_mass: Vec<f64>,
-    /// With separation, (node, element) for the nodes of several elements that a face holds
-    /// (deck nodes kept outside the groups), sorted: the elements whose forces such a node's
-    /// set sums when it splits.
+    /// With separation, (node, element) for the nodes of several elements that are in a
+    /// coincident set (deck nodes kept outside the groups), sorted: the elements whose forces
+    /// such a node's set sums when it splits. (A copy's one element is its set's `owner`.)
     shared_elems: Vec<(u32, u32)>,
     /// Scratch of [`Self::sum_split_sets`]: the nodes of the sets split this step, their
     /// elements, and a mark per node.
@@ -276,9 +276,16 @@ impl<'m> Solver<'m> {
         self.chunk_sums = vec![ElemChunkSum::default(); self.colouring.chunks()];
         self.set_mass = vec![0.0; nn];
         sets.masses(&self.setup.mass, &mut self.set_mass);
+        let mut valence = vec![0u32; nn];
+        for c in &self.model.conn {
+            for &n in c {
+                valence[n as usize] += 1;
+            }
+        }
+        let tied = sets.node_sets();
         self.shared_elems = (self.model.conn.iter().enumerate())
             .flat_map(|(e, c)| c.iter().map(move |&n| (n, e as u32)))
-            .filter(|&(n, _)| sets.shared(n))
+            .filter(|&(n, _)| valence[n as usize] > 1 && tied[n as usize] != u32::MAX)
             .collect();
         self.shared_elems.sort_unstable();
         self.shared_elems.dedup();
@@ -382,9 +389,10 @@ impl<'m> Solver<'m> {
     }
 
     /// Element pass and assembly: stresses at x^n, and `f_i = m_i g(t) + sum of the corner
-    /// forces of node i`, the corner forces added colour by colour ([`Colouring`]: a node gets
-    /// them in a fixed order whatever the thread count); returns the smallest element time
-    /// step and its element.
+    /// forces of node i` (with separation, at each coincident set's representative r:
+    /// `f_r = M g(t) + sum of the corner forces of the set's members`), the corner forces added
+    /// colour by colour ([`Colouring`]: a node gets them in a fixed order whatever the thread
+    /// count); returns the smallest element time step and its element.
     fn compute_element_forces(&mut self) -> Result<(f64, u32), SolverError> {
         let g = self.body_acceleration(self.state.t);
         let Self {
@@ -566,13 +574,13 @@ impl<'m> Solver<'m> {
         for &n in nodes.iter() {
             mark[n as usize] = true;
             self.f[reps[n as usize] as usize] = scale(g, self.set_mass[n as usize]);
-            match sets.owner(n) {
-                Some(e) => elems.push(e),
-                None => {
-                    let at = self.shared_elems.partition_point(|p| p.0 < n);
-                    let around = self.shared_elems[at..].iter().take_while(|p| p.0 == n);
-                    elems.extend(around.map(|p| p.1));
-                }
+            let at = self.shared_elems.partition_point(|p| p.0 < n);
+            let around = self.shared_elems[at..].iter().take_while(|p| p.0 == n);
+            let before = elems.len();
+            elems.extend(around.map(|p| p.1));
+            if elems.len() == before {
+                // a node of one element: the element of the faces that tied it
+                elems.extend(sets.owner(n));
             }
         }
         elems.sort_unstable();
@@ -643,6 +651,28 @@ impl<'m> Solver<'m> {
         let s = &self.state;
         let step = contact.compute_with_reps(&s.x, &s.v, s.dt_prev, tie, reps, &mut self.f);
         self.state.energy.contact += step.energy;
+    }
+
+    /// The force on node i, assembled: with separation, its share `m_i sum f / sum m` of its
+    /// coincident set's (for a node in no set `m_i / m_i = 1` exactly: its own force). A rigid
+    /// body's node bonded to a group's copies so gives its body only its share; the copies
+    /// move with the rest.
+    fn node_force(
+        separation: Option<&Separation>,
+        f: &[Vec3],
+        set_mass: &[f64],
+        mass: &[f64],
+        i: usize,
+    ) -> Vec3 {
+        let Some(sep) = separation else {
+            return f[i];
+        };
+        let r = sep.sets().reps()[i] as usize;
+        if set_mass[i] > 0.0 {
+            scale(f[r], mass[i] / set_mass[i])
+        } else {
+            f[r]
+        }
     }
 
     /// Base acceleration of all body loads at time t.
@@ -773,7 +803,13 @@ impl<'m> Solver<'m> {
             let mut force = [0.0; 3];
             let mut moment = [0.0; 3];
             for &n in &body.nodes {
-                let fi = self.f[n as usize];
+                let fi = Self::node_force(
+                    self.separation.as_ref(),
+                    &self.f,
+                    &self.set_mass,
+                    &self.setup.mass,
+                    n as usize,
+                );
                 force = add(force, fi);
                 moment = add(moment, cross(sub(self.state.x[n as usize], st.x_cm), fi));
             }

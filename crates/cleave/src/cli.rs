@@ -97,7 +97,8 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
     /// Cube: put every element in a separation group (MODEL 1, a strength nothing reaches), so
-    /// the step carries the split nodes, the averaging and the failure check of every interface.
+    /// the step carries the split nodes, their coincident sets and the failure check of every
+    /// interface.
     #[arg(long)]
     pub separation: bool,
     /// Ball: simulated time to run (default 50 us: the impact and the first fractures).

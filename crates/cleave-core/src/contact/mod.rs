@@ -83,7 +83,8 @@
 //! (the *spread*) bounds how far any node has moved relative to any other. Only the leads of
 //! the coincident sets and the nodes not yet grouped are watched: a tied copy moves with its
 //! lead bit for bit (the solver gives a set one acceleration, `sum f / sum m`, for all its
-//! members), and the lead stands for its copies in the checks. Until then a
+//! members; a rigid body's node bonded to a group's copies is placed by its body instead), and
+//! the lead stands for its copies in the checks. Until then a
 //! node and a face it may touch have moved less than the margin relative to each other, so the
 //! node's x_ref is still in the face's box (the contact point, `sum w_a x_a` with
 //! `sum |w_a| <= E`, moved by at most E margin relative to the node; the 1.1 covers that and

@@ -28,8 +28,10 @@ pub struct CoincidentSets {
     ranges: Vec<(u32, u32)>,
     /// Set of each node, or NONE.
     node_set: Vec<u32>,
-    /// The element of each node that some face holds (`NONE`: in no face; `SHARED`: a node of
-    /// several elements, outside every group). A node's faces are among its element's.
+    /// The element of each node that some face holds (`NONE`: in no face; `SHARED`: a node
+    /// that faces of several elements hold, outside every group). A node's faces are among
+    /// its element's. (A node outside the groups may have elements that no face of the table
+    /// holds it in: faces between two such elements are not in the table.)
     node_elem: Vec<u32>,
     /// The shared faces of each element (`NONE` padding).
     elem_faces: Vec<[u32; 6]>,
@@ -204,12 +206,6 @@ impl CoincidentSets {
     pub fn owner(&self, n: u32) -> Option<u32> {
         let e = self.node_elem[n as usize];
         (e != NONE && e != SHARED).then_some(e)
-    }
-
-    /// Whether node `n` is a node of several elements that a face holds (a deck node kept
-    /// outside every group, on an interface or bond).
-    pub fn shared(&self, n: u32) -> bool {
-        self.node_elem[n as usize] == SHARED
     }
 
     /// The faces holding node `n`, into `out`.

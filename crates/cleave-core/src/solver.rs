@@ -157,11 +157,10 @@ pub struct Solver<'m> {
     /// coincident set (deck nodes kept outside the groups), sorted: the elements whose forces
     /// such a node's set sums when it splits. (A copy's one element is its set's `owner`.)
     shared_elems: Vec<(u32, u32)>,
-    /// Scratch of [`Self::sum_split_sets`]: the nodes of the sets split this step, their
-    /// elements, and a mark per node.
+    /// Scratch of [`Self::sum_split_sets`]: the nodes of the sets split this step (sorted)
+    /// and their elements.
     split_nodes: Vec<u32>,
     split_elems: Vec<u32>,
-    split_mark: Vec<bool>,
     chunk_sums: Vec<ElemChunkSum>,
     node_sums: Vec<[f64; 4]>,
     finished: bool,
@@ -241,7 +240,6 @@ impl<'m> Solver<'m> {
             shared_elems: Vec::new(),
             split_nodes: Vec::new(),
             split_elems: Vec::new(),
-            split_mark: Vec::new(),
             chunk_sums,
             node_sums: Vec::with_capacity(nn.div_ceil(NODE_CHUNK)),
             finished: false,
@@ -289,7 +287,6 @@ impl<'m> Solver<'m> {
             .collect();
         self.shared_elems.sort_unstable();
         self.shared_elems.dedup();
-        self.split_mark = vec![false; nn];
         self.separation = Some(separation);
     }
 
@@ -522,10 +519,9 @@ impl<'m> Solver<'m> {
     }
 
     /// Check every intact interface on the stresses at t^n; release the failed ones. The sets
-    /// they split get their new representatives and masses (each new representative checked
-    /// to be of its node's class, what the element pass's writes rely on) and their forces
-    /// summed again ([`Self::sum_split_sets`]), so the pieces part in this very step, as in the
-    /// paper (failure check, then the averaging over the sets that remain).
+    /// they split get their new masses and their forces summed again
+    /// ([`Self::sum_split_sets`]), so the pieces part in this very step, as in the paper
+    /// (failure check, then one acceleration for each set that remains).
     fn check_interfaces(&mut self) {
         let Some(sep) = &mut self.separation else {
             return;
@@ -537,23 +533,16 @@ impl<'m> Solver<'m> {
         {
             return;
         }
-        let sets = sep.sets();
-        let reps = sets.reps();
-        for n in sets.changed_nodes() {
-            assert!(
-                self.colouring.same_class(reps[n as usize], n),
-                "node {n}: its representative left its class"
-            );
-        }
-        sets.reweigh_changed(&self.setup.mass, &mut self.set_mass);
+        sep.sets()
+            .reweigh_changed(&self.setup.mass, &mut self.set_mass);
         self.sum_split_sets();
     }
 
     /// The element pass summed the forces of each set as it was before this step's failures:
     /// each piece of a set that split gets its own sum again, `M g` and the corner forces of
     /// its members' elements ([`hex8_corner_forces`], from the state the pass left: the same
-    /// forces bit for bit), elements in ascending order. Runs before the cohesive and contact
-    /// forces are added.
+    /// forces bit for bit), elements in ascending order. Each new representative is checked to
+    /// be of its node's class. Runs before the cohesive and contact forces are added.
     fn sum_split_sets(&mut self) {
         let g = self.body_acceleration(self.state.t);
         let Some(sep) = &self.separation else {
@@ -561,19 +550,20 @@ impl<'m> Solver<'m> {
         };
         let sets = sep.sets();
         let reps = sets.reps();
-        let (nodes, elems, mark) = (
-            &mut self.split_nodes,
-            &mut self.split_elems,
-            &mut self.split_mark,
-        );
+        let (nodes, elems) = (&mut self.split_nodes, &mut self.split_elems);
         nodes.clear();
         nodes.extend(sets.changed_nodes());
         nodes.sort_unstable();
         nodes.dedup();
         elems.clear();
         for &n in nodes.iter() {
-            mark[n as usize] = true;
-            self.f[reps[n as usize] as usize] = scale(g, self.set_mass[n as usize]);
+            let r = reps[n as usize];
+            // what the element pass's writes rely on (module docs)
+            assert!(
+                self.colouring.same_class(r, n),
+                "node {n}: its representative left its class"
+            );
+            self.f[r as usize] = scale(g, self.set_mass[n as usize]);
             let at = self.shared_elems.partition_point(|p| p.0 < n);
             let around = self.shared_elems[at..].iter().take_while(|p| p.0 == n);
             let before = elems.len();
@@ -598,14 +588,11 @@ impl<'m> Solver<'m> {
             hex8_corner_forces(&xe, &st.stress[e], st.bulk_q[e], &st.hg[e], &mut fe)
                 .expect("an element upright in this step's element pass");
             for (&n, fa) in conn[e].iter().zip(fe) {
-                if mark[n as usize] {
+                if nodes.binary_search(&n).is_ok() {
                     let r = reps[n as usize] as usize;
                     self.f[r] = add(self.f[r], fa);
                 }
             }
-        }
-        for &n in nodes.iter() {
-            mark[n as usize] = false;
         }
     }
 

@@ -404,12 +404,9 @@ impl<'m> Solver<'m> {
             separation,
             ..
         } = self;
-        // a representative's entry gets its set's body load (the other members' are not read)
-        let mass = if separation.is_some() {
-            &set_mass[..]
-        } else {
-            &setup.mass[..]
-        };
+        // where node n's forces go (its set's representative, checked of n's class), and the
+        // masses: a representative's entry gets its set's body load (the others are not read)
+        let (reps, mass) = sets_view(separation.as_ref(), set_mass, &setup.mass);
         f.par_iter_mut()
             .zip(mass.par_iter())
             .with_min_len(NODE_CHUNK)
@@ -422,8 +419,6 @@ impl<'m> Solver<'m> {
         let conn = colouring.conn();
         let (size, colour, colours) = (colouring.size(), colouring.colour(), colouring.colours());
         let loose = separation.as_ref().map(|s| s.loose_elements());
-        // where node n's forces go: its set's representative (checked of n's class)
-        let reps = separation.as_ref().map(|s| s.sets().reps());
         let sink = Scatter::new(f);
         let process = |c: usize,
                        sc: &mut [crate::math::Sym3],
@@ -644,21 +639,15 @@ impl<'m> Solver<'m> {
     /// coincident set's (for a node in no set `m_i / m_i = 1` exactly: its own force). A rigid
     /// body's node bonded to a group's copies so gives its body only its share; the copies
     /// move with the rest.
-    fn node_force(
-        separation: Option<&Separation>,
-        f: &[Vec3],
-        set_mass: &[f64],
-        mass: &[f64],
-        i: usize,
-    ) -> Vec3 {
-        let Some(sep) = separation else {
-            return f[i];
-        };
-        let r = sep.sets().reps()[i] as usize;
-        if set_mass[i] > 0.0 {
-            scale(f[r], mass[i] / set_mass[i])
-        } else {
-            f[r]
+    fn node_force(&self, i: usize) -> Vec3 {
+        let (reps, set_mass) =
+            sets_view(self.separation.as_ref(), &self.set_mass, &self.setup.mass);
+        match reps {
+            Some(r) if set_mass[i] > 0.0 => {
+                scale(self.f[r[i] as usize], self.setup.mass[i] / set_mass[i])
+            }
+            Some(r) => self.f[r[i] as usize],
+            None => self.f[i],
         }
     }
 
@@ -721,10 +710,7 @@ impl<'m> Solver<'m> {
             0.0
         };
         let f = &self.f;
-        let (mass, reps) = match &self.separation {
-            Some(sep) => (&self.set_mass[..], Some(sep.sets().reps())),
-            None => (&self.setup.mass[..], None),
-        };
+        let (reps, mass) = sets_view(self.separation.as_ref(), &self.set_mass, &self.setup.mass);
         v.par_iter_mut()
             .zip(v_n.par_iter_mut())
             .enumerate()
@@ -786,20 +772,15 @@ impl<'m> Solver<'m> {
         let mut work = Work::default();
         for b in 0..self.setup.rigid.len() {
             let body = &self.setup.rigid[b];
-            let st = &mut self.state.rigid[b];
+            let x_cm = self.state.rigid[b].x_cm;
             let mut force = [0.0; 3];
             let mut moment = [0.0; 3];
             for &n in &body.nodes {
-                let fi = Self::node_force(
-                    self.separation.as_ref(),
-                    &self.f,
-                    &self.set_mass,
-                    &self.setup.mass,
-                    n as usize,
-                );
+                let fi = self.node_force(n as usize);
                 force = add(force, fi);
-                moment = add(moment, cross(sub(self.state.x[n as usize], st.x_cm), fi));
+                moment = add(moment, cross(sub(self.state.x[n as usize], x_cm), fi));
             }
+            let st = &mut self.state.rigid[b];
             let v_old = st.v_cm;
             let w_old = st.omega;
             st.v_cm = add(st.v_cm, scale(force, dt_mid / body.mass));
@@ -1015,5 +996,19 @@ impl<'m> Solver<'m> {
             p = add(p, scale(*v, *m));
         }
         p
+    }
+}
+
+/// Where each node's forces are summed and the mass that divides them: with separation, the
+/// representatives of the coincident sets and the sets' masses; without, the nodes themselves
+/// (`None`) and their own masses.
+fn sets_view<'a>(
+    separation: Option<&'a Separation>,
+    set_mass: &'a [f64],
+    mass: &'a [f64],
+) -> (Option<&'a [u32]>, &'a [f64]) {
+    match separation {
+        Some(sep) => (Some(sep.sets().reps()), set_mass),
+        None => (None, mass),
     }
 }

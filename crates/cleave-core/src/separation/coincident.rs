@@ -8,12 +8,12 @@
 //! the set one acceleration, `a = f_rep / sum m` ([`CoincidentSets::reps`],
 //! [`CoincidentSets::masses`]), so the sums over a set come out in a fixed order (the element
 //! pass's colours, then the cohesive and contact forces in their own fixed order) and no pass
-//! gathers the members. When interfaces
-//! fail, only the sets that hold their nodes are recomputed (connected components through the
-//! faces still tying them), and the pieces are written back in place: no set is rebuilt from
-//! scratch, nothing grows but the list of set ranges. A piece is a subset of the set it came
-//! from, so a node's representative is always a copy of the same deck node, a member of the
-//! node's set at the start (what keeps the element pass's writes race-free, [`crate::solver`]).
+//! gathers the members. When interfaces fail, only the sets that hold their nodes are
+//! recomputed (connected components through the faces still tying them), and the pieces are
+//! written back in place: no set is rebuilt from scratch, nothing grows but the list of set
+//! ranges. A piece is a subset of the set it came from, so a node's representative is always a
+//! copy of the same deck node, a member of the node's set at the start (what keeps the element
+//! pass's writes race-free, [`crate::solver`]).
 
 use super::split::{FaceKind, SharedFace};
 use crate::topology::UnionFind;

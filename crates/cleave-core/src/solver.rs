@@ -16,18 +16,20 @@
 //! ```
 //!
 //! Coincident sets (a split model, the paper's equations 1-4): every force on a node, from an
-//! element, a cohesive face or the contact, is added into the entry r of its set's
-//! representative ([`CoincidentSets::reps`]), so f_r is the set's sum f, and each member moves
-//! with `a = f_r / M`, M the set's `sum m` ([`CoincidentSets::masses`]). Without separation r
-//! is the node itself and M its mass. The members of a set then keep equal positions and
-//! velocities bit for bit, as the deck node they came from, and no pass gathers them. The
-//! element pass writes representatives safely because its colours are those of the deck's
-//! nodes ([`Colouring::with_classes`], classes the representatives with every interface intact,
-//! each later representative checked to be of its node's class when the sets split). In a step
-//! where sets split, each piece's sum is made again from its members' elements
-//! (`Solver::sum_split_sets`) before the cohesive and contact forces come in.
+//! element, a cohesive face or the contact, is added into its set's *slot* r
+//! ([`CoincidentSets::slots`]: one entry per set and per node in no set, not one per copy), so
+//! f_r is the set's sum f, and each member moves with `a = f_r / M`, M the set's `sum m`
+//! ([`CoincidentSets::masses`], also per slot). Without separation r is the node itself and M
+//! its mass. The members of a set then keep equal positions and velocities bit for bit, as
+//! the deck node they came from, and no pass gathers them. The element pass writes the slots
+//! safely because its colours are those of the deck's nodes ([`Colouring::with_classes`],
+//! classes the representatives with every interface intact) and a slot only ever holds a
+//! piece of the set it started with (each new representative checked to be of its node's
+//! class when the sets split). In a step where sets split, each piece's sum is made again from
+//! its members' elements (`Solver::sum_split_sets`) before the cohesive and contact forces
+//! come in.
 //!
-//! [`CoincidentSets::reps`]: crate::separation::coincident::CoincidentSets::reps
+//! [`CoincidentSets::slots`]: crate::separation::coincident::CoincidentSets::slots
 //! [`CoincidentSets::masses`]: crate::separation::coincident::CoincidentSets::masses
 //!
 //! Every sum over elements or nodes is done in fixed chunks whose partial results are added in
@@ -147,10 +149,10 @@ pub struct Solver<'m> {
     /// Colours of the element chunks, with the connectivity the element pass reads (private:
     /// checked proper once, its writes are race-free only so).
     colouring: Colouring<'m>,
-    /// Nodal forces; with separation, only the representatives' entries are used (each the sum
-    /// over its coincident set).
+    /// Nodal forces; with separation, one entry per slot of the coincident sets (each the sum
+    /// over its set, [`CoincidentSets::slots`]).
     f: Vec<Vec3>,
-    /// With separation, the mass of each node's coincident set (its own when in none); empty
+    /// With separation, the mass of each slot's set (a node's own when in none); empty
     /// without.
     set_mass: Vec<f64>,
     /// With separation, (node, element) for the nodes of several elements that are in a
@@ -272,8 +274,8 @@ impl<'m> Solver<'m> {
             "element chunk colouring has a clash"
         );
         self.chunk_sums = vec![ElemChunkSum::default(); self.colouring.chunks()];
-        self.set_mass = vec![0.0; nn];
         sets.masses(&self.setup.mass, &mut self.set_mass);
+        self.f = vec![[0.0; 3]; sets.num_slots()];
         let mut valence = vec![0u32; nn];
         for c in &self.model.conn {
             for &n in c {
@@ -404,9 +406,9 @@ impl<'m> Solver<'m> {
             separation,
             ..
         } = self;
-        // where node n's forces go (its set's representative, checked of n's class), and the
-        // masses: a representative's entry gets its set's body load (the others are not read)
-        let (reps, mass) = sets_view(separation.as_ref(), set_mass, &setup.mass);
+        // where node n's forces go (its set's slot, whose members are of n's class), and the
+        // masses of the entries: each gets its body load
+        let (slots, mass) = sets_view(separation.as_ref(), set_mass, &setup.mass);
         f.par_iter_mut()
             .zip(mass.par_iter())
             .with_min_len(NODE_CHUNK)
@@ -455,12 +457,12 @@ impl<'m> Solver<'m> {
                 ) {
                     Ok(r) => {
                         for (&n, fa) in ids.iter().zip(fe) {
-                            let to = reps.map_or(n, |r| r[n as usize]);
+                            let to = slots.map_or(n, |s| s[n as usize]);
                             // SAFETY: this runs for the chunks of one colour at a time (the
                             // loop below) of a colouring checked proper in `Solver::new` or
-                            // `attach_separation`, and `to` is of n's class (checked when the
-                            // representatives change, `check_interfaces`): no other thread adds
-                            // to it meanwhile
+                            // `attach_separation`, and the members of slot `to` are of n's
+                            // class (a piece of a set of n's class, checked when the sets
+                            // split, `sum_split_sets`): no other thread adds to it meanwhile
                             unsafe { sink.add(to, fa) };
                         }
                         acc.de_internal += r.de_internal;
@@ -528,8 +530,9 @@ impl<'m> Solver<'m> {
         {
             return;
         }
-        sep.sets()
-            .reweigh_changed(&self.setup.mass, &mut self.set_mass);
+        let sets = sep.sets();
+        sets.reweigh_changed(&self.setup.mass, &mut self.set_mass);
+        self.f.resize(sets.num_slots(), [0.0; 3]);
         self.sum_split_sets();
     }
 
@@ -544,7 +547,7 @@ impl<'m> Solver<'m> {
             return;
         };
         let sets = sep.sets();
-        let reps = sets.reps();
+        let (reps, slots) = (sets.reps(), sets.slots());
         let (nodes, elems) = (&mut self.split_nodes, &mut self.split_elems);
         nodes.clear();
         nodes.extend(sets.changed_nodes());
@@ -558,7 +561,8 @@ impl<'m> Solver<'m> {
                 self.colouring.same_class(r, n),
                 "node {n}: its representative left its class"
             );
-            self.f[r as usize] = scale(g, self.set_mass[n as usize]);
+            let s = slots[n as usize] as usize;
+            self.f[s] = scale(g, self.set_mass[s]);
             let at = self.shared_elems.partition_point(|p| p.0 < n);
             let around = self.shared_elems[at..].iter().take_while(|p| p.0 == n);
             let before = elems.len();
@@ -584,8 +588,8 @@ impl<'m> Solver<'m> {
                 .expect("an element upright in this step's element pass");
             for (&n, fa) in conn[e].iter().zip(fe) {
                 if nodes.binary_search(&n).is_ok() {
-                    let r = reps[n as usize] as usize;
-                    self.f[r] = add(self.f[r], fa);
+                    let s = slots[n as usize] as usize;
+                    self.f[s] = add(self.f[s], fa);
                 }
             }
         }
@@ -608,7 +612,7 @@ impl<'m> Solver<'m> {
             return;
         };
         let mut tie: &[u32] = &[];
-        let mut reps: &[u32] = &[];
+        let mut slots: &[u32] = &[];
         if let Some(sep) = &self.separation {
             if !sep.released().is_empty() {
                 self.new_cracks.clear();
@@ -628,10 +632,10 @@ impl<'m> Solver<'m> {
                 contact.activate_cracks(&self.new_cracks);
             }
             tie = sep.sets().node_sets();
-            reps = sep.sets().reps();
+            slots = sep.sets().slots();
         }
         let s = &self.state;
-        let step = contact.compute_with_reps(&s.x, &s.v, s.dt_prev, tie, reps, &mut self.f);
+        let step = contact.compute_with_slots(&s.x, &s.v, s.dt_prev, tie, slots, &mut self.f);
         self.state.energy.contact += step.energy;
     }
 
@@ -640,14 +644,12 @@ impl<'m> Solver<'m> {
     /// body's node bonded to a group's copies so gives its body only its share; the copies
     /// move with the rest.
     fn node_force(&self, i: usize) -> Vec3 {
-        let (reps, set_mass) =
+        let (slots, set_mass) =
             sets_view(self.separation.as_ref(), &self.set_mass, &self.setup.mass);
-        match reps {
-            Some(r) if set_mass[i] > 0.0 => {
-                scale(self.f[r[i] as usize], self.setup.mass[i] / set_mass[i])
-            }
-            Some(r) => self.f[r[i] as usize],
-            None => self.f[i],
+        let s = slots.map_or(i, |s| s[i] as usize);
+        match slots {
+            Some(_) if set_mass[s] > 0.0 => scale(self.f[s], self.setup.mass[i] / set_mass[s]),
+            _ => self.f[s],
         }
     }
 
@@ -710,17 +712,14 @@ impl<'m> Solver<'m> {
             0.0
         };
         let f = &self.f;
-        let (reps, mass) = sets_view(self.separation.as_ref(), &self.set_mass, &self.setup.mass);
+        let (slots, mass) = sets_view(self.separation.as_ref(), &self.set_mass, &self.setup.mass);
         v.par_iter_mut()
             .zip(v_n.par_iter_mut())
             .enumerate()
             .for_each(|(i, (vi, vni))| {
+                let s = slots.map_or(i, |s| s[i] as usize);
                 // massless nodes (in no element) stay as they are
-                let m = mass[i];
-                let fi = match reps {
-                    Some(r) => f[r[i] as usize],
-                    None => f[i],
-                };
+                let (m, fi) = (mass[s], f[s]);
                 let dv = if m > 0.0 {
                     scale(fi, dt_mid / m)
                 } else {
@@ -1000,15 +999,16 @@ impl<'m> Solver<'m> {
 }
 
 /// Where each node's forces are summed and the mass that divides them: with separation, the
-/// representatives of the coincident sets and the sets' masses; without, the nodes themselves
-/// (`None`) and their own masses.
+/// slots of the coincident sets ([`crate::separation::coincident::CoincidentSets::slots`]) and
+/// the masses of the slots' sets; without, the nodes themselves (`None`) and their own
+/// masses.
 fn sets_view<'a>(
     separation: Option<&'a Separation>,
     set_mass: &'a [f64],
     mass: &'a [f64],
 ) -> (Option<&'a [u32]>, &'a [f64]) {
     match separation {
-        Some(sep) => (Some(sep.sets().reps()), set_mass),
+        Some(sep) => (Some(sep.sets().slots()), set_mass),
         None => (None, mass),
     }
 }

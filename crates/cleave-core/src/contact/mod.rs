@@ -495,26 +495,30 @@ impl<'m> ContactSet<'m> {
         tie: &[u32],
         f: &mut [Vec3],
     ) -> ContactStep {
-        self.compute_with_reps(x, v, dt_prev, tie, &[], f)
+        self.compute_with_slots(x, v, dt_prev, tie, &[], f)
     }
 
-    /// [`Self::compute`], the force on each node i added to `f[rep[i]]` (the solver's
-    /// coincident sets take their forces at their representative,
-    /// [`crate::separation::coincident::CoincidentSets::reps`]); an empty `rep` adds it to
+    /// [`Self::compute`], the force on each node i added to `f[slot[i]]` (the solver keeps
+    /// the sum of the forces on each coincident set in its slot,
+    /// [`crate::separation::coincident::CoincidentSets::slots`]); an empty `slot` adds it to
     /// `f[i]`.
-    pub fn compute_with_reps(
+    pub fn compute_with_slots(
         &mut self,
         x: &[Vec3],
         v: &[Vec3],
         dt_prev: f64,
         tie: &[u32],
-        rep: &[u32],
+        slot: &[u32],
         f: &mut [Vec3],
     ) -> ContactStep {
         let nn = self.nodal.len();
-        assert!(x.len() == nn && v.len() == nn && f.len() == nn);
+        assert!(x.len() == nn && v.len() == nn);
         assert!(tie.is_empty() || tie.len() == nn);
-        assert!(rep.is_empty() || rep.len() == nn);
+        assert!(if slot.is_empty() {
+            f.len() == nn
+        } else {
+            slot.len() == nn
+        });
         self.nodal.next_step();
         let mut step = ContactStep::default();
         let inp = StepInput {
@@ -550,7 +554,7 @@ impl<'m> ContactSet<'m> {
         for (i, fi) in self.nodal.iter() {
             let i = i as usize;
             work += dot(fi, v[i]);
-            let r = if rep.is_empty() { i } else { rep[i] as usize };
+            let r = if slot.is_empty() { i } else { slot[i] as usize };
             f[r] = add(f[r], fi);
         }
         step.energy = -0.5 * dt_prev * work;

@@ -325,7 +325,7 @@ impl Separation {
     }
 
     /// Add the cohesive forces of the softening interfaces to `f` (positions x^n), each node's
-    /// into its coincident set's representative ([`CoincidentSets::reps`]), and return the
+    /// into its coincident set's slot ([`CoincidentSets::slots`]), and return the
     /// work they absorbed since the last call, the trapezoid 1/2 (f_prev + f) . (d - d_prev)
     /// over the openings (the same rule as the element energies). An interface whose four
     /// points are fully open becomes free.
@@ -339,7 +339,7 @@ impl Separation {
             sets,
             ..
         } = self;
-        let rep = sets.reps();
+        let slot = sets.slots();
         for c in cohesive.iter_mut() {
             let face = &faces[c.interface as usize];
             let law = laws[face.group as usize].expect("softening interfaces have a law");
@@ -360,7 +360,7 @@ impl Separation {
                     w,
                 );
                 let d = d[k];
-                let (ra, rb) = (rep[a] as usize, rep[b] as usize);
+                let (ra, rb) = (slot[a] as usize, slot[b] as usize);
                 f[ra] = add(f[ra], fa);
                 f[rb] = sub(f[rb], fa);
                 // force on b is -fa and b - a opens by d - d_prev: work absorbed = fa . dd

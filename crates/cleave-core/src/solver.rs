@@ -267,7 +267,8 @@ impl<'m> Solver<'m> {
         );
         let nn = self.model.num_nodes();
         let sets = separation.sets();
-        self.colouring = Colouring::with_classes(&self.model.conn, nn, sets.reps().to_vec());
+        let reps = (0..nn as u32).map(|n| sets.rep(n)).collect();
+        self.colouring = Colouring::with_classes(&self.model.conn, nn, reps);
         // the element pass's parallel writes are race-free only with a proper colouring
         assert!(
             self.colouring.is_proper(nn),
@@ -547,7 +548,7 @@ impl<'m> Solver<'m> {
             return;
         };
         let sets = sep.sets();
-        let (reps, slots) = (sets.reps(), sets.slots());
+        let slots = sets.slots();
         let (nodes, elems) = (&mut self.split_nodes, &mut self.split_elems);
         nodes.clear();
         nodes.extend(sets.changed_nodes());
@@ -555,7 +556,7 @@ impl<'m> Solver<'m> {
         nodes.dedup();
         elems.clear();
         for &n in nodes.iter() {
-            let r = reps[n as usize];
+            let r = sets.rep(n);
             // what the element pass's writes rely on (module docs)
             assert!(
                 self.colouring.same_class(r, n),

@@ -2,9 +2,10 @@
 //! permanent bonds). Each step every set shares one acceleration (the paper's equations 1-4):
 //! a = sum f_i / sum m_i.
 //!
-//! Storage: all members in one array, each set a contiguous ascending range. Each node also
-//! knows its set's *representative*, the set's smallest member (a node in no set is its own),
-//! and its set's *slot* ([`CoincidentSets::slots`]): the solver keeps one entry per slot, not
+//! Storage: all members in one array, each set a contiguous ascending range. A set's
+//! *representative* is its smallest member, read off the set ([`CoincidentSets::rep`]; a node
+//! in no set is its own), and each node knows its set's *slot* ([`CoincidentSets::slots`]): the
+//! solver keeps one entry per slot, not
 //! per node, for the sum of the forces on the set and its mass, adds every force on a member
 //! straight into its slot and gives the set one acceleration, `a = f_slot / sum m`
 //! ([`CoincidentSets::masses`]), so the sums over a set come out in a fixed order (the element
@@ -47,8 +48,6 @@ pub struct CoincidentSets {
     stack: Vec<u32>,
     piece: Vec<u32>,
     incident: Vec<u32>,
-    /// Representative of each node: the smallest member of its set, or the node itself.
-    rep: Vec<u32>,
     /// Slot of each node: the index of its set's entry in the solver's per-set arrays (sum of
     /// forces, mass), one per set and per node in no set, numbered in the order of their
     /// representatives; a set that splits keeps its slot for the piece of its representative,
@@ -119,7 +118,6 @@ impl CoincidentSets {
             count[uf.find(i) as usize] += 1;
         }
         let mut node_set = vec![NONE; num_nodes];
-        let mut rep: Vec<u32> = (0..num_nodes as u32).collect();
         let mut ranges = Vec::new();
         let mut members = Vec::new();
         let mut root_set = vec![NONE; num_nodes];
@@ -139,14 +137,16 @@ impl CoincidentSets {
             members[(ranges[s].0 + next[s]) as usize] = i;
             next[s] += 1;
             node_set[i as usize] = s as u32;
-            rep[i as usize] = members[ranges[s].0 as usize];
         }
         // a slot for each representative, in node order (a representative is its set's
         // smallest member: its slot is numbered before any other member asks for it)
         let mut slot = vec![NONE; num_nodes];
         let mut num_slots = 0u32;
         for i in 0..num_nodes {
-            let r = rep[i] as usize;
+            let r = match node_set[i] {
+                NONE => i,
+                s => members[ranges[s as usize].0 as usize] as usize,
+            };
             if r == i {
                 slot[i] = num_slots;
                 num_slots += 1;
@@ -165,7 +165,6 @@ impl CoincidentSets {
             stack: Vec::new(),
             piece: Vec::new(),
             incident: Vec::new(),
-            rep,
             slot,
             num_slots,
             changed: Vec::new(),
@@ -187,10 +186,10 @@ impl CoincidentSets {
         &self.node_set
     }
 
-    /// The representative of each node: the smallest member of its set, or the node itself
+    /// The representative of node `n`: the smallest member of its set, or the node itself
     /// when it is in no set. Always a member of the node's set as [`Self::build`] made it.
-    pub fn reps(&self) -> &[u32] {
-        &self.rep
+    pub fn rep(&self, n: u32) -> u32 {
+        self.set_of(n).map_or(n, |set| set[0])
     }
 
     /// The slot of each node ([`Self::num_slots`] of them): two nodes share one exactly when
@@ -378,7 +377,6 @@ impl CoincidentSets {
             };
             for &n in &self.members[at as usize..(at + size) as usize] {
                 self.node_set[n as usize] = if size >= 2 { id } else { NONE };
-                self.rep[n as usize] = first;
                 self.slot[n as usize] = slot;
             }
             self.changed.push((at, size));
@@ -508,19 +506,24 @@ mod tests {
     /// first piece of a split set keeps its slot; every node's representative stays a member
     /// of its first set (the element pass's colours rely on it); and the nodes reported
     /// changed are all those whose representative, slot or set mass changed.
+    /// The representative of every node.
+    fn reps(cs: &CoincidentSets) -> Vec<u32> {
+        (0..cs.slots().len() as u32).map(|n| cs.rep(n)).collect()
+    }
+
     #[test]
     fn reps_slots_and_masses_follow_the_splits() {
         let (sm, mut intact, mut cs) = split_block_with_sets();
         let n = sm.model.num_nodes();
         let mass: Vec<f64> = (0..n).map(|i| 1.0 + (i % 5) as f64 * 0.37).collect();
-        let first = cs.reps().to_vec();
+        let first = reps(&cs);
         let mut kept = Vec::new();
         cs.masses(&mass, &mut kept);
         assert_eq!(kept.len(), cs.num_slots());
         for set in cs.sets() {
             let total: f64 = set.iter().map(|&m| mass[m as usize]).sum();
             for &m in set {
-                assert_eq!(cs.reps()[m as usize], set[0]);
+                assert_eq!(cs.rep(m), set[0]);
                 let s = cs.slots()[m as usize] as usize;
                 assert!((kept[s] - total).abs() <= 1e-12 * total);
             }
@@ -537,7 +540,7 @@ mod tests {
             o
         };
         for (step, &failed) in FAILURE_ORDER.iter().enumerate() {
-            let (reps_before, slots_before) = (cs.reps().to_vec(), cs.slots().to_vec());
+            let (reps_before, slots_before) = (reps(&cs), cs.slots().to_vec());
             let set_mass_before: Vec<f64> =
                 (0..n).map(|i| kept[slots_before[i] as usize]).collect();
             let slots_count = cs.num_slots();
@@ -548,7 +551,7 @@ mod tests {
             let fresh = CoincidentSets::build(n, &sm.faces, &intact);
             let mut fresh_masses = Vec::new();
             fresh.masses(&mass, &mut fresh_masses);
-            assert_eq!(cs.reps(), fresh.reps(), "after {} failures", step + 1);
+            assert_eq!(reps(&cs), reps(&fresh), "after {} failures", step + 1);
             assert_eq!(cs.num_slots(), fresh.num_slots(), "one slot per set");
             let changed: Vec<u32> = cs.changed_nodes().collect();
             let owners = owner_of_slot(&cs);
@@ -568,10 +571,10 @@ mod tests {
                 );
                 // a slot kept is the old one of the node's set's representative; new ones
                 // are numbered on
-                let r = cs.reps()[i] as usize;
+                let r = cs.rep(i as u32) as usize;
                 assert!(s == slots_before[r] as usize || s >= slots_count);
                 assert_eq!(first[r], first[i], "node {i}: its rep left its first set");
-                if cs.reps()[i] != reps_before[i]
+                if cs.rep(i as u32) != reps_before[i]
                     || s != slots_before[i] as usize
                     || kept[s] != set_mass_before[i]
                 {

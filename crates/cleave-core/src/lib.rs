@@ -18,6 +18,7 @@ pub mod material;
 pub mod math;
 pub mod mesh;
 pub mod model;
+pub mod node_values;
 pub mod per_node;
 pub mod rigid;
 pub mod separation;

@@ -20,8 +20,12 @@
 //! ([`CoincidentSets::slots`]: one entry per set and per node in no set, not one per copy), so
 //! f_r is the set's sum f, and each member moves with `a = f_r / M`, M the set's `sum m`
 //! ([`CoincidentSets::masses`], also per slot). Without separation r is the node itself and M
-//! its mass. The members of a set then keep equal positions and velocities bit for bit, as
-//! the deck node they came from, and no pass gathers them. The element pass writes the slots
+//! its mass. The members of a set so move as one, as the deck node they came from, and no pass
+//! gathers them; their position and velocity are kept once, in the slot too
+//! ([`crate::node_values`]: the velocity, energy and position passes run over the slots, and
+//! the readers by node go through the slot map), unless a rigid body's node is in a set (then
+//! every copy has its entry, [`Solver::attach_separation`]). When a set splits, its new slots
+//! start with its position and velocity. The element pass writes the slots
 //! safely because its colours are those of the deck's nodes ([`Colouring::with_classes`],
 //! classes the representatives with every interface intact) and a slot only ever holds a
 //! piece of the set it started with (each new representative checked to be of its node's
@@ -49,6 +53,8 @@ use crate::element::kernel::{hex8_corner_forces, hex8_step, KernelControls};
 use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{Model, MotionTarget, Vad};
+use crate::node_values::NodeValues;
+use crate::rigid::NOT_RIGID;
 use crate::separation::interfaces::Separation;
 use crate::setup::Setup;
 use crate::state::{Energies, RigidState, State};
@@ -170,6 +176,12 @@ pub struct Solver<'m> {
     pending_work: f64,
     /// Interfaces and coincident node sets of a split model (element separation).
     separation: Option<Separation>,
+    /// The state's positions and velocities are kept per slot of the coincident sets, not per
+    /// node ([`crate::node_values`]): with separation, unless a rigid body's node is in a set.
+    per_slot: bool,
+    /// Scratch of the rigid walls: the entries a wall has already stopped this step.
+    wall_seen: Vec<bool>,
+    wall_marked: Vec<u32>,
     /// Contact definitions of the model.
     contact: Option<ContactSet<'m>>,
     /// Scratch: this step's failed interfaces (faces and node pairs), for the contact.
@@ -247,6 +259,9 @@ impl<'m> Solver<'m> {
             finished: false,
             pending_work: 0.0,
             separation: None,
+            per_slot: false,
+            wall_seen: Vec::new(),
+            wall_marked: Vec::new(),
             contact: None,
             new_cracks: Vec::new(),
             dt_contact: f64::INFINITY,
@@ -259,7 +274,26 @@ impl<'m> Solver<'m> {
     /// paper's equations 1-4; module docs), before constraints act. The interfaces must all be
     /// intact (as [`Separation::new`] makes them): the element chunks are coloured again by
     /// the sets' representatives, which stand for the deck nodes.
+    ///
+    /// The positions and velocities are then kept once per slot of the coincident sets
+    /// ([`crate::node_values`]; read them by node with [`Self::positions`]), unless a rigid
+    /// body's node is in a set: the body places its node while the copies tied to it move
+    /// with the set, so each copy keeps an entry of its own.
     pub fn attach_separation(&mut self, separation: Separation) {
+        let tied = separation.sets().node_sets();
+        let rigid_tied = (0..self.model.num_nodes())
+            .any(|i| self.setup.node_rigid[i] != NOT_RIGID && tied[i] != u32::MAX);
+        self.attach(separation, !rigid_tied);
+    }
+
+    /// [`Self::attach_separation`], with an entry of its own for every copy's position and
+    /// velocity even where the sets could share one (as with a rigid body bonded to a group):
+    /// the same motion, bit for bit, with 72 bytes more for each copy (tests compare the two).
+    pub fn attach_separation_per_node(&mut self, separation: Separation) {
+        self.attach(separation, false);
+    }
+
+    fn attach(&mut self, separation: Separation, per_slot: bool) {
         assert_eq!(
             separation.num_failed(),
             0,
@@ -290,7 +324,76 @@ impl<'m> Solver<'m> {
             .collect();
         self.shared_elems.sort_unstable();
         self.shared_elems.dedup();
+        self.per_slot = per_slot;
+        if per_slot {
+            // every member of a set starts where its representative is, as fast
+            let slots = sets.slots();
+            let reps: Vec<usize> = (0..nn)
+                .filter(|&i| sets.rep(i as u32) == i as u32)
+                .collect();
+            let gather = |a: &mut Vec<Vec3>| {
+                let mut out = vec![[0.0; 3]; sets.num_slots()];
+                for &i in &reps {
+                    out[slots[i] as usize] = a[i];
+                }
+                *a = out;
+            };
+            gather(&mut self.state.x);
+            gather(&mut self.state.v);
+            gather(&mut self.state.v_n);
+            self.wall_seen = vec![false; sets.num_slots()];
+        }
         self.separation = Some(separation);
+    }
+
+    /// Where node i's position and velocity are stored: its set's slot when they are kept per
+    /// slot, else its own entry.
+    fn kin_slots(&self) -> Option<&[u32]> {
+        match &self.separation {
+            Some(sep) if self.per_slot => Some(sep.sets().slots()),
+            _ => None,
+        }
+    }
+
+    /// The entry of node i in the state's positions and velocities.
+    #[inline]
+    fn entry(&self, i: usize) -> usize {
+        self.kin_slots().map_or(i, |s| s[i] as usize)
+    }
+
+    /// The mass that moves with entry k: its set's when the entries are slots, else its node's.
+    #[inline]
+    fn entry_mass(&self, k: usize) -> f64 {
+        if self.per_slot {
+            self.set_mass[k]
+        } else {
+            self.setup.mass[k]
+        }
+    }
+
+    /// The masses of all entries ([`Self::entry_mass`]).
+    fn entry_masses(&self) -> &[f64] {
+        if self.per_slot {
+            &self.set_mass
+        } else {
+            &self.setup.mass
+        }
+    }
+
+    /// Positions x^n of every node.
+    pub fn positions(&self) -> NodeValues<'_, Vec3> {
+        NodeValues::new(&self.state.x, self.kin_slots())
+    }
+
+    /// Velocities v^n of every node (at t^n: valid after the velocity update, as the observer
+    /// sees them).
+    pub fn velocities(&self) -> NodeValues<'_, Vec3> {
+        NodeValues::new(&self.state.v_n, self.kin_slots())
+    }
+
+    /// Velocities v^(n-1/2) of every node before the velocity update, v^(n+1/2) after.
+    pub fn half_step_velocities(&self) -> NodeValues<'_, Vec3> {
+        NodeValues::new(&self.state.v, self.kin_slots())
     }
 
     /// The interfaces of a split model, if any.
@@ -405,11 +508,14 @@ impl<'m> Solver<'m> {
             set_mass,
             chunk_sums,
             separation,
+            per_slot,
             ..
         } = self;
         // where node n's forces go (its set's slot, whose members are of n's class), and the
         // masses of the entries: each gets its body load
         let (slots, mass) = sets_view(separation.as_ref(), set_mass, &setup.mass);
+        // the positions and velocities are read there too when they are kept per slot
+        let per_slot = *per_slot;
         f.par_iter_mut()
             .zip(mass.par_iter())
             .with_min_len(NODE_CHUNK)
@@ -441,8 +547,13 @@ impl<'m> Solver<'m> {
                     continue;
                 };
                 let ids = &conn[e];
-                let xe: [Vec3; 8] = std::array::from_fn(|a| x[ids[a] as usize]);
-                let ve: [Vec3; 8] = std::array::from_fn(|a| v[ids[a] as usize]);
+                let to: [u32; 8] = match slots {
+                    Some(s) => ids.map(|n| s[n as usize]),
+                    None => *ids,
+                };
+                let at = if per_slot { &to } else { ids };
+                let xe: [Vec3; 8] = std::array::from_fn(|a| x[at[a] as usize]);
+                let ve: [Vec3; 8] = std::array::from_fn(|a| v[at[a] as usize]);
                 let mut fe = [[0.0; 3]; 8];
                 match hex8_step(
                     &xe,
@@ -457,13 +568,13 @@ impl<'m> Solver<'m> {
                     &mut fe,
                 ) {
                     Ok(r) => {
-                        for (&n, fa) in ids.iter().zip(fe) {
-                            let to = slots.map_or(n, |s| s[n as usize]);
+                        for (&to, fa) in to.iter().zip(fe) {
                             // SAFETY: this runs for the chunks of one colour at a time (the
                             // loop below) of a colouring checked proper in `Solver::new` or
-                            // `attach_separation`, and the members of slot `to` are of n's
-                            // class (a piece of a set of n's class, checked when the sets
-                            // split, `sum_split_sets`): no other thread adds to it meanwhile
+                            // `attach_separation`, and the members of slot `to` are of its
+                            // node's class (a piece of a set of that class, checked when the
+                            // sets split, `sum_split_sets`): no other thread adds to it
+                            // meanwhile
                             unsafe { sink.add(to, fa) };
                         }
                         acc.de_internal += r.de_internal;
@@ -526,7 +637,7 @@ impl<'m> Solver<'m> {
         };
         let s = &self.state;
         if sep
-            .check_failure(s.t, &s.x, &s.v, &s.stress, &s.hist)
+            .check_failure(s.t, (&s.x, &s.v, self.per_slot), &s.stress, &s.hist)
             .is_empty()
         {
             return;
@@ -534,6 +645,18 @@ impl<'m> Solver<'m> {
         let sets = sep.sets();
         sets.reweigh_changed(&self.setup.mass, &mut self.set_mass);
         self.f.resize(sets.num_slots(), [0.0; 3]);
+        if self.per_slot {
+            // the new slots start where the set they split from is, as fast
+            let st = &mut self.state;
+            for &(new, from) in sets.born() {
+                debug_assert_eq!(new as usize, st.x.len(), "slots are numbered on");
+                let from = from as usize;
+                st.x.push(st.x[from]);
+                st.v.push(st.v[from]);
+                st.v_n.push(st.v_n[from]);
+            }
+            self.wall_seen.resize(sets.num_slots(), false);
+        }
         self.sum_split_sets();
     }
 
@@ -577,12 +700,13 @@ impl<'m> Solver<'m> {
         elems.dedup();
         let conn = self.colouring.conn();
         let st = &self.state;
+        let x = NodeValues::new(&st.x, self.per_slot.then_some(slots));
         for &e in elems.iter() {
             let e = e as usize;
             if self.setup.params[self.setup.elem_mat[e] as usize].is_none() {
                 continue; // the element pass skips it too
             }
-            let xe: [Vec3; 8] = std::array::from_fn(|a| st.x[conn[e][a] as usize]);
+            let xe: [Vec3; 8] = std::array::from_fn(|a| x[conn[e][a] as usize]);
             let mut fe = [[0.0; 3]; 8];
             // the element pass found every element upright at these positions
             hex8_corner_forces(&xe, &st.stress[e], st.bulk_q[e], &st.hg[e], &mut fe)
@@ -599,7 +723,8 @@ impl<'m> Solver<'m> {
     /// Cohesive tractions of softening interfaces; their work goes to the fracture energy.
     fn add_cohesive_forces(&mut self) {
         if let Some(sep) = &mut self.separation {
-            self.state.energy.fracture += sep.add_cohesive_forces(&self.state.x, &mut self.f);
+            let x = (&self.state.x[..], self.per_slot);
+            self.state.energy.fracture += sep.add_cohesive_forces(x, &mut self.f);
         }
     }
 
@@ -636,7 +761,9 @@ impl<'m> Solver<'m> {
             slots = sep.sets().slots();
         }
         let s = &self.state;
-        let step = contact.compute_with_slots(&s.x, &s.v, s.dt_prev, tie, slots, &mut self.f);
+        let kin = (self.per_slot && !slots.is_empty()).then_some(slots);
+        let (x, v) = (NodeValues::new(&s.x, kin), NodeValues::new(&s.v, kin));
+        let step = contact.compute_with_slots(x, v, s.dt_prev, tie, slots, &mut self.f);
         self.state.energy.contact += step.energy;
     }
 
@@ -714,6 +841,8 @@ impl<'m> Solver<'m> {
         };
         let f = &self.f;
         let (slots, mass) = sets_view(self.separation.as_ref(), &self.set_mass, &self.setup.mass);
+        // entries kept per slot are the force slots themselves
+        let slots = if self.per_slot { None } else { slots };
         v.par_iter_mut()
             .zip(v_n.par_iter_mut())
             .enumerate()
@@ -751,15 +880,18 @@ impl<'m> Solver<'m> {
     /// and returns the work of the implied reaction impulse J = m (v_new - v), split as
     /// 1/2 J.v^(n-1/2) (up to t^n) and 1/2 J.v^(n+1/2) (after t^n): what the leapfrog kinetic
     /// energies at t^n and t^(n+1) gain from the impulse. v^(n-1/2) is recovered from the
-    /// invariant v^n = (1 - w) v^(n-1/2) + w v.
-    fn constrain_velocity(&mut self, i: usize, v_new: Vec3) -> Work {
+    /// invariant v^n = (1 - w) v^(n-1/2) + w v. `k` is the node's entry ([`Self::entry`]:
+    /// with the entries kept per slot, the node's whole set moves, with its mass). Setting the
+    /// same velocity again does nothing and does no work.
+    fn constrain_velocity(&mut self, k: usize, v_new: Vec3) -> Work {
         let w = self.half_step_weight();
+        let m = self.entry_mass(k);
         let s = &mut self.state;
-        let v_old = scale(sub(s.v_n[i], scale(s.v[i], w)), 1.0 / (1.0 - w));
-        let dv = sub(v_new, s.v[i]);
-        s.v[i] = v_new;
-        s.v_n[i] = add(s.v_n[i], scale(dv, w));
-        let j = scale(dv, self.setup.mass[i]);
+        let v_old = scale(sub(s.v_n[k], scale(s.v[k], w)), 1.0 / (1.0 - w));
+        let dv = sub(v_new, s.v[k]);
+        s.v[k] = v_new;
+        s.v_n[k] = add(s.v_n[k], scale(dv, w));
+        let j = scale(dv, m);
         Work {
             now: 0.5 * dot(j, v_old),
             later: 0.5 * dot(j, v_new),
@@ -778,7 +910,8 @@ impl<'m> Solver<'m> {
             for &n in &body.nodes {
                 let fi = self.node_force(n as usize);
                 force = add(force, fi);
-                moment = add(moment, cross(sub(self.state.x[n as usize], x_cm), fi));
+                let xi = self.state.x[self.entry(n as usize)];
+                moment = add(moment, cross(sub(xi, x_cm), fi));
             }
             let st = &mut self.state.rigid[b];
             let v_old = st.v_cm;
@@ -812,10 +945,12 @@ impl<'m> Solver<'m> {
             for &n in &body.nodes {
                 let i = n as usize;
                 let target = body.place(x_cm1, &rot1, self.model.x0[i]);
-                let v_new = scale(sub(target, self.state.x[i]), 1.0 / dt_new);
-                let dv = sub(v_new, self.state.v[i]);
-                self.state.v[i] = v_new;
-                self.state.v_n[i] = add(self.state.v_n[i], scale(dv, w));
+                // a body's node is in no coincident set when entries are slots: its own
+                let k = self.entry(i);
+                let v_new = scale(sub(target, self.state.x[k]), 1.0 / dt_new);
+                let dv = sub(v_new, self.state.v[k]);
+                self.state.v[k] = v_new;
+                self.state.v_n[k] = add(self.state.v_n[k], scale(dv, w));
             }
         }
         work
@@ -826,7 +961,7 @@ impl<'m> Solver<'m> {
         let mut work = Work::default();
         for k in 0..self.setup.spc.len() {
             let (n, d) = self.setup.spc[k];
-            let i = n as usize;
+            let i = self.entry(n as usize);
             let mut vn = self.state.v[i];
             for a in 0..3 {
                 if d[a] {
@@ -841,17 +976,17 @@ impl<'m> Solver<'m> {
             let MotionTarget::Node(n) = pm.target else {
                 continue;
             };
-            let i = n as usize;
+            let k = self.entry(n as usize);
             let c = &self.model.curves[pm.curve];
-            let mut vn = self.state.v[i];
+            let mut vn = self.state.v[k];
             vn[pm.axis] = match pm.vad {
                 Vad::Velocity => pm.sf * c.eval(t + 0.5 * dt_new),
                 Vad::Displacement => {
-                    let target = self.model.x0[i][pm.axis] + pm.sf * c.eval(t + dt_new);
-                    (target - self.state.x[i][pm.axis]) / dt_new
+                    let target = self.model.x0[n as usize][pm.axis] + pm.sf * c.eval(t + dt_new);
+                    (target - self.state.x[k][pm.axis]) / dt_new
                 }
             };
-            work += self.constrain_velocity(i, vn);
+            work += self.constrain_velocity(k, vn);
         }
         work
     }
@@ -869,7 +1004,15 @@ impl<'m> Solver<'m> {
             let mut total = [0.0; 3];
             let mut normal = 0.0;
             for k in 0..self.setup.wall_nodes[wi].len() {
-                let i = self.setup.wall_nodes[wi][k] as usize;
+                let i = self.entry(self.setup.wall_nodes[wi][k] as usize);
+                if self.per_slot {
+                    // the copies of a set are one entry: stopped once
+                    if self.wall_seen[i] {
+                        continue;
+                    }
+                    self.wall_seen[i] = true;
+                    self.wall_marked.push(i as u32);
+                }
                 let x = self.state.x[i];
                 let v = self.state.v[i];
                 let gap = dot(sub(x, wall.tail), nrm);
@@ -888,12 +1031,16 @@ impl<'m> Solver<'m> {
                     scale(vt, 1.0 - wall.fric * dvn / vt_mag)
                 };
                 let v_new = add(scale(nrm, vn_new), vt_new);
-                let m = self.setup.mass[i];
+                let m = self.entry_mass(i);
                 let impulse = scale(sub(v_new, v), m);
                 total = add(total, impulse);
                 normal += m * dvn;
                 work += self.constrain_velocity(i, v_new);
             }
+            for &i in &self.wall_marked {
+                self.wall_seen[i as usize] = false;
+            }
+            self.wall_marked.clear();
             let inv = if dt_mid > 0.0 { 1.0 / dt_mid } else { 0.0 };
             self.wall_forces[wi] = WallForce {
                 normal: normal * inv,
@@ -916,7 +1063,8 @@ impl<'m> Solver<'m> {
     ///
     /// Body loads: the trapezoid 1/2 (g^(n-1) + g^n) . P^(n-1/2) dt^(n-1/2), with P the momentum.
     fn record_kinetic_energy(&mut self) -> Result<f64, SolverError> {
-        let mass = &self.setup.mass;
+        let mut sums = std::mem::take(&mut self.node_sums);
+        let mass = self.entry_masses();
         let vn = &self.state.v_n;
         let vh = &self.state.v;
         let w = self.half_step_weight();
@@ -936,7 +1084,8 @@ impl<'m> Solver<'m> {
                 }
                 s
             })
-            .collect_into_vec(&mut self.node_sums);
+            .collect_into_vec(&mut sums);
+        self.node_sums = sums;
         let mut s = [0.0; 4];
         for p in &self.node_sums {
             for k in 0..4 {
@@ -945,8 +1094,7 @@ impl<'m> Solver<'m> {
         }
         if !s[0].is_finite() {
             let bad = self
-                .state
-                .v
+                .half_step_velocities()
                 .iter()
                 .position(|v| !v.iter().all(|c| c.is_finite()))
                 .unwrap_or(0);
@@ -992,7 +1140,7 @@ impl<'m> Solver<'m> {
     /// Momentum sum m v^n over all nodes (at t^n).
     pub fn momentum(&self) -> Vec3 {
         let mut p = [0.0; 3];
-        for (m, v) in self.setup.mass.iter().zip(&self.state.v_n) {
+        for (m, v) in self.entry_masses().iter().zip(&self.state.v_n) {
             p = add(p, scale(*v, *m));
         }
         p

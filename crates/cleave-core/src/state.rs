@@ -55,12 +55,16 @@ pub struct State {
     pub dt_prev: f64,
     /// dt^(n+1/2), known after the element pass of step n.
     pub dt: f64,
-    /// Nodal positions x^n.
-    pub x: Vec<Vec3>,
-    /// Nodal velocities v^(n-1/2) before the velocity update, v^(n+1/2) after.
-    pub v: Vec<Vec3>,
-    /// Nodal velocities at t^n (mean of the half steps), valid after the velocity update.
-    pub v_n: Vec<Vec3>,
+    /// Nodal positions x^n, one entry per node, or with separation per slot of the coincident
+    /// sets ([`crate::node_values`]; read them by node with
+    /// [`crate::solver::Solver::positions`]).
+    pub(crate) x: Vec<Vec3>,
+    /// Nodal velocities v^(n-1/2) before the velocity update, v^(n+1/2) after (entries as
+    /// `x`; [`crate::solver::Solver::half_step_velocities`]).
+    pub(crate) v: Vec<Vec3>,
+    /// Nodal velocities at t^n (mean of the half steps), valid after the velocity update
+    /// (entries as `x`; [`crate::solver::Solver::velocities`]).
+    pub(crate) v_n: Vec<Vec3>,
     /// Cauchy stress per element (without bulk viscosity).
     pub stress: Vec<Sym3>,
     /// Material history per element.

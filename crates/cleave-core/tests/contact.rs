@@ -137,11 +137,14 @@ fn impact(mut m: Model, nodes: std::ops::Range<u32>, force: impl Fn(&Solver) -> 
         }
         f_max = f_max.max(f);
         for i in nodes.clone() {
-            pen = pen.max(-s.state.x[i as usize][1]);
+            pen = pen.max(-s.positions()[i as usize][1]);
         }
     });
     let p = nodes.clone().fold([0.0; 3], |p, i| {
-        add(p, scale(s.state.v_n[i as usize], s.setup.mass[i as usize]))
+        add(
+            p,
+            scale(s.velocities()[i as usize], s.setup.mass[i as usize]),
+        )
     });
     let v_out = scale(p, 1.0 / sm);
     println!(
@@ -300,7 +303,7 @@ fn sliding_block(gx: f64, v0: f64, fs: f64, fd: f64, dc: f64, end_time: f64) -> 
         }
         let p: f64 = nodes
             .clone()
-            .map(|i| s.setup.mass[i as usize] * s.state.v_n[i as usize][0])
+            .map(|i| s.setup.mass[i as usize] * s.velocities()[i as usize][0])
             .sum();
         out.push((s.state.t, p / mass));
         if std::env::var("FDBG").is_ok() {
@@ -425,11 +428,11 @@ fn head_on_blocks_exchange_momentum_without_penetrating() {
     let s = run(&m, |s| {
         let xl = face_l
             .iter()
-            .map(|&i| s.state.x[i as usize][0])
+            .map(|&i| s.positions()[i as usize][0])
             .fold(f64::MIN, f64::max);
         let xr = face_r
             .iter()
-            .map(|&i| s.state.x[i as usize][0])
+            .map(|&i| s.positions()[i as usize][0])
             .fold(f64::MAX, f64::min);
         pen = pen.max(xl - xr);
         if s.state.step == 0 {
@@ -438,7 +441,7 @@ fn head_on_blocks_exchange_momentum_without_penetrating() {
     });
     let momentum = |r: &std::ops::Range<u32>| -> f64 {
         r.clone()
-            .map(|i| s.setup.mass[i as usize] * s.state.v_n[i as usize][0])
+            .map(|i| s.setup.mass[i as usize] * s.velocities()[i as usize][0])
             .sum()
     };
     let mass: f64 = ln.clone().map(|i| s.setup.mass[i as usize]).sum();
@@ -537,8 +540,8 @@ fn bar_pushed_back(with_contact: bool) -> (f64, usize) {
                 (4, 0)
             };
             for k in 0..4 {
-                let gap = s.state.x[f.nodes[right + k] as usize][0]
-                    - s.state.x[f.nodes[left + k] as usize][0];
+                let gap = s.positions()[f.nodes[right + k] as usize][0]
+                    - s.positions()[f.nodes[left + k] as usize][0];
                 worst = worst.max(-gap);
             }
         }
@@ -617,7 +620,7 @@ fn split_sphere_hits_the_plate_as_the_unsplit_one() {
                 .map(|(_, f)| f[1])
                 .sum::<f64>()
         });
-        (s.state.x.clone(), f)
+        (s.positions().to_vec(), f)
     };
     let mut hist_a: History = Vec::new();
     run(&deck, |s| hist_a.push(record(s, &|i| nodes.contains(&i))));

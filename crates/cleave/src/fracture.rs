@@ -37,7 +37,7 @@ pub fn fragments_of(s: &Solver) -> Fragments {
 
 /// Mass, centroid and velocity of each fragment at t^n, by decreasing mass.
 pub fn fragment_table(s: &Solver, fr: &Fragments) -> Vec<FragmentSummary> {
-    fr.summaries(&s.model.conn, &s.setup.mass, &s.state.x, &s.state.v_n)
+    fr.summaries(&s.model.conn, &s.setup.mass, s.positions(), s.velocities())
 }
 
 /// The fracture files of a run.
@@ -105,7 +105,7 @@ impl FractureOutput {
             for i in sep.failed_interfaces() {
                 self.centroids
                     .push(face_centroid(&sep.faces()[i], &s.model.x0));
-                let c = face_centroid(&sep.faces()[i], &s.state.x);
+                let c = face_centroid(&sep.faces()[i], &s.positions());
                 for d in 0..3 {
                     lo[d] = lo[d].min(c[d]);
                     hi[d] = hi[d].max(c[d]);
@@ -152,7 +152,7 @@ impl FractureOutput {
                 for side in [[0, 1, 2, 3], [7, 6, 5, 4]] {
                     let base = points.len() as u32;
                     for k in side {
-                        points.push(s.state.x[face.nodes[k] as usize]);
+                        points.push(s.positions()[face.nodes[k] as usize]);
                     }
                     quads.push([base, base + 1, base + 2, base + 3]);
                     ids.push(i as i32);

@@ -260,13 +260,14 @@ impl<'m> RunOutput<'m> {
         nodes: &[(i64, Vec<u32>)],
         s: &Solver,
     ) -> std::io::Result<()> {
+        let (x, vel) = (s.positions(), s.velocities());
         for (id, copies) in nodes {
             let (mut u, mut v, mut mass) = ([0.0; 3], [0.0; 3], 0.0);
             for &n in copies {
                 let i = n as usize;
                 let mi = s.setup.mass[i];
-                u = add(u, scale(sub(s.state.x[i], m.x0[i]), mi));
-                v = add(v, scale(s.state.v_n[i], mi));
+                u = add(u, scale(sub(x[i], m.x0[i]), mi));
+                v = add(v, scale(vel[i], mi));
                 mass += mi;
             }
             if mass > 0.0 {
@@ -334,23 +335,20 @@ impl<'m> RunOutput<'m> {
     fn write_state(&mut self, s: &Solver) -> std::io::Result<()> {
         let m = self.model;
         let name = format!("states/state_{:05}.vtu", self.state_count);
-        let disp: Vec<Vec3> = s
-            .state
-            .x
-            .iter()
-            .zip(&m.x0)
-            .map(|(x, x0)| sub(*x, *x0))
-            .collect();
+        // per node (a split model's positions and velocities are kept per coincident set)
+        let x = s.positions().to_vec();
+        let vel = s.velocities().to_vec();
+        let disp: Vec<Vec3> = x.iter().zip(&m.x0).map(|(x, x0)| sub(*x, *x0)).collect();
         let vm: Vec<f64> = s.state.stress.iter().map(von_mises).collect();
         let eps_p: Vec<f64> = s.state.hist.iter().map(|h| h.eps_p).collect();
         let mut w = BufWriter::new(File::create(self.dir.join(&name))?);
         write_vtu(
             &mut w,
-            &s.state.x,
+            &x,
             &m.conn,
             &[
                 ("displacement", DataArray::Vector(&disp)),
-                ("velocity", DataArray::Vector(&s.state.v_n)),
+                ("velocity", DataArray::Vector(&vel)),
             ],
             &[
                 ("part", DataArray::Int(&self.part_ids)),

@@ -169,7 +169,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let summary = Summary {
         elements: ne,
         nodes: deck_nodes,
-        nodes_solved: solver.state.x.len(),
+        nodes_solved: solver.positions().len(),
         interfaces: solver.separation().map_or(0, |s| s.num_interfaces()),
         failed_interfaces: solver.separation().map_or(0, |s| s.num_failed()),
         fragments: out.fragments,

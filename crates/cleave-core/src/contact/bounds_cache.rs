@@ -26,8 +26,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::penalty::{Cull, CullMore, FaceBounds};
 use super::Face;
-use super::GAP_TOL;
-use crate::math::Vec3;
+use super::{Points, GAP_TOL};
 
 /// The last generation handed out.
 static GENERATION: AtomicU64 = AtomicU64::new(0);
@@ -91,7 +90,7 @@ impl BoundsCache {
         generation: u64,
         fi: u32,
         faces: &[Face],
-        x: &[Vec3],
+        x: Points,
     ) -> &(Cull, CullMore) {
         // grows with the faces of the sides only (no allocation once they stop joining, nor
         // after `reserve_everywhere`); the slots are a power of two, so this is `reserve`'s
@@ -115,6 +114,7 @@ impl BoundsCache {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Vec3;
 
     fn face(z: f64) -> (Vec<Face>, Vec<Vec3>) {
         let x = vec![[0.0, 0.0, z], [1.0, 0.0, z], [1.0, 1.0, z], [0.0, 1.0, z]];
@@ -134,7 +134,7 @@ mod tests {
         let (faces, x) = face(0.0);
         let g1 = next_generation();
         let mut c = BoundsCache::default();
-        let first = *c.get(g1, 0, &faces, &x);
+        let first = *c.get(g1, 0, &faces, (&x).into());
         let want = {
             let b = FaceBounds::new(&[x[0], x[1], x[2], x[3]]);
             Cull::new(&b, 0.4, GAP_TOL * b.r)
@@ -142,12 +142,12 @@ mod tests {
         assert_eq!(first, want);
         // same generation, moved face: the entry is kept (the positions are those of one step)
         let (_, moved) = face(1.0);
-        assert_eq!(*c.get(g1, 0, &faces, &moved), first);
+        assert_eq!(*c.get(g1, 0, &faces, (&moved).into()), first);
         // a new generation sees the move
         let g2 = next_generation();
         assert!(g2 > g1);
-        assert_ne!(*c.get(g2, 0, &faces, &moved), first);
-        assert_eq!(c.get(g2, 0, &faces, &moved).0.c, [0.5, 0.5, 1.0]);
+        assert_ne!(*c.get(g2, 0, &faces, (&moved).into()), first);
+        assert_eq!(c.get(g2, 0, &faces, (&moved).into()).0.c, [0.5, 0.5, 1.0]);
     }
 
     /// Beyond MAX_SLOTS faces, faces 0 and MAX_SLOTS share a slot: asked in turn within one
@@ -161,9 +161,9 @@ mod tests {
         let mut c = BoundsCache::default();
         let g = next_generation();
         for _ in 0..3 {
-            assert_eq!(c.get(g, 0, &faces, &x).0.c, [0.5, 0.5, 0.0]);
+            assert_eq!(c.get(g, 0, &faces, (&x).into()).0.c, [0.5, 0.5, 0.0]);
             let far = MAX_SLOTS as u32;
-            assert_eq!(c.get(g, far, &faces, &x).0.c, [0.5, 0.5, 2.0]);
+            assert_eq!(c.get(g, far, &faces, (&x).into()).0.c, [0.5, 0.5, 2.0]);
         }
         assert_eq!(c.stamp.len(), MAX_SLOTS);
     }

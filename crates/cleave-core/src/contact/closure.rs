@@ -53,6 +53,7 @@
 
 use super::friction::{tangential_force, Friction};
 use super::surface::FaceId;
+use super::Points;
 use crate::element::hex8::diagonal_cross;
 use crate::math::{add, dot, norm, scale, sub, Vec3};
 use crate::separation::split::{copies_of, Copies};
@@ -134,7 +135,7 @@ impl Closure {
     /// A's shortest edge, or the faces turned apart beyond [`TURN`]); if they still do, the
     /// pairs' forces (on the B nodes, [`Closure::force`]; zero for open pairs), and whether
     /// the crack is [`Closure::tight`].
-    pub fn step(&mut self, x: &[Vec3], v: &[Vec3], dt_prev: f64, friction: &Friction) -> bool {
+    pub fn step(&mut self, x: Points, v: Points, dt_prev: f64, friction: &Friction) -> bool {
         let pa = self.a.map(|i| x[i as usize]);
         let pb = self.b.map(|i| x[i as usize]);
         let edge2 = (0..4)

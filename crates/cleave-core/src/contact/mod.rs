@@ -239,7 +239,12 @@ use rayon::prelude::*;
 
 use crate::math::{add, dot, norm, scale, sub, Vec3};
 use crate::model::{ContactDef, Model, PenaltyRule};
+use crate::node_values::NodeValues;
 use bounds_cache::BoundsCache;
+
+/// Positions or velocities of every node, read through the coincident sets' slots when the
+/// solver keeps them per slot ([`crate::node_values`]).
+pub type Points<'a> = NodeValues<'a, Vec3>;
 pub use closure::Crack;
 use closure::{Chains, Closure};
 use engagement::{engage, Previous};
@@ -302,7 +307,7 @@ impl Face {
     /// [`hex8::diagonal_cross`]) and `|d1| + |d2|`, for the normals of its nodes
     /// ([`NodeFrame`]).
     #[inline]
-    pub fn normal_terms(&self, x: &[Vec3]) -> (Vec3, f64) {
+    pub fn normal_terms(&self, x: Points) -> (Vec3, f64) {
         let p = self.nodes.map(|n| x[n as usize]);
         let diagonals = norm(sub(p[2], p[0])) + norm(sub(p[3], p[1]));
         (hex8::diagonal_cross(p[0], p[1], p[2], p[3]), diagonals)
@@ -495,7 +500,7 @@ impl<'m> ContactSet<'m> {
         tie: &[u32],
         f: &mut [Vec3],
     ) -> ContactStep {
-        self.compute_with_slots(x, v, dt_prev, tie, &[], f)
+        self.compute_with_slots(x.into(), v.into(), dt_prev, tie, &[], f)
     }
 
     /// [`Self::compute`], the force on each node i added to `f[slot[i]]` (the solver keeps
@@ -504,8 +509,8 @@ impl<'m> ContactSet<'m> {
     /// `f[i]`.
     pub fn compute_with_slots(
         &mut self,
-        x: &[Vec3],
-        v: &[Vec3],
+        x: Points,
+        v: Points,
         dt_prev: f64,
         tie: &[u32],
         slot: &[u32],
@@ -733,8 +738,8 @@ struct Build<'a> {
 
 /// What a step reads.
 struct StepInput<'a> {
-    x: &'a [Vec3],
-    v: &'a [Vec3],
+    x: Points<'a>,
+    v: Points<'a>,
     dt_prev: f64,
     tie: &'a [u32],
     table: &'a FaceTable<'a>,
@@ -949,7 +954,7 @@ impl Side {
     /// it copies), in the order of the member chain. Worked out when a check first needs it
     /// in a step (a few hundred nodes a step on the 2800 ball, against every face's normal
     /// each step before: 1.2% of the step).
-    fn frame(&self, i: usize, x: &[Vec3]) -> NodeFrame {
+    fn frame(&self, i: usize, x: Points) -> NodeFrame {
         NodeFrame::of(self.members(i as u32).flat_map(|k| {
             self.node_faces
                 .of(k)
@@ -1043,7 +1048,7 @@ impl Side {
     }
 
     /// Boxes and spheres of the faces that have none yet, from positions `x_ref`.
-    fn box_new_faces(&mut self, x_ref: &[Vec3], margin: f64) {
+    fn box_new_faces(&mut self, x_ref: Points, margin: f64) {
         for f in self.boxed..self.faces.len() {
             self.boxes[f] = search_box(&self.faces[f], x_ref, margin);
             self.spheres[f] = search_sphere(&self.faces[f], x_ref, margin);
@@ -1054,7 +1059,7 @@ impl Side {
 
 /// The search box of a face at positions `x`: its corners' box grown by
 /// `depth + 4 INSIDE_TOL r + 1.1 margin` (module docs).
-fn search_box(face: &Face, x: &[Vec3], margin: f64) -> Aabb {
+fn search_box(face: &Face, x: Points, margin: f64) -> Aabb {
     let p = face.nodes.map(|n| x[n as usize]);
     let c = scale(add(add(p[0], p[1]), add(p[2], p[3])), 0.25);
     let r = p.iter().map(|q| dist2(*q, c)).fold(0.0, f64::max).sqrt();
@@ -1063,7 +1068,7 @@ fn search_box(face: &Face, x: &[Vec3], margin: f64) -> Aabb {
 
 /// The search sphere of a face at positions `x`: centre c and radius^2 of
 /// `E (r + margin) + depth` (module docs), grown by 1e-9 for rounding.
-fn search_sphere(face: &Face, x: &[Vec3], margin: f64) -> (Vec3, f64) {
+fn search_sphere(face: &Face, x: Points, margin: f64) -> (Vec3, f64) {
     let p = face.nodes.map(|n| x[n as usize]);
     let c = scale(add(add(p[0], p[1]), add(p[2], p[3])), 0.25);
     let r = p.iter().map(|q| dist2(*q, c)).fold(0.0, f64::max).sqrt();
@@ -1580,7 +1585,7 @@ impl Contact {
     /// displacements over the last step (nodes that joined since are not counted: their
     /// pairs are new); returns the diagonal of the box of the displacements since the last
     /// full build (nodes that joined since included, from `x_ref`).
-    fn track(&mut self, x: &[Vec3]) -> f64 {
+    fn track(&mut self, x: Points) -> f64 {
         let (mut step, mut since) = (Spread::default(), Spread::default());
         for side in &mut self.sides {
             let tracked = side.tracked;
@@ -1626,8 +1631,10 @@ impl Contact {
 
     /// New candidate lists of every node from the current positions; the motion bound starts
     /// again at zero.
-    fn rebuild(&mut self, x: &[Vec3], tie: &[u32]) {
-        self.x_ref.copy_from_slice(x);
+    fn rebuild(&mut self, x: Points, tie: &[u32]) {
+        for (r, p) in self.x_ref.iter_mut().zip(x.iter()) {
+            *r = *p;
+        }
         for side in &mut self.sides {
             for (t, &n) in side.trail.iter_mut().zip(&side.nodes) {
                 t[1] = x[n as usize];
@@ -1889,7 +1896,7 @@ impl Contact {
             ..
         } = self;
         for side in sides.iter_mut() {
-            side.box_new_faces(x_ref, m);
+            side.box_new_faces(Points::from(&x_ref[..]), m);
         }
         region.clear();
         for &id in pending.iter() {
@@ -1900,7 +1907,7 @@ impl Contact {
                 k: 0.0,
                 depth: table.depth(id),
             };
-            region.push(search_box(&face, x_ref, m));
+            region.push(search_box(&face, Points::from(&x_ref[..]), m));
         }
         for pass in passes.iter_mut() {
             let ns = &sides[pass.node_side];

@@ -1162,7 +1162,7 @@ fn a_leads_normal_is_its_deck_nodes() {
     let lead = side.group[on_side[0]] as usize;
     assert!(on_side.iter().all(|&i| side.group[i] as usize == lead));
     let x0 = sm.model.x0.to_vec();
-    let n = side.frame(lead, &x0).n;
+    let n = side.frame(lead, (&x0).into()).n;
     let d = 1.0 / 3f64.sqrt();
     for v in n {
         assert!((v - d).abs() < 1e-12, "{n:?}");
@@ -1171,7 +1171,7 @@ fn a_leads_normal_is_its_deck_nodes() {
     let own = NodeFrame::of(
         side.node_faces
             .of(lead as u32)
-            .map(|f| side.faces[f as usize].normal_terms(&x0)),
+            .map(|f| side.faces[f as usize].normal_terms((&x0).into())),
     );
     assert!(
         own.n.iter().filter(|v| v.abs() > 0.99).count() == 1,
@@ -1219,7 +1219,7 @@ fn member_chains_do_not_depend_on_the_places() {
     assert_eq!(a, b);
     for i in (0..n).filter(|&i| side.group[i] as usize == i) {
         let j = rev.local[side.nodes[i] as usize] as usize;
-        let (p, q) = (side.frame(i, &x0).n, rev.frame(j, &x0).n);
+        let (p, q) = (side.frame(i, (&x0).into()).n, rev.frame(j, (&x0).into()).n);
         assert_eq!(p.map(f64::to_bits), q.map(f64::to_bits), "lead {i}");
     }
 }
@@ -1416,7 +1416,7 @@ fn first_due_crossings(scale_: f64, seed: u64) -> (usize, usize) {
             depth: rng.range(0.05, 0.5),
         };
         let margin = rng.range(0.0, 0.2);
-        let sphere = search_sphere(&face, &x, margin);
+        let sphere = search_sphere(&face, (&x).into(), margin);
         let p: [Vec3; 4] = std::array::from_fn(|a| x[a]);
         let b = FaceBounds::new(&p);
         for _ in 0..20 {

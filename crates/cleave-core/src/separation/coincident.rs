@@ -5,8 +5,8 @@
 //! Storage: all members in one array, each set a contiguous ascending range. A set's
 //! *representative* is its smallest member, read off the set ([`CoincidentSets::rep`]; a node
 //! in no set is its own), and each node knows its set's *slot* ([`CoincidentSets::slots`]): the
-//! solver keeps one entry per slot, not
-//! per node, for the sum of the forces on the set and its mass, adds every force on a member
+//! solver keeps one entry per slot, not per node, for the sum of the forces on the set and its
+//! mass (and for its position and velocity, [`crate::node_values`]), adds every force on a member
 //! straight into its slot and gives the set one acceleration, `a = f_slot / sum m`
 //! ([`CoincidentSets::masses`]), so the sums over a set come out in a fixed order (the element
 //! pass's colours, then the cohesive and contact forces in their own fixed order) and no pass
@@ -57,6 +57,9 @@ pub struct CoincidentSets {
     /// (start, len) in `members` of each piece the last [`Self::split_after_failure`] wrote, in
     /// the order written (a later piece may lie inside an earlier one, split again).
     changed: Vec<(u32, u32)>,
+    /// (new slot, slot it split from) of each piece the last [`Self::split_after_failure`]
+    /// gave a slot, in the order numbered.
+    born: Vec<(u32, u32)>,
 }
 
 const SHARED: u32 = u32::MAX - 1;
@@ -168,6 +171,7 @@ impl CoincidentSets {
             slot,
             num_slots,
             changed: Vec::new(),
+            born: Vec::new(),
         }
     }
 
@@ -228,6 +232,14 @@ impl CoincidentSets {
         }
     }
 
+    /// The slots the last [`Self::split_after_failure`] made, each with the slot of the set it
+    /// split from, in the order numbered (`num_slots` before it, then on; a slot made may be
+    /// the source of a later one). Members of a new slot sat at one point with those of its
+    /// source, with its velocity: the solver copies both across.
+    pub fn born(&self) -> &[(u32, u32)] {
+        &self.born
+    }
+
     /// The nodes whose set (and so representative and set mass) the last
     /// [`Self::split_after_failure`] changed, with repeats.
     pub fn changed_nodes(&self) -> impl Iterator<Item = u32> + '_ {
@@ -285,6 +297,7 @@ impl CoincidentSets {
     /// false) into the components still tied together.
     pub fn split_after_failure(&mut self, faces: &[SharedFace], intact: &[bool], failed: &[usize]) {
         self.changed.clear();
+        self.born.clear();
         for &f in failed {
             for k in 0..8 {
                 let s = self.node_set[faces[f].nodes[k] as usize];
@@ -353,6 +366,7 @@ impl CoincidentSets {
                     .map(|(&n, _)| n),
             );
         }
+        let old_slot = self.slot[self.members[start as usize] as usize];
         self.members[range].copy_from_slice(&self.piece);
         let mut at = start;
         for p in 0..pieces {
@@ -373,6 +387,7 @@ impl CoincidentSets {
                 self.slot[first as usize]
             } else {
                 self.num_slots += 1;
+                self.born.push((self.num_slots - 1, old_slot));
                 self.num_slots - 1
             };
             for &n in &self.members[at as usize..(at + size) as usize] {

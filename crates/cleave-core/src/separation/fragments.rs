@@ -4,6 +4,7 @@
 //! not depend on the order of unions.
 
 use crate::math::{add, scale, Vec3};
+use crate::node_values::NodeValues;
 use crate::topology::UnionFind;
 
 /// A fragment label per element and the number of fragments.
@@ -65,8 +66,8 @@ impl Fragments {
         &self,
         conn: &[[u32; 8]],
         mass: &[f64],
-        x: &[Vec3],
-        v: &[Vec3],
+        x: NodeValues<Vec3>,
+        v: NodeValues<Vec3>,
     ) -> Vec<FragmentSummary> {
         let mut rows = vec![FragmentSummary::default(); self.count];
         let mut node_frag = vec![u32::MAX; mass.len()];

@@ -5,7 +5,8 @@
 //! between onset and full opening: no longer tied, the cohesive law pulls its faces together)
 //! or *free*. Status only moves forward. Failure flips one entry, shrinks the coincident sets
 //! holding the interface's nodes and reports the interface so that contact can take in its two
-//! faces; nothing is remeshed and no nodal array changes size.
+//! faces; nothing is remeshed (the solver's per-slot arrays get an entry for each new slot,
+//! [`crate::node_values`]).
 
 use std::ops::Index;
 
@@ -20,6 +21,7 @@ use crate::element::hex8::{self, quad_normal_area};
 use crate::material::History;
 use crate::math::{add, dot, scale, sub, sym_mul_vec, Sym3, Vec3};
 use crate::model::Model;
+use crate::node_values::NodeValues;
 
 /// Interfaces per chunk of the parallel failure check.
 const CHUNK: usize = 1024;
@@ -170,11 +172,13 @@ impl Separation {
     /// Check every intact interface against its group's criterion on the stresses at t^n;
     /// release those whose failure index reached 1 (softening under MODEL 3, else free) and
     /// split the coincident sets they tied. Returns the released interfaces, ascending.
+    ///
+    /// `x` and `v` hold an entry per node, or per slot of the sets when `per_slot`
+    /// ([`crate::node_values`]).
     pub fn check_failure(
         &mut self,
         time: f64,
-        x: &[Vec3],
-        v: &[Vec3],
+        (x, v, per_slot): (&[Vec3], &[Vec3], bool),
         stress: &[Sym3],
         history: &[History],
     ) -> &[usize] {
@@ -184,8 +188,11 @@ impl Separation {
             criteria,
             fails,
             chunk_fails,
+            sets,
             ..
         } = self;
+        let kin = per_slot.then(|| sets.slots());
+        let (xv, vv) = (NodeValues::new(x, kin), NodeValues::new(v, kin));
         fails
             .par_chunks_mut(CHUNK)
             .zip(chunk_fails.par_iter_mut())
@@ -207,11 +214,11 @@ impl Separation {
                     let sample = InterfaceSample {
                         time,
                         face,
-                        normal: face_normal(face, x),
+                        normal: face_normal(face, xv),
                         stress: [&stress[ea], &stress[eb]],
                         history: [&history[ea], &history[eb]],
-                        x,
-                        v,
+                        x: xv,
+                        v: vv,
                     };
                     let index = criterion.failure_index(&sample);
                     if index >= 1.0 {
@@ -223,7 +230,7 @@ impl Separation {
         self.select_releases();
         if !self.released.is_empty() {
             for k in 0..self.released.len() {
-                self.release(self.released[k], x, stress);
+                self.release(self.released[k], (x, per_slot), stress);
             }
             self.mark_loose();
             self.sets
@@ -297,7 +304,8 @@ impl Separation {
     }
 
     /// Interface `i` stops tying its nodes: softening if its group has a cohesive law.
-    fn release(&mut self, i: usize, x: &[Vec3], stress: &[Sym3]) {
+    fn release(&mut self, i: usize, (x, per_slot): (&[Vec3], bool), stress: &[Sym3]) {
+        let x = NodeValues::new(x, per_slot.then(|| self.sets.slots()));
         let face = &self.faces[i];
         self.ties[i] = false;
         self.failed += 1;
@@ -328,8 +336,8 @@ impl Separation {
     /// into its coincident set's slot ([`CoincidentSets::slots`]), and return the
     /// work they absorbed since the last call, the trapezoid 1/2 (f_prev + f) . (d - d_prev)
     /// over the openings (the same rule as the element energies). An interface whose four
-    /// points are fully open becomes free.
-    pub fn add_cohesive_forces(&mut self, x: &[Vec3], f: &mut [Vec3]) -> f64 {
+    /// points are fully open becomes free. `x` as in [`Self::check_failure`].
+    pub fn add_cohesive_forces(&mut self, (x, per_slot): (&[Vec3], bool), f: &mut [Vec3]) -> f64 {
         let mut work = 0.0;
         let Self {
             faces,
@@ -340,6 +348,7 @@ impl Separation {
             ..
         } = self;
         let slot = sets.slots();
+        let x = NodeValues::new(x, per_slot.then_some(slot));
         for c in cohesive.iter_mut() {
             let face = &faces[c.interface as usize];
             let law = laws[face.group as usize].expect("softening interfaces have a law");
@@ -392,7 +401,7 @@ impl Separation {
 
 /// Current unit normal of a shared face, out of its first element: the diagonal cross product
 /// of the mid-points of its 4 node pairs.
-pub fn face_normal(face: &SharedFace, x: &[Vec3]) -> Vec3 {
+pub fn face_normal(face: &SharedFace, x: NodeValues<Vec3>) -> Vec3 {
     let p: [Vec3; 4] = std::array::from_fn(|k| {
         scale(
             add(x[face.nodes[k] as usize], x[face.nodes[4 + k] as usize]),

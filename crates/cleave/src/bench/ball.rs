@@ -74,7 +74,7 @@ pub fn run_ball(
         ball_nodes: in_ball.iter().filter(|&&b| b).count(),
         elements: ne,
         nodes,
-        nodes_solved: solver.state.x.len(),
+        nodes_solved: solver.positions().len(),
         steps,
         us_per_element_step: 1e6 * secs / (steps as f64 * ne as f64),
         peak_rss_mb: peak_rss_mb(),

@@ -51,7 +51,7 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
     let rss = peak_rss_mb();
     println!(
         "bench cube: {ne} elements, {} nodes solved, {result} steps, {} thread(s){}",
-        solver.state.x.len(),
+        solver.positions().len(),
         a.threads,
         if a.separation {
             ", every element in a separation group"

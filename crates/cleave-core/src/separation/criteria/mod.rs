@@ -19,6 +19,7 @@ pub mod normal_stress;
 use crate::material::History;
 use crate::math::{dot, scale, sub, sym_mul_vec, Sym3, Vec3};
 use crate::model::SeparationDef;
+use crate::node_values::NodeValues;
 use crate::separation::split::SharedFace;
 
 /// What a criterion may look at for one interface at t^n.
@@ -34,8 +35,8 @@ pub struct InterfaceSample<'a> {
     /// Material history (plastic strain, back stress) of the two elements.
     pub history: [&'a History; 2],
     /// Nodal positions x^n and velocities v^(n-1/2) of the whole model.
-    pub x: &'a [Vec3],
-    pub v: &'a [Vec3],
+    pub x: NodeValues<'a, Vec3>,
+    pub v: NodeValues<'a, Vec3>,
 }
 
 impl InterfaceSample<'_> {

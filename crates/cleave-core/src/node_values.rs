@@ -66,6 +66,19 @@ impl<'a, T> NodeValues<'a, T> {
     pub fn entries(&self) -> &'a [T] {
         self.values
     }
+
+    /// The slot of each node, if the values are stored per slot.
+    pub fn slots(&self) -> Option<&'a [u32]> {
+        self.slot
+    }
+
+    /// Other values stored the same way (one entry per slot of the same map, or per node).
+    pub fn over<'b, U>(&self, values: &'b [U]) -> NodeValues<'b, U>
+    where
+        'a: 'b,
+    {
+        NodeValues::new(values, self.slot)
+    }
 }
 
 impl<T: Clone> NodeValues<'_, T> {

@@ -755,6 +755,9 @@ impl<'m> Solver<'m> {
                         ],
                     });
                 }
+                if self.per_slot {
+                    contact.sets_split(sep.sets().born());
+                }
                 contact.activate_cracks(&self.new_cracks);
             }
             tie = sep.sets().node_sets();

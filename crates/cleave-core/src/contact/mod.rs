@@ -456,6 +456,16 @@ impl<'m> ContactSet<'m> {
         added
     }
 
+    /// Coincident sets split in this step, and the solver keeps positions per slot
+    /// ([`crate::node_values`]): `born` lists each new slot with the slot it split from
+    /// ([`crate::separation::coincident::CoincidentSets::born`]). Call before the step's
+    /// [`Self::compute_with_slots`].
+    pub fn sets_split(&mut self, born: &[(u32, u32)]) {
+        for c in &mut self.contacts {
+            c.sets_split(born);
+        }
+    }
+
     /// Interfaces failed: as [`ContactSet::activate`] with their faces, and each definition
     /// that tests one face's nodes against the other face *closes* the crack: the node pairs
     /// resist interpenetration until the faces slide apart ([`closure`]). Returns what
@@ -766,6 +776,9 @@ struct Side {
     /// model number instead made the tracking of the 20k ball 70% slower).
     trail: Vec<[Vec3; 2]>,
     tracked: usize,
+    /// Nodes `..referenced` have their `trail[i][1]`; the others joined since the last step
+    /// and get it from `x_ref` at the next ([`Contact::reference_new_nodes`]).
+    referenced: usize,
     /// Index of each model node in `nodes`, or NONE.
     local: Vec<u32>,
     /// The faces of each node of `nodes` (indices into `faces`).
@@ -810,6 +823,7 @@ impl Side {
             nodes: Vec::new(),
             trail: Vec::new(),
             tracked: 0,
+            referenced: 0,
             local: vec![NONE; num_nodes],
             node_faces: NodeFaces::default(),
             group: Vec::new(),
@@ -1176,7 +1190,7 @@ struct Query<'a> {
     group: &'a [u32],
     ns: &'a Side,
     fs: &'a Side,
-    x_ref: &'a [Vec3],
+    x_ref: Points<'a>,
     tie: &'a [u32],
     chains: &'a Chains,
     /// Full or incremental search.
@@ -1282,7 +1296,10 @@ pub struct Contact {
     pub friction: Friction,
     sides: Vec<Side>,
     passes: Vec<Pass>,
-    /// Positions of all model nodes at the last full build.
+    /// Positions of all model nodes at the last full build, stored as the solver's positions
+    /// are (per slot of the coincident sets, or per node, [`crate::node_values`]; read them
+    /// through the step's positions, [`NodeValues::over`]). A slot made since then gets its
+    /// set's ([`ContactSet::sets_split`]): its members were there.
     x_ref: Vec<Vec3>,
     margin: f64,
     /// Motion bound: the sum over the steps since the last full build of a bound on how far
@@ -1464,9 +1481,7 @@ impl Contact {
                 }
             }
             let n = side.nodes.len();
-            for k in before..n {
-                side.trail[k][1] = self.x_ref[side.nodes[k] as usize];
-            }
+            debug_assert!(side.referenced <= before);
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
                 pass.cand.resize_with(n, Vec::new);
                 pass.sched.resize(n, Sched::default());
@@ -1629,13 +1644,36 @@ impl Contact {
         since.diag()
     }
 
+    /// The nodes that joined the sides since the last step get their position at the last full
+    /// build (`x_ref`, stored as `x`).
+    fn reference_new_nodes(&mut self, x: Points) {
+        let x_ref = x.over(&self.x_ref);
+        for side in &mut self.sides {
+            for k in side.referenced..side.nodes.len() {
+                side.trail[k][1] = x_ref[side.nodes[k] as usize];
+            }
+            side.referenced = side.nodes.len();
+        }
+    }
+
+    /// Coincident sets split after the last full build: each new slot `(new, from)`, numbered
+    /// on from the last, gets the reference position of the slot it split from (positions
+    /// stored per slot; a slot already known is left).
+    fn sets_split(&mut self, born: &[(u32, u32)]) {
+        for &(new, from) in born {
+            if new as usize == self.x_ref.len() {
+                self.x_ref.push(self.x_ref[from as usize]);
+            }
+        }
+    }
+
     /// New candidate lists of every node from the current positions; the motion bound starts
     /// again at zero.
     fn rebuild(&mut self, x: Points, tie: &[u32]) {
-        for (r, p) in self.x_ref.iter_mut().zip(x.iter()) {
-            *r = *p;
-        }
+        self.x_ref.clear();
+        self.x_ref.extend_from_slice(x.entries());
         for side in &mut self.sides {
+            side.referenced = side.nodes.len();
             for (t, &n) in side.trail.iter_mut().zip(&side.nodes) {
                 t[1] = x[n as usize];
             }
@@ -1682,7 +1720,7 @@ impl Contact {
                 group: &ns.group,
                 ns,
                 fs,
-                x_ref,
+                x_ref: x.over(x_ref),
                 tie,
                 chains,
                 kind: SearchKind::Full { rebase, margin: m },
@@ -1870,7 +1908,7 @@ impl Contact {
     /// a grid of the faces that joined since the last full build), as a full build at that
     /// time would have given them. Returns false (nothing done) when so much has joined that a
     /// full build is better.
-    fn update(&mut self, tie: &[u32], table: &FaceTable) -> bool {
+    fn update(&mut self, x: Points, tie: &[u32], table: &FaceTable) -> bool {
         let too_many = |extra: usize, base: usize| 4 * extra > base.max(256);
         for p in &self.passes {
             let (ns, fs) = (&self.sides[p.node_side], &self.sides[p.face_side]);
@@ -1895,8 +1933,9 @@ impl Contact {
             chains,
             ..
         } = self;
+        let x_ref = x.over(x_ref);
         for side in sides.iter_mut() {
-            side.box_new_faces(Points::from(&x_ref[..]), m);
+            side.box_new_faces(x_ref, m);
         }
         region.clear();
         for &id in pending.iter() {
@@ -1907,7 +1946,7 @@ impl Contact {
                 k: 0.0,
                 depth: table.depth(id),
             };
-            region.push(search_box(&face, Points::from(&x_ref[..]), m));
+            region.push(search_box(&face, x_ref, m));
         }
         for pass in passes.iter_mut() {
             let ns = &sides[pass.node_side];
@@ -2000,11 +2039,12 @@ impl Contact {
     /// One step of this definition: forces into `acc`; the resultants and whether the
     /// candidates were rebuilt in full.
     fn compute(&mut self, inp: &StepInput, acc: &mut NodalForces) -> (ContactForce, bool) {
+        self.reference_new_nodes(inp.x);
         let spread = self.track(inp.x);
         self.step_closures(inp);
         self.chains.refresh(inp.tie);
         let mut rebuilt = self.dirty || spread > self.margin || self.motion > REBASE * self.margin;
-        if !rebuilt && !self.pending.is_empty() && !self.update(inp.tie, inp.table) {
+        if !rebuilt && !self.pending.is_empty() && !self.update(inp.x, inp.tie, inp.table) {
             rebuilt = true;
         }
         if rebuilt {

@@ -5,6 +5,7 @@ use super::*;
 use crate::math::{cross, norm};
 use crate::mesh::{single_part_model, BoxMesh};
 use crate::model::{ContactSurface, Material, MaterialKind, Part, SegmentSet};
+use crate::separation::coincident::CoincidentSets;
 use crate::setup::Setup;
 use penalty::FaceBounds;
 use search::tests::Rng;
@@ -573,11 +574,21 @@ fn penalty_rule_sets_the_pair_spring_and_the_stable_step() {
 #[test]
 fn incremental_activation_equals_full_rebuild() {
     for single in [true, false] {
-        incremental_vs_full(single);
+        incremental_vs_full(single, false);
     }
 }
 
-fn incremental_vs_full(single: bool) {
+/// The same with the positions kept per slot of the coincident sets (the solver's storage):
+/// the reference positions of the slots made since the last full build come from the sets
+/// they split from ([`ContactSet::sets_split`]).
+#[test]
+fn incremental_activation_equals_full_rebuild_per_slot() {
+    for single in [true, false] {
+        incremental_vs_full(single, true);
+    }
+}
+
+fn incremental_vs_full(single: bool, per_slot: bool) {
     let (pairs, st) = failing_block(
         FailingBlock {
             single,
@@ -587,6 +598,7 @@ fn incremental_vs_full(single: bool) {
             fail_every: 3,
             fail_p: 0.08,
             step_dt: 0.0015,
+            per_slot,
         },
         |r, _| [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)],
         |_| {},
@@ -609,6 +621,10 @@ struct FailingBlock {
     fail_p: f64,
     /// Each step moves every node by `step_dt` times its velocity.
     step_dt: f64,
+    /// Positions and velocities kept per slot of the coincident sets, as the solver keeps
+    /// them ([`crate::node_values`]): the copies of a set move as one, and a set that splits
+    /// gives its new slots its position.
+    per_slot: bool,
 }
 
 /// A fully split 4 x 4 x 2 block (MODEL 1, SIGMAX 1) whose interfaces fail at random while its
@@ -642,15 +658,24 @@ fn failing_block(
     let mut full = ContactSet::new(m, Some(&sm.origin)).unwrap();
     reference(&mut full);
     let mut r = Rng(run.seed);
-    let mut x = m.x0.to_vec();
+    let mut sets = CoincidentSets::build(nn, &sm.faces, &intact);
+    let mut x = match run.per_slot {
+        true => (0..nn)
+            .filter(|&i| sets.rep(i as u32) == i as u32)
+            .map(|i| m.x0[i])
+            .collect(),
+        false => m.x0.to_vec(),
+    };
     let dt = 1e-3;
     let mut pairs = 0;
     for step in 0..run.steps {
         let mut failed = Vec::new();
+        let mut released = Vec::new();
         if step % run.fail_every == 1 {
             for (k, ok) in intact.iter_mut().enumerate().take(sm.interfaces) {
                 if *ok && r.unit() < run.fail_p {
                     *ok = false;
+                    released.push(k);
                     let f = &sm.faces[k];
                     failed.push((f.elems[0], f.faces[0]));
                     failed.push((f.elems[1], f.faces[1]));
@@ -658,17 +683,29 @@ fn failing_block(
             }
         }
         let tie = ties(&sm, &intact);
+        if run.per_slot && !released.is_empty() {
+            sets.split_after_failure(&sm.faces, &intact, &released);
+            for &(new, from) in sets.born() {
+                assert_eq!(new as usize, x.len());
+                x.push(x[from as usize]);
+            }
+            lazy.sets_split(sets.born());
+            full.sets_split(sets.born());
+        }
         assert_eq!(lazy.activate(&failed), full.activate(&failed));
         full.ties_changed();
-        let v: Vec<Vec3> = (0..nn).map(|i| velocity(&mut r, i)).collect();
+        let slots = run.per_slot.then(|| sets.slots());
+        let v: Vec<Vec3> = (0..x.len()).map(|i| velocity(&mut r, i)).collect();
         if step > 0 {
             for (xi, vi) in x.iter_mut().zip(&v) {
                 *xi = add(*xi, scale(*vi, run.step_dt));
             }
         }
-        let (mut fa, mut fb) = (zeros(nn), zeros(nn));
-        let sa = lazy.compute(&x, &v, dt, &tie, &mut fa);
-        let sb = full.compute(&x, &v, dt, &tie, &mut fb);
+        let (xv, vv) = (Points::new(&x, slots), Points::new(&v, slots));
+        let slot = slots.unwrap_or(&[]);
+        let (mut fa, mut fb) = (zeros(x.len()), zeros(x.len()));
+        let sa = lazy.compute_with_slots(xv, vv, dt, &tie, slot, &mut fa);
+        let sb = full.compute_with_slots(xv, vv, dt, &tie, slot, &mut fb);
         assert_eq!(
             (fa, sa.energy, sa.pairs),
             (fb, sb.energy, sb.pairs),
@@ -750,6 +787,7 @@ fn skipping_equals_testing_every_candidate_as_faces_join() {
             fail_every: 4,
             fail_p: 0.06,
             step_dt: 0.002,
+            per_slot: false,
         },
         // a slow drift of each node with a little noise: pairs approach and part
         |r, i| {

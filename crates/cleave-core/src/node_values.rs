@@ -55,11 +55,8 @@ impl<'a, T> NodeValues<'a, T> {
 
     /// Every node's value, in node order.
     pub fn iter(&self) -> impl ExactSizeIterator<Item = &'a T> + 'a {
-        let (values, slot) = (self.values, self.slot);
-        (0..self.len()).map(move |i| match slot {
-            Some(s) => &values[s[i] as usize],
-            None => &values[i],
-        })
+        let me = *self;
+        (0..self.len()).map(move |i| me.get(i))
     }
 
     /// The stored entries (one per slot, or per node).

@@ -361,17 +361,14 @@ impl<'m> Solver<'m> {
         self.kin_slots().map_or(i, |s| s[i] as usize)
     }
 
-    /// The mass that moves with entry k: its set's when the entries are slots, else its node's.
+    /// The mass that moves with entry k ([`Self::entry_masses`]).
     #[inline]
     fn entry_mass(&self, k: usize) -> f64 {
-        if self.per_slot {
-            self.set_mass[k]
-        } else {
-            self.setup.mass[k]
-        }
+        self.entry_masses()[k]
     }
 
-    /// The masses of all entries ([`Self::entry_mass`]).
+    /// The mass that moves with each entry: its set's when the entries are slots, else its
+    /// node's.
     fn entry_masses(&self) -> &[f64] {
         if self.per_slot {
             &self.set_mass
@@ -764,7 +761,7 @@ impl<'m> Solver<'m> {
             slots = sep.sets().slots();
         }
         let s = &self.state;
-        let kin = (self.per_slot && !slots.is_empty()).then_some(slots);
+        let kin = self.per_slot.then_some(slots);
         let (x, v) = (NodeValues::new(&s.x, kin), NodeValues::new(&s.v, kin));
         let step = contact.compute_with_slots(x, v, s.dt_prev, tie, slots, &mut self.f);
         self.state.energy.contact += step.energy;

@@ -141,6 +141,7 @@ impl FractureOutput {
         let mut quads: Vec<[u32; 4]> = Vec::new();
         let mut ids: Vec<i32> = Vec::new();
         let mut status: Vec<i32> = Vec::new();
+        let x = s.positions();
         if let Some(sep) = s.separation() {
             for i in sep.failed_interfaces() {
                 let face = &sep.faces()[i];
@@ -152,7 +153,7 @@ impl FractureOutput {
                 for side in [[0, 1, 2, 3], [7, 6, 5, 4]] {
                     let base = points.len() as u32;
                     for k in side {
-                        points.push(s.positions()[face.nodes[k] as usize]);
+                        points.push(x[face.nodes[k] as usize]);
                     }
                     quads.push([base, base + 1, base + 2, base + 3]);
                     ids.push(i as i32);

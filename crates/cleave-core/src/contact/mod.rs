@@ -1430,7 +1430,7 @@ impl Contact {
             },
             sides,
             passes,
-            x_ref: vec![[0.0; 3]; nn],
+            x_ref: Vec::new(),
             margin: MARGIN_FRACTION * size,
             motion: 0.0,
             step_motion: 0.0,
@@ -1647,6 +1647,9 @@ impl Contact {
     /// The nodes that joined the sides since the last step get their position at the last full
     /// build (`x_ref`, stored as `x`).
     fn reference_new_nodes(&mut self, x: Points) {
+        if self.dirty {
+            return; // a full build comes at this step and references every node
+        }
         let x_ref = x.over(&self.x_ref);
         for side in &mut self.sides {
             for k in side.referenced..side.nodes.len() {

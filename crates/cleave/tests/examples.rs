@@ -3,30 +3,18 @@
 //! published benchmark, and the paper's decks (ball impact, notched beam) have the meshes and
 //! settings of its section 4.
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::Command;
 
 use cleave_core::element::hex8::corner_jacobians;
 use cleave_core::math::Vec3;
 use cleave_core::model::{ContactSurface, MaterialKind, Model, MotionTarget};
 use cleave_io::deck::{parse_deck, write_deck};
-
-fn cleave(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_cleave"))
-        .args(args)
-        .output()
-        .expect("cleave runs")
-}
+use common::{cleave, tmp};
 
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cleave-ex-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 #[test]

@@ -13,12 +13,40 @@ pub fn cleave(args: &[&str]) -> Output {
         .expect("cleave runs")
 }
 
-/// A fresh, empty scratch folder for one test.
-pub fn tmp(name: &str) -> PathBuf {
+/// A scratch folder for one test, removed when the test passes (the guard drops) and kept
+/// when it fails (dropped while panicking), so a failure can be looked at and passing runs
+/// leave nothing behind: the paper studies alone write some 165 MB a run.
+pub struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            eprintln!("kept for inspection: {}", self.0.display());
+        } else {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+/// A fresh, empty scratch folder for one test (see [`Scratch`]).
+pub fn tmp(name: &str) -> Scratch {
     let d = std::env::temp_dir().join(format!("cleave-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
-    d
+    Scratch(d)
 }
 
 /// Header and rows of a CSV file, numbers parsed (empty fields as NaN); every row has as many

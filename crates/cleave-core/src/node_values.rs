@@ -44,13 +44,19 @@ impl<'a, T> NodeValues<'a, T> {
         self.len() == 0
     }
 
+    /// The entry that holds node i's value: `slot[i]`, or i without a slot map.
+    #[inline]
+    pub fn entry_of(&self, i: usize) -> usize {
+        match self.slot {
+            Some(s) => s[i] as usize,
+            None => i,
+        }
+    }
+
     /// The value of node i.
     #[inline]
     pub fn get(&self, i: usize) -> &'a T {
-        match self.slot {
-            Some(s) => &self.values[s[i] as usize],
-            None => &self.values[i],
-        }
+        &self.values[self.entry_of(i)]
     }
 
     /// Every node's value, in node order.

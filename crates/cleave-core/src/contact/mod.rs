@@ -80,11 +80,13 @@
 //! radius `E (r + margin) + depth` about its centroid (E = [`penalty::WEIGHT_SUM`], r the
 //! largest centroid-corner distance). The lists are reused while the displacements since x_ref
 //! have spread by less than the margin: the diagonal of their box over the definition's nodes
-//! (the *spread*) bounds how far any node has moved relative to any other. Only the leads of
-//! the coincident sets and the nodes not yet grouped are watched: a tied copy moves with its
-//! lead bit for bit (the solver gives a set one acceleration, `sum f / sum m`, for all its
-//! members; a rigid body's node bonded to a group's copies is placed by its body instead), and
-//! the lead stands for its copies in the checks. Until then a
+//! (the *spread*) bounds how far any node has moved relative to any other. The displacements
+//! are watched per entry of the solver's positions ([`crate::node_values`]): once per
+//! coincident set, whose copies move as one (the solver gives a set one acceleration,
+//! `sum f / sum m`, for all its members), and the set's lead stands for its copies in the
+//! checks; an entry is watched once a node of a side is on it ([`Contact::track`]; entries
+//! per node, when a rigid body's node is bonded to a group's copies, hold equal values for the
+//! tied copies). Until then a
 //! node and a face it may touch have moved less than the margin relative to each other, so the
 //! node's x_ref is still in the face's box (the contact point, `sum w_a x_a` with
 //! `sum |w_a| <= E`, moved by at most E margin relative to the node; the 1.1 covers that and
@@ -107,8 +109,7 @@
 //! returns a *clearance* D: the pair cannot touch while the face's corners move by at most D
 //! relative to the node (the distance, below and above bounds of [`penalty::Cull`], and the
 //! facing bound below). Each step the definition's *motion bound* grows by the diagonal of the
-//! box of its watched nodes' displacements over the step (from the positions, nodes that joined
-//! since the last step left out: their pairs are new), which bounds how far any node moved
+//! box of its watched entries' displacements over the step, which bounds how far any node moved
 //! relative to any other in that step; the pair is due again when the bound has grown by D.
 //! [`schedule`] keeps each node's candidates so that those not due cost nothing: the ones due
 //! within [`HOT_STEPS`] steps are looked at every step, the others wait in a heap; a node none
@@ -768,17 +769,9 @@ struct Side {
     parts: Vec<bool>,
     /// Nodes of the faces: ascending at the start, then in the order their faces joined.
     nodes: Vec<u32>,
-    /// Position of each node of `nodes` at the last step (`trail[i][0]`: the nodes
-    /// [`Contact::track`] watches, the leads and the nodes not yet grouped, of `..tracked`; a
-    /// tied copy's entry is stale until it becomes a lead, when [`Contact::regroup_where`]
-    /// gives it its lead's) and at the last full build (`trail[i][1]`: `Contact::x_ref`, kept
-    /// here in the order of `nodes`, so the tracking reads it in sequence: reading `x_ref` by
-    /// model number instead made the tracking of the 20k ball 70% slower).
-    trail: Vec<[Vec3; 2]>,
-    tracked: usize,
-    /// Nodes `..referenced` have their `trail[i][1]`; the others joined since the last step
-    /// and get it from `x_ref` at the next ([`Contact::reference_new_nodes`]).
-    referenced: usize,
+    /// Nodes `..watched` have their positions' entry marked in `Contact::watched`; the others
+    /// joined since the last step and get it at the next ([`Contact::watch_new_nodes`]).
+    watched: usize,
     /// Index of each model node in `nodes`, or NONE.
     local: Vec<u32>,
     /// The faces of each node of `nodes` (indices into `faces`).
@@ -821,9 +814,7 @@ impl Side {
             tight: Vec::with_capacity(ids.len()),
             parts,
             nodes: Vec::new(),
-            trail: Vec::new(),
-            tracked: 0,
-            referenced: 0,
+            watched: 0,
             local: vec![NONE; num_nodes],
             node_faces: NodeFaces::default(),
             group: Vec::new(),
@@ -1002,20 +993,20 @@ impl Side {
                 self.local[n as usize] = self.nodes.len() as u32;
                 self.rank.push(self.nodes.len() as u32);
                 self.nodes.push(n);
-                self.trail.push([[0.0; 3]; 2]);
             }
         }
         self.link(self.faces.len() - 1);
         true
     }
 
-    /// The permutation that puts the nodes in space order (Morton order of their positions at
-    /// the last full build, `trail[..][1]`): `order[k].1` is the node to go to place k.
-    fn space_order(&self) -> Vec<(u64, u32)> {
+    /// The permutation that puts the nodes in space order (Morton order of their positions
+    /// `x`, those of the full build): `order[k].1` is the node to go to place k.
+    fn space_order(&self, x: Points) -> Vec<(u64, u32)> {
         let mut b = Aabb::empty();
-        for t in &self.trail {
-            if t[1].iter().all(|v| v.is_finite()) {
-                b.include(t[1]);
+        for &n in &self.nodes {
+            let p = x[n as usize];
+            if p.iter().all(|v| v.is_finite()) {
+                b.include(p);
             }
         }
         let h = b.extent() / ((1u64 << 21) - 1) as f64;
@@ -1027,9 +1018,10 @@ impl Side {
                 0 // also NaN, and h = 0
             }
         };
-        let mut order = Vec::with_capacity(self.trail.len());
-        for (k, t) in self.trail.iter().enumerate() {
-            let c: [u64; 3] = std::array::from_fn(|d| cell(t[1][d], b.min[d]));
+        let mut order = Vec::with_capacity(self.nodes.len());
+        for (k, &n) in self.nodes.iter().enumerate() {
+            let p = x[n as usize];
+            let c: [u64; 3] = std::array::from_fn(|d| cell(p[d], b.min[d]));
             let mut key = 0u64;
             for bit in 0..21 {
                 for (d, &cd) in c.iter().enumerate() {
@@ -1301,6 +1293,12 @@ pub struct Contact {
     /// through the step's positions, [`NodeValues::over`]). A slot made since then gets its
     /// set's ([`ContactSet::sets_split`]): its members were there.
     x_ref: Vec<Vec3>,
+    /// Positions at the last step, stored as `x_ref` ([`Contact::track`]).
+    x_last: Vec<Vec3>,
+    /// The entries of the positions that hold a node of a side: the ones whose motion
+    /// [`Contact::track`] watches (a slot made since the last step, that of the slot it split
+    /// from).
+    watched: Vec<bool>,
     margin: f64,
     /// Motion bound: the sum over the steps since the last full build of a bound on how far
     /// any two nodes of the definition moved relative to each other in the step; and that
@@ -1431,6 +1429,8 @@ impl Contact {
             sides,
             passes,
             x_ref: Vec::new(),
+            x_last: Vec::new(),
+            watched: Vec::new(),
             margin: MARGIN_FRACTION * size,
             motion: 0.0,
             step_motion: 0.0,
@@ -1481,7 +1481,7 @@ impl Contact {
                 }
             }
             let n = side.nodes.len();
-            debug_assert!(side.referenced <= before);
+            debug_assert!(side.watched <= before);
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
                 pass.cand.resize_with(n, Vec::new);
                 pass.sched.resize(n, Sched::default());
@@ -1595,77 +1595,82 @@ impl Contact {
             false
         });
     }
-    /// One pass over the watched nodes of the sides (the leads and the nodes not yet grouped:
-    /// module docs, Search): the motion bound grows by the diagonal of the box of their
-    /// displacements over the last step (nodes that joined since are not counted: their
-    /// pairs are new); returns the diagonal of the box of the displacements since the last
-    /// full build (nodes that joined since included, from `x_ref`).
+    /// One pass over the positions' entries (per slot of the coincident sets, or per node):
+    /// the motion bound grows by the diagonal of the box of the watched entries' displacements
+    /// over the last step (those of the sides' nodes: a set's members share its entry and move
+    /// as one, module docs, Search); returns the diagonal of the box of their displacements
+    /// since the last full build. Every entry's last position is then the current one. A slot
+    /// made since the last step starts from that of the set it split from
+    /// ([`Contact::sets_split`]): its members were there, so its displacement is theirs. The
+    /// entries are read in sequence; a pass over the sides' nodes read them by node instead.
     fn track(&mut self, x: Points) -> f64 {
-        let (mut step, mut since) = (Spread::default(), Spread::default());
-        for side in &mut self.sides {
-            let tracked = side.tracked;
-            let group = &side.group;
-            let (a, b) = side
-                .nodes
-                .par_chunks(4 * NODE_CHUNK)
-                .zip(side.trail.par_chunks_mut(4 * NODE_CHUNK))
-                .enumerate()
-                .map(|(c, (nodes, trail))| {
-                    let first = c * 4 * NODE_CHUNK;
-                    let (mut a, mut b) = (Spread::default(), Spread::default());
-                    for (k, (&n, t)) in nodes.iter().zip(trail.iter_mut()).enumerate() {
-                        // a tied copy moves with its set's lead, which stands for it: only
-                        // leads are watched (a new lead takes its last position from the
-                        // lead before, `regroup_where`)
-                        let g = group.get(first + k).copied().unwrap_or(NONE);
-                        if g != NONE && g as usize != first + k {
-                            continue;
-                        }
-                        let p = x[n as usize];
-                        if first + k < tracked {
-                            a.add(sub(p, t[0]));
-                        }
-                        b.add(sub(p, t[1]));
-                        t[0] = p;
+        let e = x.entries();
+        self.cover(e);
+        const CHUNK: usize = 4 * NODE_CHUNK;
+        let (step, since) = e
+            .par_chunks(CHUNK)
+            .zip(self.x_last.par_chunks_mut(CHUNK))
+            .zip(self.x_ref.par_chunks(CHUNK))
+            .zip(self.watched.par_chunks(CHUNK))
+            .map(|(((p, last), r), w)| {
+                let (mut a, mut b) = (Spread::default(), Spread::default());
+                for k in 0..p.len() {
+                    if w[k] {
+                        a.add(sub(p[k], last[k]));
+                        b.add(sub(p[k], r[k]));
                     }
-                    (a, b)
-                })
-                .reduce(
-                    || (Spread::default(), Spread::default()),
-                    |(a1, b1), (a2, b2)| (a1.join(a2), b1.join(b2)),
-                );
-            step = step.join(a);
-            since = since.join(b);
-            side.tracked = side.nodes.len();
-        }
+                    last[k] = p[k];
+                }
+                (a, b)
+            })
+            .reduce(
+                || (Spread::default(), Spread::default()),
+                |(a1, b1), (a2, b2)| (a1.join(a2), b1.join(b2)),
+            );
         // 1e-9: the rounding of the displacements and of the sum, with room to spare
         self.step_motion = step.diag() * (1.0 + 1e-9);
         self.motion += self.step_motion;
         since.diag()
     }
 
-    /// The nodes that joined the sides since the last step get their position at the last full
-    /// build (`x_ref`, stored as `x`).
-    fn reference_new_nodes(&mut self, x: Points) {
-        if self.dirty {
-            return; // a full build comes at this step and references every node
-        }
-        let x_ref = x.over(&self.x_ref);
-        for side in &mut self.sides {
-            for k in side.referenced..side.nodes.len() {
-                side.trail[k][1] = x_ref[side.nodes[k] as usize];
+    /// Entries of the positions not yet known (the first step's, and in per-node storage
+    /// none after) start where they are, unwatched.
+    fn cover(&mut self, e: &[Vec3]) {
+        for v in [&mut self.x_last, &mut self.x_ref] {
+            if v.len() < e.len() {
+                let n = v.len();
+                v.extend_from_slice(&e[n..]);
             }
-            side.referenced = side.nodes.len();
+        }
+        self.watched.resize(e.len().max(self.watched.len()), false);
+    }
+
+    /// The entries of the nodes that joined the sides since the last step are watched from
+    /// now on.
+    fn watch_new_nodes(&mut self, x: Points) {
+        self.cover(x.entries());
+        for side in &mut self.sides {
+            for &n in &side.nodes[side.watched..] {
+                self.watched[x.entry_of(n as usize)] = true;
+            }
+            side.watched = side.nodes.len();
         }
     }
 
-    /// Coincident sets split after the last full build: each new slot `(new, from)`, numbered
-    /// on from the last, gets the reference position of the slot it split from (positions
-    /// stored per slot; a slot already known is left).
+    /// Coincident sets split after the last step: each new slot `(new, from)`, numbered on
+    /// from the last, gets the last position, the reference position and the watch of the
+    /// slot it split from (positions stored per slot; a slot already known is left).
     fn sets_split(&mut self, born: &[(u32, u32)]) {
         for &(new, from) in born {
-            if new as usize == self.x_ref.len() {
-                self.x_ref.push(self.x_ref[from as usize]);
+            let (new, from) = (new as usize, from as usize);
+            if new == self.x_ref.len() {
+                self.x_ref.push(self.x_ref[from]);
+            }
+            if new == self.x_last.len() {
+                self.x_last.push(self.x_last[from]);
+            }
+            if new == self.watched.len() {
+                self.watched.push(self.watched[from]);
             }
         }
     }
@@ -1675,13 +1680,7 @@ impl Contact {
     fn rebuild(&mut self, x: Points, tie: &[u32]) {
         self.x_ref.clear();
         self.x_ref.extend_from_slice(x.entries());
-        for side in &mut self.sides {
-            side.referenced = side.nodes.len();
-            for (t, &n) in side.trail.iter_mut().zip(&side.nodes) {
-                t[1] = x[n as usize];
-            }
-        }
-        self.reorder();
+        self.reorder(x);
         self.regroup(tie);
         let rebase = self.motion;
         self.motion = 0.0;
@@ -1809,11 +1808,6 @@ impl Contact {
                 if side.group[i as usize] != i {
                     continue;
                 }
-                // a new lead: its last position is that of the lead before (tied until now;
-                // [`Contact::track`] watched only that one)
-                if old != NONE && old != i {
-                    side.trail[i as usize][0] = side.trail[old as usize][0];
-                }
                 // a new lead carries on its set's contact (engagement and friction history):
                 // it sits where the set's lead before sat (that of any member that was on the
                 // side: the node itself may have just joined), on the same faces
@@ -1845,7 +1839,7 @@ impl Contact {
     /// and the threads' shares only: forces are summed by rank, leads are the lowest model
     /// numbers and member chains go by model number, so the results do not depend on it
     /// (`member_chains_do_not_depend_on_the_places`).
-    fn reorder(&mut self) {
+    fn reorder(&mut self, x: Points) {
         for (si, side) in self.sides.iter_mut().enumerate() {
             let n = side.nodes.len();
             if n == side.ordered || (side.ordered > 0 && n <= side.ordered + side.ordered / REORDER)
@@ -1856,7 +1850,7 @@ impl Contact {
             // scratch allocated here and freed at the end: a reordering comes only with a full
             // build after many nodes joined, and keeping its 17 bytes a node took 1.3 MB of the
             // 20,000-element ball's peak
-            let order = side.space_order();
+            let order = side.space_order(x);
             let mut seen = Vec::new();
             // the renewed nodes and the leads by model number while the places move
             for i in side.renewed.iter_mut() {
@@ -1868,7 +1862,6 @@ impl Contact {
             }
             let Side {
                 nodes,
-                trail,
                 node_faces,
                 rank,
                 group,
@@ -1876,7 +1869,6 @@ impl Contact {
             } = side;
             Side::permute(&order, &mut seen, |a, b| {
                 nodes.swap(a, b);
-                trail.swap(a, b);
                 node_faces.swap(a, b);
                 rank.swap(a, b);
                 group.swap(a, b);
@@ -2042,7 +2034,7 @@ impl Contact {
     /// One step of this definition: forces into `acc`; the resultants and whether the
     /// candidates were rebuilt in full.
     fn compute(&mut self, inp: &StepInput, acc: &mut NodalForces) -> (ContactForce, bool) {
-        self.reference_new_nodes(inp.x);
+        self.watch_new_nodes(inp.x);
         let spread = self.track(inp.x);
         self.step_closures(inp);
         self.chains.refresh(inp.tie);

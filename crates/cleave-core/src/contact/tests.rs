@@ -1509,3 +1509,50 @@ fn first_due_from_the_sphere_is_never_crossed() {
     let (_, touched) = first_due_crossings(3.0, 31);
     assert!(touched > 0, "motions of 3 clearances never touched");
 }
+
+/// The motion bound watches a slot born of a split: it starts at its set's last position and
+/// is watched as its set was (its nodes are on the surface), so a move of that slot alone over
+/// the next step is in the bound; a step without motion adds nothing.
+#[test]
+fn a_slot_born_of_a_split_is_watched() {
+    let deck = single_part_model(BoxMesh::new([1, 1, 2], [1.0, 1.0, 2.0]), mat(), 1.0);
+    let sm = split_with_contact(deck, 1.0);
+    let m = &sm.model;
+    let nn = m.num_nodes();
+    let mut intact = vec![true; sm.faces.len()];
+    let mut sets = CoincidentSets::build(nn, &sm.faces, &intact);
+    let mut x: Vec<Vec3> = (0..nn)
+        .filter(|&i| sets.rep(i as u32) == i as u32)
+        .map(|i| m.x0[i])
+        .collect();
+    let mut cs = ContactSet::new(m, Some(&sm.origin)).unwrap();
+    let step = |cs: &mut ContactSet, x: &[Vec3], sets: &CoincidentSets, intact: &[bool]| {
+        let tie = ties(&sm, intact);
+        let v = zeros(x.len());
+        let slots = Some(sets.slots());
+        let mut f = zeros(x.len());
+        let (xv, vv) = (Points::new(x, slots), Points::new(&v, slots));
+        cs.compute_with_slots(xv, vv, 1e-3, &tie, sets.slots(), &mut f);
+        cs.contacts[0].step_motion
+    };
+    assert_eq!(step(&mut cs, &x, &sets, &intact), 0.0);
+    // the one interface fails: its upper copies get slots of their own
+    intact[0] = false;
+    sets.split_after_failure(&sm.faces, &intact, &[0]);
+    assert_eq!(sets.born().len(), 4, "{:?}", sets.born());
+    for &(new, from) in sets.born() {
+        assert_eq!(new as usize, x.len());
+        x.push(x[from as usize]);
+    }
+    cs.sets_split(sets.born());
+    let f = &sm.faces[0];
+    cs.activate(&[(f.elems[0], f.faces[0]), (f.elems[1], f.faces[1])]);
+    // only the new slots move
+    let d = [0.0, 0.0, 0.05];
+    let born: Vec<u32> = sets.born().iter().map(|b| b.0).collect();
+    for &s in &born {
+        x[s as usize] = add(x[s as usize], d);
+    }
+    assert!(step(&mut cs, &x, &sets, &intact) >= norm(d));
+    assert_eq!(step(&mut cs, &x, &sets, &intact), 0.0);
+}

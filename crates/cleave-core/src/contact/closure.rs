@@ -194,6 +194,9 @@ impl Closure {
 
 const NONE: u32 = u32::MAX;
 
+/// Partners a node's bit mask holds: the first 32 copies of its deck node ([`Chains`]).
+const MASK_BITS: usize = 32;
+
 /// Which copies of each deck node are held together, by a tie (one coincident set) or through
 /// a chain of closed cracks: the search leaves out a face that holds a node so held with the
 /// node checked (module docs, Chains).
@@ -204,8 +207,12 @@ pub(super) struct Chains {
     /// The copies of each deck node.
     copies: Copies,
     deck_nodes: usize,
-    /// Each node's partners across its closed cracks (a corner has 3 faces; NONE: none).
-    pair: Vec<[u32; 3]>,
+    /// Each node's partners across its closed cracks, copies of its deck node: bit j for the
+    /// copy at place j of [`Chains::copies`] (4 bytes a node; a list of 3 partners took 12).
+    /// A pair with a partner at place [`MASK_BITS`] or beyond (a deck node with more copies, an
+    /// irregular mesh) is in `far` instead, as (node, partner) both ways.
+    pair: Vec<u32>,
+    far: Vec<(u32, u32)>,
     /// Per model node: the lowest node of its chain (the node itself until its deck node is
     /// relabelled).
     pub label: Vec<u32>,
@@ -224,7 +231,8 @@ impl Chains {
             deck: origin.to_vec(),
             copies: copies_of(origin, deck_nodes),
             deck_nodes,
-            pair: vec![[NONE; 3]; origin.len()],
+            pair: vec![0; origin.len()],
+            far: Vec::new(),
             label: (0..origin.len() as u32).collect(),
             dirty: Vec::new(),
         }
@@ -267,11 +275,22 @@ impl Chains {
         if self.pair.is_empty() {
             return;
         }
-        for (p, q) in [(a, b), (b, a)] {
-            let slots = &mut self.pair[p as usize];
-            let (from, to) = if on { (NONE, q) } else { (q, NONE) };
-            if let Some(s) = slots.iter_mut().find(|s| **s == from) {
-                *s = to;
+        // each one's place among the deck node's copies (beyond the masks when not found)
+        let c = self.copies(a);
+        let place = |q: u32| c.iter().position(|&n| n == q).unwrap_or(usize::MAX);
+        let (pa, pb) = (place(a), place(b));
+        for (p, q, j) in [(a, b, pb), (b, a, pa)] {
+            if j < MASK_BITS {
+                let bit = 1u32 << j;
+                if on {
+                    self.pair[p as usize] |= bit;
+                } else {
+                    self.pair[p as usize] &= !bit;
+                }
+            } else if on {
+                self.far.push((p, q));
+            } else if let Some(k) = self.far.iter().position(|&e| e == (p, q)) {
+                self.far.swap_remove(k);
             }
         }
         self.touch(a);
@@ -288,6 +307,7 @@ impl Chains {
         let Self {
             copies,
             pair,
+            far,
             label,
             dirty,
             ..
@@ -308,8 +328,14 @@ impl Chains {
                             m = m.min(label[j as usize]);
                         }
                     }
-                    for &j in &pair[i as usize] {
-                        if j != NONE {
+                    let mut bits = pair[i as usize];
+                    while bits != 0 {
+                        let j = c[bits.trailing_zeros() as usize];
+                        m = m.min(label[j as usize]);
+                        bits &= bits - 1;
+                    }
+                    if !far.is_empty() {
+                        for &(_, j) in far.iter().filter(|e| e.0 == i) {
                             m = m.min(label[j as usize]);
                         }
                     }
@@ -324,5 +350,50 @@ impl Chains {
             }
         }
         dirty.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Chains join copies through ties and closed-crack pairs, and come apart when a pair is
+    /// unlinked: for a deck node with 40 copies, pairs among its first 32 copies (bit masks)
+    /// and pairs with copies beyond (`far`), against the labels worked out by hand.
+    #[test]
+    fn chains_follow_links_and_ties() {
+        // deck node 0: copies 0..40; deck node 1: copies 40..44 (ascending in `copies`)
+        let origin: Vec<u32> = (0..44).map(|i| u32::from(i >= 40)).collect();
+        let mut ch = Chains::new(Some(&origin));
+        let untied = vec![NONE; 44];
+        ch.touch_all();
+        ch.refresh(&untied);
+        assert!(!ch.held(3, 5));
+        // 3 - 5 - 35 - 39 by closed cracks (the last two beyond the masks), 41 tied to 43
+        ch.link(3, 5, true);
+        ch.link(5, 35, true);
+        ch.link(35, 39, true);
+        let mut tie = untied.clone();
+        tie[41] = 41;
+        tie[43] = 41;
+        ch.touch(41);
+        ch.refresh(&tie);
+        for (a, b) in [(3, 5), (3, 35), (5, 39), (39, 3), (41, 43)] {
+            assert!(ch.held(a, b), "{a} {b}");
+        }
+        for (a, b) in [(3, 4), (39, 38), (0, 40), (41, 42)] {
+            assert!(!ch.held(a, b), "{a} {b}");
+        }
+        assert_eq!(ch.label[39], 3);
+        // the crack between 5 and 35 released: 3 - 5 and 35 - 39 stay
+        ch.link(5, 35, false);
+        ch.refresh(&tie);
+        assert!(ch.held(3, 5) && ch.held(35, 39));
+        assert!(!ch.held(5, 35) && !ch.held(3, 39));
+        assert_eq!((ch.label[5], ch.label[39]), (3, 35));
+        ch.link(35, 39, false);
+        ch.refresh(&tie);
+        assert!(!ch.held(35, 39));
+        assert!(ch.far.is_empty());
     }
 }

@@ -67,6 +67,11 @@ impl<T> PerNode<T> {
     pub fn origin(&self) -> Option<&[u32]> {
         self.origin.as_deref()
     }
+
+    /// The same, shared: a holder of it keeps no copy.
+    pub fn origin_shared(&self) -> Option<Arc<[u32]>> {
+        self.origin.clone()
+    }
 }
 
 impl<T: Clone> PerNode<T> {

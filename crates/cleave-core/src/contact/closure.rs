@@ -57,6 +57,7 @@ use super::Points;
 use crate::element::hex8::diagonal_cross;
 use crate::math::{add, dot, norm, scale, sub, Vec3};
 use crate::separation::split::{copies_of, Copies};
+use std::sync::Arc;
 
 /// A closed crack is released when a node pair has slid by more than this fraction of the
 /// shortest edge of its face A (then the node-to-face search takes over: the node lies that
@@ -202,8 +203,9 @@ const MASK_BITS: usize = 32;
 /// node checked (module docs, Chains).
 #[derive(Clone, Debug, Default)]
 pub(super) struct Chains {
-    /// Deck node of each model node (empty when the model is not split).
-    deck: Vec<u32>,
+    /// Deck node of each model node (empty when the model is not split): the split model's
+    /// own `origin` when it shares it ([`Chains::new`]), not a copy.
+    deck: Arc<[u32]>,
     /// The copies of each deck node.
     copies: Copies,
     deck_nodes: usize,
@@ -222,13 +224,19 @@ pub(super) struct Chains {
 
 impl Chains {
     /// For a split model (`origin[i]`: deck node of model node i); empty otherwise.
-    pub fn new(origin: Option<&[u32]>) -> Self {
+    /// `shared` is the model's own origin ([`crate::per_node::PerNode::origin_shared`]): it
+    /// is kept when it is `origin`, else `origin` is copied.
+    pub fn new(origin: Option<&[u32]>, shared: Option<Arc<[u32]>>) -> Self {
         let Some(origin) = origin else {
             return Self::default();
         };
+        let deck = match shared {
+            Some(s) if std::ptr::eq(&s[..], origin) => s,
+            _ => Arc::from(origin),
+        };
         let deck_nodes = origin.iter().map(|&d| d as usize + 1).max().unwrap_or(0);
         Self {
-            deck: origin.to_vec(),
+            deck,
             copies: copies_of(origin, deck_nodes),
             deck_nodes,
             pair: vec![0; origin.len()],
@@ -236,6 +244,12 @@ impl Chains {
             label: (0..origin.len() as u32).collect(),
             dirty: Vec::new(),
         }
+    }
+
+    /// Whether the deck nodes read are those of `origin` itself, not a copy of them.
+    #[cfg(test)]
+    pub fn reads(&self, origin: &[u32]) -> bool {
+        std::ptr::eq(&self.deck[..], origin)
     }
 
     /// Whether the model is split (else there are no copies to chain).
@@ -364,7 +378,7 @@ mod tests {
     fn chains_follow_links_and_ties() {
         // deck node 0: copies 0..40; deck node 1: copies 40..44 (ascending in `copies`)
         let origin: Vec<u32> = (0..44).map(|i| u32::from(i >= 40)).collect();
-        let mut ch = Chains::new(Some(&origin));
+        let mut ch = Chains::new(Some(&origin), None);
         let untied = vec![NONE; 44];
         ch.touch_all();
         ch.refresh(&untied);

@@ -1437,7 +1437,7 @@ impl Contact {
             dirty: true,
             pending: Vec::new(),
             closures: Vec::new(),
-            chains: Chains::new(b.origin),
+            chains: Chains::new(b.origin, b.model.x0.origin_shared()),
             points: Vec::new(),
             scratch: Vec::new(),
             region: Vec::new(),

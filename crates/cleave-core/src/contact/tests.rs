@@ -1556,3 +1556,24 @@ fn a_slot_born_of_a_split_is_watched() {
     assert!(step(&mut cs, &x, &sets, &intact) >= norm(d));
     assert_eq!(step(&mut cs, &x, &sets, &intact), 0.0);
 }
+
+/// The chains of a split model read the deck node of each copy from the model's own origin
+/// (shared, not copied: 4 bytes a copy); given another origin, they copy it.
+#[test]
+fn chains_share_the_models_origin() {
+    let deck = single_part_model(BoxMesh::new([2, 1, 1], [2.0, 1.0, 1.0]), mat(), 1.0);
+    let sm = split_with_contact(deck, 1.0);
+    let m = &sm.model;
+    let origin =
+        m.x0.origin()
+            .expect("a split model shares its deck's positions");
+    let shared = ContactSet::new(m, Some(origin)).unwrap();
+    assert!(shared.contacts[0].chains.reads(origin));
+    let other = origin.to_vec();
+    let copied = ContactSet::new(m, Some(&other)).unwrap();
+    let ch = &copied.contacts[0].chains;
+    assert!(!ch.reads(&other) && !ch.reads(origin));
+    for n in 0..m.num_nodes() as u32 {
+        assert_eq!(ch.copies(n), shared.contacts[0].chains.copies(n));
+    }
+}

@@ -253,7 +253,7 @@ use friction::{tangential_force, Friction};
 use node_faces::NodeFaces;
 use penalty::{normal_force, off_corners, project, Cull, CullMore, Projection, INSIDE_TOL};
 use schedule::{Cand, Sched};
-use search::{Aabb, BucketGrid};
+use search::{Aabb, Aabb32, BucketGrid};
 use surface::{covered_parts, exterior_faces, face_nodes, side_faces, FaceId, FaceTable};
 use touching::Touching;
 
@@ -798,8 +798,8 @@ struct Side {
     ordered: usize,
     /// Search box and search sphere (centre, radius^2) of each face, from the positions of
     /// the last full build.
-    boxes: Vec<Aabb>,
-    spheres: Vec<(Vec3, f64)>,
+    boxes: Vec<Aabb32>,
+    spheres: Vec<Sphere>,
     /// Faces `..base` are in the passes' main grids; later ones joined since the last full
     /// build. Faces `..boxed` have their box.
     base: usize,
@@ -983,11 +983,8 @@ impl Side {
             k,
             depth,
         });
-        self.boxes.push(Aabb {
-            min: [0.0; 3],
-            max: [0.0; 3],
-        });
-        self.spheres.push(([0.0; 3], 0.0));
+        self.boxes.push(Aabb::of_points(&[[0.0; 3]]).into());
+        self.spheres.push(Sphere::new([0.0; 3], 0.0));
         for n in nodes {
             if self.local[n as usize] == NONE {
                 self.local[n as usize] = self.nodes.len() as u32;
@@ -1056,8 +1053,9 @@ impl Side {
     /// Boxes and spheres of the faces that have none yet, from positions `x_ref`.
     fn box_new_faces(&mut self, x_ref: Points, margin: f64) {
         for f in self.boxed..self.faces.len() {
-            self.boxes[f] = search_box(&self.faces[f], x_ref, margin);
-            self.spheres[f] = search_sphere(&self.faces[f], x_ref, margin);
+            self.boxes[f] = search_box(&self.faces[f], x_ref, margin).into();
+            let (c, reach) = search_sphere(&self.faces[f], x_ref, margin);
+            self.spheres[f] = Sphere::new(c, reach);
         }
         self.boxed = self.faces.len();
     }
@@ -1072,14 +1070,42 @@ fn search_box(face: &Face, x: Points, margin: f64) -> Aabb {
     Aabb::of_points(&p).inflated(face.depth + 4.0 * INSIDE_TOL * r + 1.1 * margin)
 }
 
-/// The search sphere of a face at positions `x`: centre c and radius^2 of
+/// The search sphere of a face at positions `x`: centre c and radius
 /// `E (r + margin) + depth` (module docs), grown by 1e-9 for rounding.
 fn search_sphere(face: &Face, x: Points, margin: f64) -> (Vec3, f64) {
     let p = face.nodes.map(|n| x[n as usize]);
     let c = scale(add(add(p[0], p[1]), add(p[2], p[3])), 0.25);
     let r = p.iter().map(|q| dist2(*q, c)).fold(0.0, f64::max).sqrt();
     let reach = (penalty::WEIGHT_SUM * (r + margin) + face.depth) * (1.0 + 1e-9);
-    (c, reach * reach)
+    (c, reach)
+}
+
+/// A search sphere kept in single precision (16 bytes instead of 32): the centre rounded, the
+/// radius grown by the centre's rounding and rounded up, so that it holds the sphere it was
+/// made from. A larger sphere keeps more candidates and makes them due sooner
+/// ([`first_due`]); neither changes what a check finds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Sphere {
+    c: [f32; 3],
+    r2: f32,
+}
+
+impl Sphere {
+    fn new(c: Vec3, reach: f64) -> Self {
+        let c32 = c.map(|v| v as f32);
+        let moved = dist2(c, c32.map(f64::from)).sqrt();
+        let r = search::up(reach + moved);
+        Self {
+            c: c32,
+            r2: search::up(f64::from(r) * f64::from(r)),
+        }
+    }
+
+    /// Centre and radius^2.
+    #[inline]
+    fn get(&self) -> (Vec3, f64) {
+        (self.c.map(f64::from), f64::from(self.r2))
+    }
 }
 
 /// The result of one node's check.
@@ -1213,7 +1239,7 @@ impl Query<'_> {
         // the node's coincident set (NONE: untied, then only its own faces are left out)
         let set = self.tie.get(s as usize).copied().unwrap_or(NONE);
         let keep = |f: u32| {
-            let (c, r2) = fs.spheres[f as usize];
+            let (c, r2) = fs.spheres[f as usize].get();
             let held = |a: u32| {
                 a == s || (set != NONE && self.tie[a as usize] == set) || self.chains.held(a, s)
             };
@@ -1228,7 +1254,9 @@ impl Query<'_> {
             let new = |f: u32| Cand {
                 face: f,
                 due: match self.kind {
-                    SearchKind::Full { margin, .. } => first_due(fs.spheres[f as usize], p, margin),
+                    SearchKind::Full { margin, .. } => {
+                        first_due(fs.spheres[f as usize].get(), p, margin)
+                    }
                     SearchKind::Incremental => f32::NEG_INFINITY,
                 },
             };
@@ -1706,7 +1734,7 @@ impl Contact {
             points.extend(ns.nodes.iter().map(|&n| x[n as usize]));
             pass.grid.build(&fs.boxes, points);
             pass.nbase = ns.nodes.len();
-            pass.extra.build(&[], &[]);
+            pass.extra.build::<Aabb32>(&[], &[]);
             let Pass {
                 grid,
                 extra,

@@ -78,6 +78,88 @@ impl Aabb {
     }
 }
 
+/// What the grids read of a box: its corners, whether it holds a point, its largest edge.
+pub trait SearchBox {
+    fn lo(&self) -> Vec3;
+    fn hi(&self) -> Vec3;
+    fn holds(&self, p: Vec3) -> bool;
+    fn size(&self) -> f64;
+}
+
+impl SearchBox for Aabb {
+    #[inline]
+    fn lo(&self) -> Vec3 {
+        self.min
+    }
+    #[inline]
+    fn hi(&self) -> Vec3 {
+        self.max
+    }
+    #[inline]
+    fn holds(&self, p: Vec3) -> bool {
+        self.contains(p)
+    }
+    #[inline]
+    fn size(&self) -> f64 {
+        self.extent()
+    }
+}
+
+/// A box kept in single precision, rounded outward so that it holds the box it was made from
+/// (24 bytes instead of 48): a search box may be larger than asked, never smaller.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb32 {
+    min: [f32; 3],
+    max: [f32; 3],
+}
+
+/// The least f32 not below `v` (NaN stays NaN).
+#[inline]
+pub fn up(v: f64) -> f32 {
+    let t = v as f32;
+    if (t as f64) < v {
+        t.next_up()
+    } else {
+        t
+    }
+}
+
+impl From<Aabb> for Aabb32 {
+    fn from(b: Aabb) -> Self {
+        Self {
+            min: b.min.map(super::schedule::down),
+            max: b.max.map(up),
+        }
+    }
+}
+
+impl SearchBox for Aabb32 {
+    #[inline]
+    fn lo(&self) -> Vec3 {
+        self.min.map(f64::from)
+    }
+    #[inline]
+    fn hi(&self) -> Vec3 {
+        self.max.map(f64::from)
+    }
+    /// As [`Aabb::contains`], without a branch.
+    #[inline]
+    fn holds(&self, p: Vec3) -> bool {
+        (f64::from(self.min[0]) <= p[0])
+            & (p[0] <= f64::from(self.max[0]))
+            & (f64::from(self.min[1]) <= p[1])
+            & (p[1] <= f64::from(self.max[1]))
+            & (f64::from(self.min[2]) <= p[2])
+            & (p[2] <= f64::from(self.max[2]))
+    }
+    #[inline]
+    fn size(&self) -> f64 {
+        (0..3)
+            .map(|d| f64::from(self.max[d]) - f64::from(self.min[d]))
+            .fold(0.0, f64::max)
+    }
+}
+
 /// Candidate faces of each node, compressed rows: node `i`'s faces are
 /// `list[start[i]..start[i + 1]]`, ascending.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -157,9 +239,9 @@ impl BucketGrid {
     /// Candidate faces of every point: the faces `f` whose box `boxes[f]` contains `points[i]`
     /// and for which `keep(i, f)` holds (e.g. the node is not one of the face's own nodes),
     /// ascending.
-    pub fn candidates(
+    pub fn candidates<B: SearchBox>(
         &mut self,
-        boxes: &[Aabb],
+        boxes: &[B],
         points: &[Vec3],
         keep: impl Fn(usize, u32) -> bool,
         out: &mut Candidates,
@@ -177,10 +259,10 @@ impl BucketGrid {
     /// Pass to `push` the faces `f` whose box (`boxes`, those of the build) contains `p` and
     /// for which `keep(f)` holds: ascending within each size level, level after level.
     #[inline]
-    pub fn faces_at(
+    pub fn faces_at<B: SearchBox>(
         &self,
         p: Vec3,
-        boxes: &[Aabb],
+        boxes: &[B],
         keep: impl Fn(u32) -> bool,
         mut push: impl FnMut(u32),
     ) {
@@ -196,7 +278,7 @@ impl BucketGrid {
                     let mut n = 0;
                     for &f in items {
                         block[n] = f;
-                        n += boxes[f as usize].contains(p) as usize;
+                        n += boxes[f as usize].holds(p) as usize;
                     }
                     for &f in &block[..n] {
                         if keep(f) {
@@ -239,13 +321,13 @@ impl BucketGrid {
     /// Sort the boxes into size levels and list each in the cells of its level it overlaps;
     /// list each point in its cell of the point grid (cells about as large as the smallest
     /// level's).
-    pub fn build(&mut self, boxes: &[Aabb], points: &[Vec3]) {
+    pub fn build<B: SearchBox>(&mut self, boxes: &[B], points: &[Vec3]) {
         self.used = 0;
         self.points.clear();
         // median extent of the boxes of finite extent
         self.ext.clear();
         self.ext
-            .extend(boxes.iter().map(Aabb::extent).filter(|e| e.is_finite()));
+            .extend(boxes.iter().map(B::size).filter(|e| e.is_finite()));
         let h0 = if self.ext.is_empty() {
             0.0
         } else {
@@ -255,7 +337,7 @@ impl BucketGrid {
         self.level_of.clear();
         let mut counts = [0usize; MAX_LEVEL + 1];
         for b in boxes {
-            let e = b.extent();
+            let e = b.size();
             let k = if e <= h0 {
                 0
             } else if e.is_finite() && h0 > 0.0 {
@@ -290,15 +372,15 @@ impl BucketGrid {
             let mut h: f64 = 0.0;
             for f in members() {
                 let b = &boxes[f as usize];
-                bounds.include(b.min);
-                bounds.include(b.max);
-                h = h.max(b.extent());
+                bounds.include(b.lo());
+                bounds.include(b.hi());
+                h = h.max(b.size());
             }
             let level = &mut self.levels[slot[k]];
             level.size(bounds, h / CELLS_PER_BOX, (27 * n + 64) as f64);
             level.fill(
                 members(),
-                |f| (boxes[f as usize].min, boxes[f as usize].max),
+                |f| (boxes[f as usize].lo(), boxes[f as usize].hi()),
                 &mut self.cursor,
             );
             if h_points == 0.0 {
@@ -518,6 +600,36 @@ pub(crate) mod tests {
         (boxes, pts)
     }
 
+    /// A box kept in single precision holds every point its double-precision box holds,
+    /// its corners included, and the grid over such boxes lists every candidate of the
+    /// double-precision grid.
+    #[test]
+    fn single_precision_boxes_hold_their_boxes() {
+        let (boxes, mut pts) = soup(17, 400, 3000);
+        for b in &boxes {
+            pts.push(b.min);
+            pts.push([b.min[0], b.max[1], b.min[2]]);
+        }
+        let small: Vec<Aabb32> = boxes.iter().map(|&b| b.into()).collect();
+        for (b, s) in boxes.iter().zip(&small) {
+            for &p in &pts {
+                assert!(!b.contains(p) || s.holds(p), "{b:?} {s:?} {p:?}");
+            }
+            assert!(s.size() >= b.extent());
+        }
+        let (mut a, mut b) = (Candidates::default(), Candidates::default());
+        BucketGrid::default().candidates(&boxes, &pts, |_, _| true, &mut a);
+        BucketGrid::default().candidates(&small, &pts, |_, _| true, &mut b);
+        for i in 0..pts.len() {
+            let wide = b.of(i);
+            assert!(a.of(i).iter().all(|f| wide.contains(f)), "point {i}");
+        }
+        for v in [0.1, -0.1, 1.0 / 3.0, 1e30, -7.3e-12, 0.0] {
+            assert!(up(v) as f64 >= v && super::super::schedule::down(v) as f64 <= v);
+            assert!((up(v) as f64 - v).abs() <= v.abs() * 1.2e-7);
+        }
+    }
+
     /// The bucket grid finds exactly the brute-force candidates (same faces, same order) on
     /// random face soups, with and without a filter, for several seeds and sizes.
     #[test]
@@ -596,7 +708,7 @@ pub(crate) mod tests {
     fn points_only_grid() {
         let pts: Vec<Vec3> = (0..50).map(|i| [i as f64 * 0.1, 0.0, 1.0]).collect();
         let mut grid = BucketGrid::default();
-        grid.build(&[], &pts);
+        grid.build::<Aabb>(&[], &pts);
         let b = Aabb {
             min: [0.25, -1.0, 0.0],
             max: [0.55, 1.0, 2.0],
@@ -606,7 +718,7 @@ pub(crate) mod tests {
         a.sort_unstable();
         assert_eq!(a, vec![3, 4, 5]);
         let mut f = Vec::new();
-        grid.faces_at(pts[0], &[], |_| true, |q| f.push(q));
+        grid.faces_at::<Aabb>(pts[0], &[], |_| true, |q| f.push(q));
         assert!(f.is_empty());
     }
 
@@ -614,7 +726,7 @@ pub(crate) mod tests {
     fn no_faces_no_candidates() {
         let mut grid = BucketGrid::default();
         let mut a = Candidates::default();
-        grid.candidates(&[], &[[0.0; 3]; 3], |_, _| true, &mut a);
+        grid.candidates::<Aabb>(&[], &[[0.0; 3]; 3], |_, _| true, &mut a);
         assert_eq!(a.len(), 3);
         assert!(a.list.is_empty());
     }

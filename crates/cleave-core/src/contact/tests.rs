@@ -1577,3 +1577,26 @@ fn chains_share_the_models_origin() {
         assert_eq!(ch.copies(n), shared.contacts[0].chains.copies(n));
     }
 }
+
+/// A search sphere kept in single precision holds the sphere it was made from: every point
+/// within the reach of the centre (on its boundary too) is within the stored one, whose radius
+/// is not much larger.
+#[test]
+fn single_precision_spheres_hold_their_spheres() {
+    let mut r = Rng(23);
+    for _ in 0..2000 {
+        let c: Vec3 = std::array::from_fn(|_| r.range(-3.0, 3.0) * 10f64.powf(r.range(-3.0, 1.0)));
+        let reach = 10f64.powf(r.range(-4.0, 0.0));
+        let s = Sphere::new(c, reach);
+        let (c32, r2) = s.get();
+        assert!(
+            r2.sqrt() <= reach * (1.0 + 1e-6) + 1e-6 * norm(c),
+            "{c:?} {reach}"
+        );
+        for _ in 0..20 {
+            let d: Vec3 = std::array::from_fn(|_| r.range(-1.0, 1.0));
+            let p = add(c, scale(d, reach / norm(d)));
+            assert!(dist2(p, c32) <= r2, "{c:?} {reach} {p:?}");
+        }
+    }
+}

@@ -284,30 +284,37 @@ impl Chains {
         self.dirty.extend(0..self.deck_nodes as u32);
     }
 
-    /// Copies a and b face each other across a closed crack (`on`) or no longer (`!on`).
+    /// Copies a and b face each other across a closed crack (`on`) or no longer (`!on`). A pair
+    /// may face each other across several cracks at once (a node outside the groups and a
+    /// group's copy, across each failed interface of the copy's element at that node): the
+    /// first is the mask's bit, the others are listed in `far`, and a release takes one away.
     pub fn link(&mut self, a: u32, b: u32, on: bool) {
         if self.pair.is_empty() {
             return;
         }
-        // each one's place among the deck node's copies (beyond the masks when not found)
-        let c = self.copies(a);
-        let place = |q: u32| c.iter().position(|&n| n == q).unwrap_or(usize::MAX);
-        let (pa, pb) = (place(a), place(b));
-        for (p, q, j) in [(a, b, pb), (b, a, pa)] {
-            if j < MASK_BITS {
-                let bit = 1u32 << j;
-                if on {
-                    self.pair[p as usize] |= bit;
+        for (p, q) in [(a, b), (b, a)] {
+            // q's place among p's deck node's copies (beyond the masks when not one of them)
+            let j = self
+                .copies(p)
+                .iter()
+                .position(|&n| n == q)
+                .unwrap_or(usize::MAX);
+            let bit = if j < MASK_BITS { 1u32 << j } else { 0 };
+            let mask = &mut self.pair[p as usize];
+            if on {
+                if *mask & bit == 0 && bit != 0 {
+                    *mask |= bit;
                 } else {
-                    self.pair[p as usize] &= !bit;
+                    self.far.push((p, q));
                 }
-            } else if on {
-                self.far.push((p, q));
             } else if let Some(k) = self.far.iter().position(|&e| e == (p, q)) {
                 self.far.swap_remove(k);
+            } else {
+                *mask &= !bit;
             }
         }
         self.touch(a);
+        self.touch(b);
     }
 
     /// Relabel the touched deck nodes: each copy gets the lowest copy it is joined to through
@@ -409,5 +416,21 @@ mod tests {
         ch.refresh(&tie);
         assert!(!ch.held(35, 39));
         assert!(ch.far.is_empty());
+        // a pair across two cracks at once stays held until both are released
+        ch.link(3, 5, true);
+        ch.refresh(&tie);
+        ch.link(3, 5, false);
+        ch.refresh(&tie);
+        assert!(ch.held(3, 5));
+        ch.link(3, 5, false);
+        ch.refresh(&tie);
+        assert!(!ch.held(3, 5));
+        // copies of two deck nodes (no crack pairs them; the chains take it without harm)
+        ch.link(3, 42, true);
+        ch.refresh(&tie);
+        ch.link(3, 42, false);
+        ch.refresh(&tie);
+        assert!(!ch.held(3, 42) && ch.far.is_empty());
+        assert_eq!(ch.pair.iter().filter(|&&m| m != 0).count(), 0);
     }
 }

@@ -84,9 +84,12 @@
 //! are watched per entry of the solver's positions ([`crate::node_values`]): once per
 //! coincident set, whose copies move as one (the solver gives a set one acceleration,
 //! `sum f / sum m`, for all its members), and the set's lead stands for its copies in the
-//! checks; an entry is watched once a node of a side is on it ([`Contact::track`]; entries
-//! per node, when a rigid body's node is bonded to a group's copies, hold equal values for the
-//! tied copies). Until then a
+//! checks. An entry is watched from the step after a node of a side is on it (marked when the
+//! node joins, [`Contact::watch_new_nodes`], and again from the sides' nodes at each full
+//! build; a slot born of a split is watched as its set was, [`Contact::sets_split`]); the
+//! tracking reads the watched entries ([`Contact::track`]). Where a rigid body's node is bonded
+//! to a group's copies every node has its own entry: the tied copies' entries hold equal values,
+//! and the body's node, placed by its body, is watched as any node. Until then a
 //! node and a face it may touch have moved less than the margin relative to each other, so the
 //! node's x_ref is still in the face's box (the contact point, `sum w_a x_a` with
 //! `sum |w_a| <= E`, moved by at most E margin relative to the node; the 1.1 covers that and
@@ -253,7 +256,7 @@ use friction::{tangential_force, Friction};
 use node_faces::NodeFaces;
 use penalty::{normal_force, off_corners, project, Cull, CullMore, Projection, INSIDE_TOL};
 use schedule::{Cand, Sched};
-use search::{Aabb, Aabb32, BucketGrid};
+use search::{Aabb, Aabb32, BucketGrid, SearchBox};
 use surface::{covered_parts, exterior_faces, face_nodes, side_faces, FaceId, FaceTable};
 use touching::Touching;
 
@@ -1284,8 +1287,8 @@ impl Query<'_> {
 }
 
 /// When a pair listed by a full build is first due: its clearance from the face's search
-/// sphere `(c, reach^2)` (made with `margin` at the current positions, [`search_sphere`]), 0
-/// (at once) when the node `p` is within its reach less `E margin`.
+/// sphere `(c, reach^2)` (made with `margin` at the current positions, [`search_sphere`], as
+/// stored, [`Sphere::get`]), 0 (at once) when the node `p` is within its reach less `E margin`.
 ///
 /// A contact point is `sum w_a x_a` with `sum w_a = 1` and `sum |w_a| <= E`
 /// ([`penalty::WEIGHT_SUM`]), so it lies within `E r` of the centroid c (r the largest
@@ -1708,6 +1711,14 @@ impl Contact {
     fn rebuild(&mut self, x: Points, tie: &[u32]) {
         self.x_ref.clear();
         self.x_ref.extend_from_slice(x.entries());
+        // the watched entries again, from the sides' nodes: a slot born of a split is watched
+        // as its set was until now, whether or not its nodes are on a side
+        self.watched.fill(false);
+        for side in &self.sides {
+            for &n in &side.nodes {
+                self.watched[x.entry_of(n as usize)] = true;
+            }
+        }
         self.reorder(x);
         self.regroup(tie);
         let rebase = self.motion;
@@ -1969,7 +1980,13 @@ impl Contact {
                 k: 0.0,
                 depth: table.depth(id),
             };
-            region.push(search_box(&face, x_ref, m));
+            // rounded out as the faces' stored boxes are, so the nodes searched again are
+            // those the grids would list
+            let b: Aabb32 = search_box(&face, x_ref, m).into();
+            region.push(Aabb {
+                min: b.lo(),
+                max: b.hi(),
+            });
         }
         for pass in passes.iter_mut() {
             let ns = &sides[pass.node_side];

@@ -1454,7 +1454,8 @@ fn first_due_crossings(scale_: f64, seed: u64) -> (usize, usize) {
             depth: rng.range(0.05, 0.5),
         };
         let margin = rng.range(0.0, 0.2);
-        let sphere = search_sphere(&face, (&x).into(), margin);
+        let (c, reach) = search_sphere(&face, (&x).into(), margin);
+        let sphere = Sphere::new(c, reach).get();
         let p: [Vec3; 4] = std::array::from_fn(|a| x[a]);
         let b = FaceBounds::new(&p);
         for _ in 0..20 {
@@ -1511,8 +1512,9 @@ fn first_due_from_the_sphere_is_never_crossed() {
 }
 
 /// The motion bound watches a slot born of a split: it starts at its set's last position and
-/// is watched as its set was (its nodes are on the surface), so a move of that slot alone over
-/// the next step is in the bound; a step without motion adds nothing.
+/// reference position and is watched as its set was (its nodes are on the surface), so a move
+/// of that slot alone over the next step is in the bound and, beyond the margin, brings a full
+/// build; a step without motion adds nothing.
 #[test]
 fn a_slot_born_of_a_split_is_watched() {
     let deck = single_part_model(BoxMesh::new([1, 1, 2], [1.0, 1.0, 2.0]), mat(), 1.0);
@@ -1532,10 +1534,10 @@ fn a_slot_born_of_a_split_is_watched() {
         let slots = Some(sets.slots());
         let mut f = zeros(x.len());
         let (xv, vv) = (Points::new(x, slots), Points::new(&v, slots));
-        cs.compute_with_slots(xv, vv, 1e-3, &tie, sets.slots(), &mut f);
-        cs.contacts[0].step_motion
+        let r = cs.compute_with_slots(xv, vv, 1e-3, &tie, sets.slots(), &mut f);
+        (cs.contacts[0].step_motion, r.rebuilt)
     };
-    assert_eq!(step(&mut cs, &x, &sets, &intact), 0.0);
+    assert_eq!(step(&mut cs, &x, &sets, &intact), (0.0, true));
     // the one interface fails: its upper copies get slots of their own
     intact[0] = false;
     sets.split_after_failure(&sm.faces, &intact, &[0]);
@@ -1547,14 +1549,16 @@ fn a_slot_born_of_a_split_is_watched() {
     cs.sets_split(sets.born());
     let f = &sm.faces[0];
     cs.activate(&[(f.elems[0], f.faces[0]), (f.elems[1], f.faces[1])]);
-    // only the new slots move
-    let d = [0.0, 0.0, 0.05];
+    // only the new slots move, by more than the margin (0.1 of the faces' size) since the
+    // build: a new full build, from the reference positions the new slots took over
+    let d = [0.0, 0.0, 0.3];
     let born: Vec<u32> = sets.born().iter().map(|b| b.0).collect();
     for &s in &born {
         x[s as usize] = add(x[s as usize], d);
     }
-    assert!(step(&mut cs, &x, &sets, &intact) >= norm(d));
-    assert_eq!(step(&mut cs, &x, &sets, &intact), 0.0);
+    let (motion, rebuilt) = step(&mut cs, &x, &sets, &intact);
+    assert!(motion >= norm(d) && rebuilt, "{motion} {rebuilt}");
+    assert_eq!(step(&mut cs, &x, &sets, &intact), (0.0, false));
 }
 
 /// The chains of a split model read the deck node of each copy from the model's own origin

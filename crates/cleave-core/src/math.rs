@@ -61,6 +61,25 @@ pub fn cbrt(x: f64) -> f64 {
     y - (y * y * y - x) / (3.0 * y * y)
 }
 
+/// The largest f32 not above `v` (NaN stays NaN; beyond f32's range, `f32::MAX` or -inf):
+/// single-precision storage of a bound that may only shrink.
+#[inline]
+pub fn f32_down(v: f64) -> f32 {
+    let t = v as f32;
+    if t as f64 > v {
+        t.next_down()
+    } else {
+        t
+    }
+}
+
+/// The least f32 not below `v` (NaN stays NaN): single-precision storage of a bound that may
+/// only grow.
+#[inline]
+pub fn f32_up(v: f64) -> f32 {
+    -f32_down(-v)
+}
+
 /// Trace of a symmetric tensor.
 #[inline]
 pub fn trace(s: &Sym3) -> f64 {
@@ -225,6 +244,30 @@ mod tests {
         for x in [0.0, -8.0, 1e-310, f64::INFINITY, f64::NAN] {
             assert_eq!(cbrt(x).to_bits(), x.cbrt().to_bits());
         }
+    }
+
+    #[test]
+    fn f32_rounds_outward() {
+        for v in [
+            0.0,
+            1e-9,
+            0.1,
+            -0.1,
+            1.0 / 3.0,
+            12345.678,
+            1e30,
+            -0.7,
+            -7.3e-12,
+            1e-310,
+        ] {
+            let (d, u) = (f32_down(v), f32_up(v));
+            assert!(d as f64 <= v && (d.next_up() as f64) > v, "{v}");
+            assert!(u as f64 >= v && (u.next_down() as f64) < v, "{v}");
+        }
+        assert!(f32_down(f64::NAN).is_nan() && f32_up(f64::NAN).is_nan());
+        assert_eq!(f32_down(f64::NEG_INFINITY), f32::NEG_INFINITY);
+        assert_eq!(f32_up(1e300), f32::INFINITY);
+        assert_eq!(f32_down(1e300), f32::MAX);
     }
 
     #[test]

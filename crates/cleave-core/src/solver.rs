@@ -358,7 +358,7 @@ impl<'m> Solver<'m> {
     /// The entry of node i in the state's positions and velocities.
     #[inline]
     fn entry(&self, i: usize) -> usize {
-        self.kin_slots().map_or(i, |s| s[i] as usize)
+        self.positions().entry_of(i)
     }
 
     /// The mass that moves with entry k ([`Self::entry_masses`]).

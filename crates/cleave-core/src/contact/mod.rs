@@ -256,7 +256,7 @@ use friction::{tangential_force, Friction};
 use node_faces::NodeFaces;
 use penalty::{normal_force, off_corners, project, Cull, CullMore, Projection, INSIDE_TOL};
 use schedule::{Cand, Sched};
-use search::{Aabb, Aabb32, BucketGrid, SearchBox};
+use search::{Aabb, Aabb32, BucketGrid};
 use surface::{covered_parts, exterior_faces, face_nodes, side_faces, FaceId, FaceTable};
 use touching::Touching;
 
@@ -772,9 +772,9 @@ struct Side {
     parts: Vec<bool>,
     /// Nodes of the faces: ascending at the start, then in the order their faces joined.
     nodes: Vec<u32>,
-    /// Nodes `..watched` have their positions' entry marked in `Contact::watched`; the others
+    /// Nodes `..marked` have their positions' entry marked in `Contact::watched`; the others
     /// joined since the last step and get it at the next ([`Contact::watch_new_nodes`]).
-    watched: usize,
+    marked: usize,
     /// Index of each model node in `nodes`, or NONE.
     local: Vec<u32>,
     /// The faces of each node of `nodes` (indices into `faces`).
@@ -817,7 +817,7 @@ impl Side {
             tight: Vec::with_capacity(ids.len()),
             parts,
             nodes: Vec::new(),
-            watched: 0,
+            marked: 0,
             local: vec![NONE; num_nodes],
             node_faces: NodeFaces::default(),
             group: Vec::new(),
@@ -1097,10 +1097,10 @@ impl Sphere {
     fn new(c: Vec3, reach: f64) -> Self {
         let c32 = c.map(|v| v as f32);
         let moved = dist2(c, c32.map(f64::from)).sqrt();
-        let r = search::up(reach + moved);
+        let r = crate::math::f32_up(reach + moved);
         Self {
             c: c32,
-            r2: search::up(f64::from(r) * f64::from(r)),
+            r2: crate::math::f32_up(f64::from(r) * f64::from(r)),
         }
     }
 
@@ -1512,7 +1512,7 @@ impl Contact {
                 }
             }
             let n = side.nodes.len();
-            debug_assert!(side.watched <= before);
+            debug_assert!(side.marked <= before);
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
                 pass.cand.resize_with(n, Vec::new);
                 pass.sched.resize(n, Sched::default());
@@ -1626,6 +1626,7 @@ impl Contact {
             false
         });
     }
+
     /// One pass over the positions' entries (per slot of the coincident sets, or per node):
     /// the motion bound grows by the diagonal of the box of the watched entries' displacements
     /// over the last step (those of the sides' nodes: a set's members share its entry and move
@@ -1636,7 +1637,9 @@ impl Contact {
     /// entries are read in sequence; a pass over the sides' nodes read them by node instead.
     fn track(&mut self, x: Points) -> f64 {
         let e = x.entries();
-        self.cover(e);
+        // every entry has its last and reference positions ([`Contact::watch_new_nodes`]
+        // covered them at this step)
+        debug_assert!(self.x_last.len() == e.len() && self.x_ref.len() == e.len());
         const CHUNK: usize = 4 * NODE_CHUNK;
         let (step, since) = e
             .par_chunks(CHUNK)
@@ -1681,10 +1684,10 @@ impl Contact {
     fn watch_new_nodes(&mut self, x: Points) {
         self.cover(x.entries());
         for side in &mut self.sides {
-            for &n in &side.nodes[side.watched..] {
+            for &n in &side.nodes[side.marked..] {
                 self.watched[x.entry_of(n as usize)] = true;
             }
-            side.watched = side.nodes.len();
+            side.marked = side.nodes.len();
         }
     }
 
@@ -1982,11 +1985,7 @@ impl Contact {
             };
             // rounded out as the faces' stored boxes are, so the nodes searched again are
             // those the grids would list
-            let b: Aabb32 = search_box(&face, x_ref, m).into();
-            region.push(Aabb {
-                min: b.lo(),
-                max: b.hi(),
-            });
+            region.push(Aabb32::from(search_box(&face, x_ref, m)).wide());
         }
         for pass in passes.iter_mut() {
             let ns = &sides[pass.node_side];

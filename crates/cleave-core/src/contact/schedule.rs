@@ -61,16 +61,9 @@ impl Default for Sched {
     }
 }
 
-/// The largest f32 not above `v` (NaN stays NaN).
-#[inline]
-pub fn down(v: f64) -> f32 {
-    let t = v as f32;
-    if t as f64 > v {
-        t.next_down()
-    } else {
-        t
-    }
-}
+/// The largest f32 not above `v` ([`crate::math::f32_down`]): a due kept in single precision
+/// comes no later than asked.
+pub use crate::math::f32_down as down;
 
 /// Whether a candidate is due: `due <= motion`, or NaN.
 #[inline]
@@ -377,15 +370,5 @@ mod tests {
             }
             assert!(n == 0 || total > 10 * n.min(10), "{n}: {total}");
         }
-    }
-
-    #[test]
-    fn down_rounds_down() {
-        for v in [0.0, 1e-9, 0.1, 1.0 / 3.0, 12345.678, 1e30, -0.7] {
-            let d = down(v);
-            assert!(d as f64 <= v && (d.next_up() as f64) > v, "{v}");
-        }
-        assert!(down(f64::NAN).is_nan());
-        assert_eq!(down(f64::NEG_INFINITY), f32::NEG_INFINITY);
     }
 }

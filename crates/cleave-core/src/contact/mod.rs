@@ -1345,7 +1345,6 @@ pub struct Contact {
     /// they chain together.
     closures: Vec<Closure>,
     chains: Chains,
-    points: Vec<Vec3>,
     scratch: Vec<u32>,
     region: Vec<Aabb>,
     /// Scratch of [`Side::regroup`]: the lead of each coincident set, and the nodes whose lead
@@ -1469,7 +1468,6 @@ impl Contact {
             pending: Vec::new(),
             closures: Vec::new(),
             chains: Chains::new(b.origin, b.model.x0.origin_shared()),
-            points: Vec::new(),
             scratch: Vec::new(),
             region: Vec::new(),
             set_lead: Vec::new(),
@@ -1736,7 +1734,6 @@ impl Contact {
         let Self {
             sides,
             passes,
-            points,
             x_ref,
             chains,
             ..
@@ -1744,9 +1741,9 @@ impl Contact {
         for pass in passes.iter_mut() {
             let ns = &sides[pass.node_side];
             let fs = &sides[pass.face_side];
-            points.clear();
-            points.extend(ns.nodes.iter().map(|&n| x[n as usize]));
-            pass.grid.build(&fs.boxes, points);
+            let nodes = &ns.nodes;
+            pass.grid
+                .build_with(&fs.boxes, nodes.len(), |q| x[nodes[q as usize] as usize]);
             pass.nbase = ns.nodes.len();
             pass.extra.build::<Aabb32>(&[], &[]);
             let Pass {
@@ -1963,7 +1960,6 @@ impl Contact {
             passes,
             x_ref,
             pending,
-            points,
             scratch,
             region,
             regrouped,
@@ -1991,15 +1987,16 @@ impl Contact {
             let ns = &sides[pass.node_side];
             let fs = &sides[pass.face_side];
             let nbase = pass.nbase;
-            points.clear();
-            points.extend(ns.nodes[nbase..].iter().map(|&n| x_ref[n as usize]));
-            pass.extra.build(&fs.boxes[fs.base..], points);
+            let new_nodes = &ns.nodes[nbase..];
+            let point = |q: u32| x_ref[new_nodes[q as usize] as usize];
+            pass.extra
+                .build_with(&fs.boxes[fs.base..], new_nodes.len(), point);
             scratch.clear();
             for b in region.iter() {
                 pass.grid
                     .points_in(b, |q| x_ref[ns.nodes[q as usize] as usize], scratch);
                 let start = scratch.len();
-                pass.extra.points_in(b, |q| points[q as usize], scratch);
+                pass.extra.points_in(b, point, scratch);
                 for q in &mut scratch[start..] {
                     *q += nbase as u32;
                 }

@@ -7,6 +7,7 @@
 //!   of a face, a node's (its stiffest face), and a pair's (the smaller: PENOPT 1).
 //! - [`search`]: the bucket grids that find each node's candidate faces.
 //! - [`schedule`]: when each candidate pair is tested again.
+//! - [`cand_lists`]: each node's candidates and their schedule, in one buffer per chunk of nodes.
 //! - [`penalty`]: closest point on a bilinear face, gap, normal force and its reaction; the
 //!   bounds that reject a node before projecting it, and its clearance.
 //! - [`friction`]: `mu = FD + (FS - FD) exp(-DC |v_rel|)`, elastic trial force capped at
@@ -225,6 +226,7 @@
 //! already worked out that step).
 
 pub mod bounds_cache;
+mod cand_lists;
 pub mod closure;
 pub mod engagement;
 pub mod friction;
@@ -245,6 +247,7 @@ use crate::math::{add, dot, norm, scale, sub, Vec3};
 use crate::model::{ContactDef, Model, PenaltyRule};
 use crate::node_values::NodeValues;
 use bounds_cache::BoundsCache;
+use cand_lists::CandLists;
 
 /// Positions or velocities of every node, read through the coincident sets' slots when the
 /// solver keeps them per slot ([`crate::node_values`]).
@@ -665,8 +668,8 @@ impl<'m> ContactSet<'m> {
             s.candidates += c
                 .passes
                 .iter()
-                .flat_map(|p| p.cand.iter().zip(&p.sched))
-                .map(|(list, sched)| sched.len(list))
+                .flat_map(|p| p.cand.rooms())
+                .map(|(sched, room)| sched.len(room))
                 .sum::<usize>();
             s.rebuilds += c.rebuilds;
             s.updates += c.updates;
@@ -1154,9 +1157,9 @@ struct Pass {
     nbase: usize,
     /// The faces and nodes that joined since (indices relative to `base` and `nbase`).
     extra: BucketGrid,
-    /// Candidate faces of each node of the node side: a few in its [`Sched`], the others here.
-    cand: Vec<Vec<Cand>>,
-    sched: Vec<Sched>,
+    /// Candidate faces of each node of the node side and their [`Sched`] (a few inline in the
+    /// schedule, the others in its room).
+    cand: CandLists,
     /// The earliest `due` of each node's candidates ([`Sched::next_due`]), or -inf when the
     /// node must be checked at the next step (its candidates or contact changed outside a
     /// check). A node whose `next` is not due is not looked at: it tests nothing, and it is
@@ -1176,8 +1179,7 @@ impl Pass {
             grid: BucketGrid::default(),
             nbase: 0,
             extra: BucketGrid::default(),
-            cand: vec![Vec::new(); nodes],
-            sched: vec![Sched::default(); nodes],
+            cand: CandLists::new(NODE_CHUNK, nodes),
             next: vec![f32::NEG_INFINITY; nodes],
             mark: vec![false; nodes],
             touching: Touching::new(NODE_CHUNK, nodes),
@@ -1228,13 +1230,20 @@ impl Query<'_> {
     /// pair holds whether or not the pair is listed; a new one is due at once, or at a full
     /// build at its sphere clearance (the later of the two for a face it had).
     /// A node that is not its set's lead gets no candidates. The node is checked at the next
-    /// step (`next` = -inf, [`Pass::next`]).
-    fn run(&self, i: usize, list: &mut Vec<Cand>, sched: &mut Sched, next: &mut f32) {
+    /// step (`next` = -inf, [`Pass::next`]). `old` is the node's room; its new room is appended
+    /// to `new`.
+    fn run(
+        &self,
+        i: usize,
+        mut sched: Sched,
+        old: &mut [Cand],
+        next: &mut f32,
+        new: &mut Vec<Cand>,
+    ) -> Sched {
         *next = f32::NEG_INFINITY;
-        sched.gather(list);
+        sched.gather(old);
         if self.group[i] != i as u32 || self.ns.buried(i as u32) {
-            list.clear();
-            return;
+            return sched;
         }
         let s = self.nodes[i];
         let p = self.x_ref[s as usize];
@@ -1249,12 +1258,12 @@ impl Query<'_> {
             dist2(p, c) <= r2 && !fs.faces[f as usize].nodes.iter().any(|&a| held(a))
         };
         // the old list, by face, in this thread's scratch (sized by the first searches)
-        OLD.with_borrow_mut(|old| {
-            old.clear();
-            old.extend_from_slice(list);
-            old.sort_unstable_by_key(|c| c.face);
-            list.clear();
-            let new = |f: u32| Cand {
+        let start = new.len();
+        OLD.with_borrow_mut(|sorted| {
+            sorted.clear();
+            sorted.extend_from_slice(old);
+            sorted.sort_unstable_by_key(|c| c.face);
+            let cand = |f: u32| Cand {
                 face: f,
                 due: match self.kind {
                     SearchKind::Full { margin, .. } => {
@@ -1264,25 +1273,26 @@ impl Query<'_> {
                 },
             };
             self.grid
-                .faces_at(p, &fs.boxes, keep, |f| list.push(new(f)));
+                .faces_at(p, &fs.boxes, keep, |f| new.push(cand(f)));
             let base = fs.base as u32;
             self.extra.faces_at(
                 p,
                 &fs.boxes[fs.base..],
                 |f| keep(f + base),
-                |f| list.push(new(f + base)),
+                |f| new.push(cand(f + base)),
             );
             let rebase = match self.kind {
                 SearchKind::Full { rebase, .. } => rebase,
                 SearchKind::Incremental => 0.0,
             };
-            for c in list.iter_mut() {
-                if let Ok(j) = old.binary_search_by_key(&c.face, |c| c.face) {
-                    c.due = c.due.max(schedule::down(old[j].due as f64 - rebase));
+            for c in new[start..].iter_mut() {
+                if let Ok(j) = sorted.binary_search_by_key(&c.face, |c| c.face) {
+                    c.due = c.due.max(schedule::down(sorted[j].due as f64 - rebase));
                 }
             }
         });
-        sched.split(list, self.hot_until);
+        sched.split(&mut new[start..], self.hot_until);
+        sched
     }
 }
 
@@ -1512,8 +1522,7 @@ impl Contact {
             let n = side.nodes.len();
             debug_assert!(side.marked <= before);
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
-                pass.cand.resize_with(n, Vec::new);
-                pass.sched.resize(n, Sched::default());
+                pass.cand.resize(n);
                 pass.next.resize(n, f32::NEG_INFINITY);
                 pass.mark.resize(n, false);
                 pass.touching.resize(n);
@@ -1750,7 +1759,6 @@ impl Contact {
                 grid,
                 extra,
                 cand,
-                sched,
                 next,
                 ..
             } = pass;
@@ -1767,12 +1775,14 @@ impl Contact {
                 kind: SearchKind::Full { rebase, margin: m },
                 hot_until,
             };
-            cand.par_iter_mut()
-                .zip(sched.par_iter_mut())
-                .zip(next.par_iter_mut())
+            cand.chunks()
+                .zip(next.par_chunks_mut(NODE_CHUNK))
                 .enumerate()
-                .with_min_len(NODE_CHUNK / 4)
-                .for_each(|(i, ((list, sched), next))| q.run(i, list, sched, next));
+                .for_each(|(c, (mut lists, next))| {
+                    lists.search_all(|k, sched, old, new| {
+                        q.run(c * NODE_CHUNK + k, sched, old, &mut next[k], new)
+                    })
+                });
         }
         self.pending.clear();
         self.dirty = false;
@@ -1871,7 +1881,8 @@ impl Contact {
         }
     }
 
-    /// Put each side's nodes in space order (with everything kept per node), when more than
+    /// Put each side's nodes in space order (with everything kept per node; the candidate
+    /// lists are dropped, the full build that follows makes them again), when more than
     /// 1/[`REORDER`] of them joined since the last ordering: the nodes move little against each
     /// other between full builds, while an ordering costs a sort and a pass over every array
     /// of the nodes (a fifth of a full build on the 2800 ball). The order is for the caches
@@ -1913,16 +1924,11 @@ impl Contact {
                 group.swap(a, b);
             });
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
-                let Pass {
-                    cand,
-                    sched,
-                    touching,
-                    ..
-                } = pass;
-                Side::permute(&order, &mut seen, |a, b| {
-                    cand.swap(a, b);
-                    sched.swap(a, b);
-                });
+                let Pass { cand, touching, .. } = pass;
+                // the full build that follows lists every node again; the dues kept would only
+                // save tests of pairs found apart before (a new pair is first due at its sphere
+                // clearance, [`first_due`], as sound, and sooner)
+                cand.forget();
                 touching.permute(&order);
             }
             for (k, &n) in side.nodes.iter().enumerate() {
@@ -2010,7 +2016,6 @@ impl Contact {
                 grid,
                 extra,
                 cand,
-                sched,
                 next,
                 mark,
                 ..
@@ -2031,22 +2036,26 @@ impl Contact {
             if scratch.len() < NODE_CHUNK {
                 for &i in scratch.iter() {
                     let i = i as usize;
-                    q.run(i, &mut cand[i], &mut sched[i], &mut next[i]);
+                    let (mut lists, k) = cand.chunk_of(i);
+                    lists.search_one(k, |sched, old, new| q.run(i, sched, old, &mut next[i], new));
                 }
             } else {
                 for &i in scratch.iter() {
                     mark[i as usize] = true;
                 }
-                cand.par_iter_mut()
-                    .zip(sched.par_iter_mut())
-                    .zip(next.par_iter_mut())
-                    .zip(mark.par_iter_mut())
+                cand.chunks()
+                    .zip(next.par_chunks_mut(NODE_CHUNK))
+                    .zip(mark.par_chunks_mut(NODE_CHUNK))
                     .enumerate()
-                    .with_min_len(NODE_CHUNK)
-                    .for_each(|(i, (((list, sched), next), mark))| {
-                        if *mark {
-                            *mark = false;
-                            q.run(i, list, sched, next);
+                    .for_each(|(c, ((mut lists, next), mark))| {
+                        for k in 0..lists.len() {
+                            if mark[k] {
+                                mark[k] = false;
+                                lists.search_one(k, |sched, old, new| {
+                                    let i = c * NODE_CHUNK + k;
+                                    q.run(i, sched, old, &mut next[k], new)
+                                });
+                            }
                         }
                     });
             }
@@ -2064,7 +2073,8 @@ impl Contact {
                 for &i in &side.renewed {
                     // (a node without a lead yet gets one, and new lists, at the next search)
                     let i = side.group.get(i as usize).copied().unwrap_or(i) as usize;
-                    pass.sched[i].renew(&mut pass.cand[i]);
+                    let (mut lists, k) = pass.cand.chunk_of(i);
+                    lists.with(k, |sched, room| sched.renew(room));
                     pass.next[i] = f32::NEG_INFINITY;
                 }
             }
@@ -2108,7 +2118,6 @@ impl Contact {
             let fs = &sides[pass.face_side];
             let Pass {
                 cand,
-                sched,
                 next,
                 touching,
                 ..
@@ -2134,11 +2143,10 @@ impl Contact {
             // to a new lead and marked it due)
             let chunk = NODE_CHUNK;
             next.par_chunks_mut(chunk)
-                .zip(cand.par_chunks_mut(chunk))
-                .zip(sched.par_chunks_mut(chunk))
+                .zip(cand.chunks())
                 .zip(touching.chunks())
                 .enumerate()
-                .for_each(|(c, (((next, cand), sched), mut touch))| {
+                .for_each(|(c, ((next, mut lists), mut touch))| {
                     for (k, due) in next.iter_mut().enumerate() {
                         let old = touch.take(k);
                         if !schedule::is_due(*due, motion) {
@@ -2149,12 +2157,13 @@ impl Contact {
                         }
                         let (mut hit, mut ft) =
                             old.map_or((Hit::default(), [0.0; 3]), |t| (t.hit, t.ft));
-                        let (list, sched) = (&mut cand[k], &mut sched[k]);
-                        if let Some(new) = ctx.check(c * chunk + k, list, sched, &hit, ft) {
-                            (hit, ft) = new;
-                        }
+                        lists.with(k, |sched, room| {
+                            if let Some(new) = ctx.check(c * chunk + k, room, sched, &hit, ft) {
+                                (hit, ft) = new;
+                            }
+                            *due = sched.next_due(room);
+                        });
                         touch.put(k, hit, ft, hit.fn_mag != 0.0);
-                        *due = sched.next_due(list);
                     }
                 });
             touching.swap();
@@ -2339,7 +2348,7 @@ impl NodeCheck<'_> {
     fn check(
         &self,
         i: usize,
-        list: &mut Vec<Cand>,
+        room: &mut [Cand],
         sched: &mut Sched,
         prev: &Hit,
         ft_prev: Vec3,
@@ -2356,7 +2365,7 @@ impl NodeCheck<'_> {
         let mut best: Option<(u32, Projection)> = None;
         let mut frame: Option<NodeFrame> = None;
         // faces holding the node or a node tied to it are not candidates (see `Query::run`)
-        sched.visit(list, self.motion, self.hot_until, |f| {
+        sched.visit(room, self.motion, self.hot_until, |f| {
             let xs = *xs.get_or_insert_with(|| x[s as usize]);
             BoundsCache::with(|bounds| self.test(i, f, xs, &mut best, &mut frame, bounds))
         });

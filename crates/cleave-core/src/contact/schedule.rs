@@ -4,10 +4,13 @@
 //! `contact` module docs): the pair cannot touch while the definition's motion bound grows by
 //! less than D, so it is next due at `due = motion + D`. A node's candidates are kept in two
 //! groups: the *hot* ones, due within a few steps (by `hot_until`), looked at every step, the
-//! first [`HOT`] of them inline in the node's [`Sched`] (32 bytes, in a dense array) and
+//! first [`HOT`] of them inline in the node's [`Sched`] (32 bytes, before its list) and
 //! any others at the end of the node's list; and the *cold* ones, a min-heap on `due` at the
 //! start of the list, of which only the top is looked at (its `due` is kept in the [`Sched`]
-//! too). A node whose hot candidates are not due and whose heap top is not due costs one
+//! too). The node's candidates fill a *room* of fixed size, their number, between two searches
+//! (its place in [`super::cand_lists`]): the list, then the places of the inline ones, so a
+//! candidate moving between the list and the inline places never needs more room. A node
+//! whose hot candidates are not due and whose heap top is not due costs one
 //! read of its [`Sched`]; the caller keeps each node's earliest due ([`Sched::next_due`]) in a
 //! dense array, so such a node costs it 4 bytes.
 //!
@@ -33,15 +36,16 @@ impl Cand {
     }
 }
 
-/// Hot candidates kept inline in a [`Sched`]. A node that a step checks tests 1.1 faces on average
-/// (the 2800 and the 20,000 ball, `cleave bench ball`), so two cover most; six (a cache line) cost
-/// 32 more bytes for each of the ~75,000 surface nodes of the 20,000 ball at 20 us.
+/// Hot candidates kept inline in a [`Sched`] ([`Sched::store`] has room for two). A node that a
+/// step checks tests 1.1 faces on average (the 2800 and the 20,000 ball, `cleave bench ball`), so
+/// two cover most.
 pub const HOT: usize = 2;
 
 /// A node's inline hot candidates and the size and top of its heap of cold ones (module docs).
-/// The node's list is `[heap (cold) | hot candidates beyond the inline ones]`.
+/// The node's room is `[heap (cold) | hot candidates beyond the inline ones | n_hot places]`.
+/// It is kept in [`Sched::UNITS`] candidates' space just before the room
+/// ([`super::cand_lists`]), so a node without candidates needs none.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[repr(align(32))]
 pub struct Sched {
     hot: [Cand; HOT],
     n_hot: u32,
@@ -72,33 +76,69 @@ pub fn is_due(due: f32, motion: f64) -> bool {
 }
 
 impl Sched {
-    /// Number of candidates (inline and in `list`).
-    pub fn len(&self, list: &[Cand]) -> usize {
-        self.n_hot as usize + list.len()
+    /// Candidates' space a schedule is kept in ([`Sched::store`]).
+    pub const UNITS: usize = 4;
+
+    /// The schedule kept in `h` ([`Sched::store`]).
+    #[inline]
+    pub fn load(h: &[Cand]) -> Self {
+        Self {
+            hot: [h[0], h[1]],
+            n_hot: h[2].face,
+            top: h[2].due,
+            cold: h[3].face,
+        }
+    }
+
+    /// Keep the schedule in `h` ([`Sched::UNITS`] candidates: the inline ones, then the
+    /// counts and the heap's top in the candidates' fields).
+    #[inline]
+    pub fn store(&self, h: &mut [Cand]) {
+        h[0] = self.hot[0];
+        h[1] = self.hot[1];
+        h[2] = Cand {
+            face: self.n_hot,
+            due: self.top,
+        };
+        h[3] = Cand {
+            face: self.cold,
+            due: 0.0,
+        };
+    }
+
+    /// Number of candidates: the room's (inline and in the list).
+    pub fn len(&self, room: &[Cand]) -> usize {
+        room.len()
+    }
+
+    /// The list's length in the room (the rest of the room is the inline hot candidates').
+    #[inline]
+    fn list_len(&self, room: &[Cand]) -> usize {
+        room.len() - self.n_hot as usize
     }
 
     /// The candidate faces, in no particular order.
-    pub fn faces<'a>(&'a self, list: &'a [Cand]) -> impl Iterator<Item = u32> + 'a {
+    pub fn faces<'a>(&'a self, room: &'a [Cand]) -> impl Iterator<Item = u32> + 'a {
         self.hot[..self.n_hot as usize]
             .iter()
-            .chain(list)
+            .chain(&room[..self.list_len(room)])
             .map(|c| c.face)
     }
 
     /// Number of candidates not due at `motion` (waiting).
     #[cfg(test)]
-    pub fn waiting(&self, list: &[Cand], motion: f64) -> usize {
+    pub fn waiting(&self, room: &[Cand], motion: f64) -> usize {
         self.hot[..self.n_hot as usize]
             .iter()
-            .chain(list)
+            .chain(&room[..self.list_len(room)])
             .filter(|c| !is_due(c.due, motion))
             .count()
     }
 
     /// The earliest `due` of the node's candidates (`-inf` if one is NaN, `+inf` when there
     /// is none): while the motion bound is below it, [`Sched::visit`] tests nothing.
-    pub fn next_due(&self, list: &[Cand]) -> f32 {
-        let hot = &list[self.cold as usize..];
+    pub fn next_due(&self, room: &[Cand]) -> f32 {
+        let hot = &room[self.cold as usize..self.list_len(room)];
         let mut next = self.top;
         for c in self.hot[..self.n_hot as usize].iter().chain(hot) {
             if c.due.is_nan() {
@@ -113,41 +153,44 @@ impl Sched {
         }
     }
 
-    /// Move every candidate into `list` (in no particular order), for a new search.
-    pub fn gather(&mut self, list: &mut Vec<Cand>) {
-        list.extend_from_slice(&self.hot[..self.n_hot as usize]);
+    /// Put every candidate in the room (in no particular order), for a new search.
+    pub fn gather(&mut self, room: &mut [Cand]) {
+        let len = self.list_len(room);
+        room[len..].copy_from_slice(&self.hot[..self.n_hot as usize]);
         *self = Self::default();
     }
 
-    /// After a search: `list` holds all the node's candidates; those due by `hot_until` (or
-    /// NaN) become hot, the others the heap.
-    pub fn split(&mut self, list: &mut Vec<Cand>, hot_until: f64) {
+    /// After a search (the schedule empty, [`Sched::gather`]): `room` holds all the node's
+    /// candidates; those due by `hot_until` (or NaN) become hot, the others the heap.
+    pub fn split(&mut self, room: &mut [Cand], hot_until: f64) {
+        debug_assert_eq!(self.n_hot, 0, "split after gather");
         let mut cold = 0;
-        for k in 0..list.len() {
-            if !is_due(list[k].due, hot_until) {
-                list.swap(k, cold);
+        for k in 0..room.len() {
+            if !is_due(room[k].due, hot_until) {
+                room.swap(k, cold);
                 cold += 1;
             }
         }
         for k in (0..cold / 2).rev() {
-            sift_down(&mut list[..cold], k);
+            sift_down(&mut room[..cold], k);
         }
         let mut n_hot = 0;
-        while n_hot < HOT && list.len() > cold {
-            self.hot[n_hot] = list.pop().expect("hot candidate");
+        let mut len = room.len();
+        while n_hot < HOT && len > cold {
+            len -= 1;
+            self.hot[n_hot] = room[len];
             n_hot += 1;
         }
         self.n_hot = n_hot as u32;
-        self.set_cold(list, cold);
-        // room for every candidate, so `visit` never grows the list
-        list.reserve(n_hot);
+        self.set_cold(room, cold);
     }
 
     /// Every candidate due at once.
-    pub fn renew(&mut self, list: &mut [Cand]) {
+    pub fn renew(&mut self, room: &mut [Cand]) {
+        let len = self.list_len(room);
         for c in self.hot[..self.n_hot as usize]
             .iter_mut()
-            .chain(list.iter_mut())
+            .chain(room[..len].iter_mut())
         {
             c.due = f32::NEG_INFINITY;
         }
@@ -155,25 +198,27 @@ impl Sched {
         self.top = f32::INFINITY;
     }
 
-    fn set_cold(&mut self, list: &[Cand], cold: usize) {
+    fn set_cold(&mut self, room: &[Cand], cold: usize) {
         self.cold = cold as u32;
-        self.top = if cold > 0 { list[0].due } else { f32::INFINITY };
+        self.top = if cold > 0 { room[0].due } else { f32::INFINITY };
     }
 
     /// Test the candidates due at `motion`: `test(face)` returns the pair's clearance; the
     /// pair is due again at `motion + clearance`, and is hot if that is by `hot_until` (which
-    /// must be at least `motion`).
+    /// must be at least `motion`). The candidates move between the inline places and the
+    /// list within the room, whose size (their number) does not change.
     #[inline]
     pub fn visit(
         &mut self,
-        list: &mut Vec<Cand>,
+        room: &mut [Cand],
         motion: f64,
         hot_until: f64,
         mut test: impl FnMut(u32) -> f64,
     ) {
         let mut cold = self.cold as usize;
+        let mut len = self.list_len(room);
         let heap_due = is_due(self.top, motion);
-        if self.n_hot == 0 && cold == list.len() && !heap_due {
+        if self.n_hot == 0 && cold == len && !heap_due {
             return;
         }
         // the next due
@@ -195,56 +240,62 @@ impl Sched {
                 // into the heap (the first hot candidate of the list, if any, moves to the end)
                 self.n_hot -= 1;
                 self.hot[k] = self.hot[self.n_hot as usize];
-                list.push(Cand { face: c.face, due });
-                let last = list.len() - 1;
-                list.swap(cold, last);
+                room[len] = Cand { face: c.face, due };
+                len += 1;
+                room.swap(cold, len - 1);
                 cold += 1;
-                sift_up(&mut list[..cold], cold - 1);
+                sift_up(&mut room[..cold], cold - 1);
             }
         }
         // hot candidates in the list
         let mut k = cold;
-        while k < list.len() {
-            let c = list[k];
+        while k < len {
+            let c = room[k];
             if !is_due(c.due, motion) {
                 k += 1;
                 continue;
             }
             let due = next(c.face);
-            list[k].due = due;
+            room[k].due = due;
             if !hot(due) {
                 // into the heap; the candidate at `cold` (already seen) takes its place
-                list.swap(k, cold);
+                room.swap(k, cold);
                 cold += 1;
-                sift_up(&mut list[..cold], cold - 1);
+                sift_up(&mut room[..cold], cold - 1);
                 k += 1;
             } else if (self.n_hot as usize) < HOT {
-                self.hot[self.n_hot as usize] = list.swap_remove(k);
+                // out of the list (its last candidate takes the place)
+                len -= 1;
+                room.swap(k, len);
+                self.hot[self.n_hot as usize] = room[len];
                 self.n_hot += 1;
             } else {
                 k += 1;
             }
         }
         // the heap's due candidates, from the top (the list is only read when the top is due)
-        while heap_due && cold > 0 && is_due(list[0].due, motion) {
-            let c = list[0];
+        while heap_due && cold > 0 && is_due(room[0].due, motion) {
+            let c = room[0];
             let due = next(c.face);
             if !hot(due) {
-                list[0].due = due;
-                sift_down(&mut list[..cold], 0);
+                room[0].due = due;
+                sift_down(&mut room[..cold], 0);
             } else {
                 // out of the heap, to the first place of the list's hot candidates
-                list.swap(0, cold - 1);
+                room.swap(0, cold - 1);
                 cold -= 1;
-                sift_down(&mut list[..cold], 0);
-                list[cold].due = due;
+                sift_down(&mut room[..cold], 0);
+                room[cold].due = due;
                 if (self.n_hot as usize) < HOT {
-                    self.hot[self.n_hot as usize] = list.swap_remove(cold);
+                    len -= 1;
+                    room.swap(cold, len);
+                    self.hot[self.n_hot as usize] = room[len];
                     self.n_hot += 1;
                 }
             }
         }
-        self.set_cold(list, cold);
+        debug_assert_eq!(len, self.list_len(room));
+        self.set_cold(room, cold);
     }
 }
 
@@ -289,6 +340,38 @@ mod tests {
     /// candidate says are due, for nodes with 0 to 40 candidates (so the inline hot places
     /// overflow), with searches (`gather` / `split`, some taking candidates out of the list
     /// and bringing back those out) and renewals now and then.
+    /// A schedule kept in the candidates' space comes back the same, with NaN and infinite
+    /// dues.
+    #[test]
+    fn a_stored_schedule_loads_back() {
+        let mut list: Vec<Cand> = (0..9u32)
+            .map(|f| Cand {
+                face: f,
+                due: [f32::NEG_INFINITY, 0.5, f32::INFINITY, f32::NAN][f as usize % 4] + f as f32,
+            })
+            .collect();
+        let mut sched = Sched::default();
+        sched.split(&mut list, 3.0);
+        assert!(sched.n_hot > 0 && sched.cold > 0);
+        let mut h = [Cand::new(7); Sched::UNITS];
+        sched.store(&mut h);
+        let back = Sched::load(&h);
+        // PartialEq fails on NaN: compare the bits
+        let bits = |s: &Sched| {
+            let c = |c: &Cand| (c.face, c.due.to_bits());
+            (c(&s.hot[0]), c(&s.hot[1]), s.n_hot, s.cold, s.top.to_bits())
+        };
+        assert_eq!(bits(&back), bits(&sched));
+        assert_eq!(
+            bits(&Sched::load(&{
+                let mut h = [Cand::new(0); Sched::UNITS];
+                Sched::default().store(&mut h);
+                h
+            })),
+            bits(&Sched::default())
+        );
+    }
+
     #[test]
     fn tests_exactly_the_due_candidates() {
         let mut r = Rng(5);
@@ -338,7 +421,7 @@ mod tests {
                 total += got.len();
                 let mut all: Vec<Cand> = sched.hot[..sched.n_hot as usize]
                     .iter()
-                    .chain(&list)
+                    .chain(&list[..sched.list_len(&list)])
                     .copied()
                     .collect();
                 all.sort_unstable_by_key(|c| c.face);

@@ -403,7 +403,8 @@ fn own_nodes_never_contact() {
     let c = &cs.contacts()[0];
     let side = &c.sides[0];
     for (i, &n) in side.nodes.iter().enumerate() {
-        for f in c.passes[0].sched[i].faces(&c.passes[0].cand[i]) {
+        let (sched, room) = c.passes[0].cand.get(i);
+        for f in sched.faces(room) {
             assert!(!side.faces[f as usize].nodes.contains(&n));
         }
     }
@@ -763,8 +764,8 @@ fn skipping_equals_testing_every_candidate() {
         let waiting: usize = c
             .passes
             .iter()
-            .flat_map(|p| p.cand.iter().zip(&p.sched))
-            .map(|(list, sched)| sched.waiting(list, c.motion))
+            .flat_map(|p| p.cand.rooms())
+            .map(|(sched, room)| sched.waiting(room, c.motion))
             .sum();
         assert!(
             waiting > 100,
@@ -827,7 +828,7 @@ fn buried_nodes_are_left_out_until_their_crack_opens() {
         let (side, pass) = (&c.sides[0], &c.passes[0]);
         let mut n = (0, 0, 0);
         for i in (0..side.nodes.len()).filter(|&i| side.group[i] as usize == i) {
-            let listed = pass.sched[i].len(&pass.cand[i]) > 0;
+            let listed = !pass.cand.get(i).1.is_empty();
             if sm.origin[side.nodes[i] as usize] == centre {
                 n.0 += side.buried(i as u32) as usize;
                 n.1 += listed as usize;
@@ -993,9 +994,8 @@ fn nodes_with_new_faces_are_due_at_once() {
     let waiting = |c: &Contact| -> usize {
         c.passes[0]
             .cand
-            .iter()
-            .zip(&c.passes[0].sched)
-            .map(|(l, s)| s.waiting(l, c.motion))
+            .rooms()
+            .map(|(s, room)| s.waiting(room, c.motion))
             .sum()
     };
     assert!(waiting(c) > 0);
@@ -1023,7 +1023,8 @@ fn nodes_with_new_faces_are_due_at_once() {
             .iter()
             .map(|&i| {
                 let i = i as usize;
-                c.passes[0].sched[i].waiting(&c.passes[0].cand[i], c.motion)
+                let (sched, room) = c.passes[0].cand.get(i);
+                sched.waiting(room, c.motion)
             })
             .sum()
     };
@@ -1396,7 +1397,8 @@ fn chained_copies_are_left_out_of_the_search() {
         let mut n = 0;
         for i in 0..side.nodes.len() {
             let s = side.nodes[i];
-            for f in pass.sched[i].faces(&pass.cand[i]) {
+            let (sched, room) = pass.cand.get(i);
+            for f in sched.faces(room) {
                 let face = &side.faces[f as usize];
                 if face
                     .nodes

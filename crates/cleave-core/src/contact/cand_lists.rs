@@ -21,6 +21,7 @@ use rayon::prelude::*;
 use std::cell::RefCell;
 
 use super::schedule::{Cand, Sched};
+use super::search::trim;
 
 /// Candidates' space of a schedule, before its room.
 const UNITS: usize = Sched::UNITS;
@@ -254,17 +255,16 @@ fn keep(sched: Sched, new: &mut Vec<Cand>, start: usize) -> usize {
 
 impl Buffer {
     /// The rooms laid out in `new`, without holes. The buffer fits them exactly when short,
-    /// and gives back its room beyond an eighth more when it has more than a quarter more
-    /// (a chunk's candidates come and go with the motion: on the 20,000-element ball at 50 us
-    /// the buffers kept 2.4 MB for 1.7 MB of rooms without this).
+    /// and gives back room it has too much of ([`trim`]: a chunk's candidates come and go with
+    /// the motion; on the 20,000-element ball at 50 us the buffers kept 2.4 MB for 1.7 MB of
+    /// rooms without this).
     fn set(&mut self, new: &[Cand]) {
         self.cands.clear();
         if new.len() > self.cands.capacity() {
             self.cands.reserve_exact(new.len());
-        } else if self.cands.capacity() > new.len() + new.len() / 4 + 16 {
-            self.cands.shrink_to(new.len() + new.len() / 8);
         }
         self.cands.extend_from_slice(new);
+        trim(&mut self.cands);
         self.holes = 0;
     }
 }

@@ -669,7 +669,7 @@ impl<'m> ContactSet<'m> {
                 .passes
                 .iter()
                 .flat_map(|p| p.cand.rooms())
-                .map(|(sched, room)| sched.len(room))
+                .map(|(_, room)| room.len())
                 .sum::<usize>();
             s.rebuilds += c.rebuilds;
             s.updates += c.updates;
@@ -1230,8 +1230,9 @@ impl Query<'_> {
     /// pair holds whether or not the pair is listed; a new one is due at once, or at a full
     /// build at its sphere clearance (the later of the two for a face it had).
     /// A node that is not its set's lead gets no candidates. The node is checked at the next
-    /// step (`next` = -inf, [`Pass::next`]). `old` is the node's room; its new room is appended
-    /// to `new`.
+    /// step (`next` = -inf, [`Pass::next`]). `sched` and `old` are the node's schedule and
+    /// room ([`cand_lists`]); its new candidates are appended to `new` and their schedule
+    /// returned.
     fn run(
         &self,
         i: usize,
@@ -1243,7 +1244,7 @@ impl Query<'_> {
         *next = f32::NEG_INFINITY;
         sched.gather(old);
         if self.group[i] != i as u32 || self.ns.buried(i as u32) {
-            return sched;
+            return Sched::default();
         }
         let s = self.nodes[i];
         let p = self.x_ref[s as usize];

@@ -41,6 +41,9 @@ impl Cand {
 /// two cover most.
 pub const HOT: usize = 2;
 
+// [`Sched::store`] keeps two inline candidates
+const _: () = assert!(HOT == 2);
+
 /// A node's inline hot candidates and the size and top of its heap of cold ones (module docs).
 /// The node's room is `[heap (cold) | hot candidates beyond the inline ones | n_hot places]`.
 /// It is kept in [`Sched::UNITS`] candidates' space just before the room
@@ -104,11 +107,6 @@ impl Sched {
             face: self.cold,
             due: 0.0,
         };
-    }
-
-    /// Number of candidates: the room's (inline and in the list).
-    pub fn len(&self, room: &[Cand]) -> usize {
-        room.len()
     }
 
     /// The list's length in the room (the rest of the room is the inline hot candidates').

@@ -185,8 +185,9 @@ impl Candidates {
 /// (on the 20,000-element ball one level's items once took 456,576 entries and 261,540 at the
 /// end, another 372,672 and 149,170), and their pages, once written, stay resident. Large
 /// buffers are served by `mmap` (see the binary's `alloc_tuning`), so the shrink and a later
-/// growth move pages by `mremap` rather than copying; this comes only with a full build.
-fn trim<T>(v: &mut Vec<T>) {
+/// growth move pages by `mremap` rather than copying; this comes only with a full build. The
+/// candidate buffers ([`super::cand_lists`]) give back their room by the same rule.
+pub(super) fn trim<T>(v: &mut Vec<T>) {
     let len = v.len();
     if v.capacity() > len + len / 4 + 64 {
         v.shrink_to(len + len / 8 + 64);

@@ -84,7 +84,8 @@ pub struct ExampleArgs {
 pub struct BenchArgs {
     /// What to measure: `cube` (an elastic block), `ball` (the ceramic ball on a rigid plate
     /// of `cleave example ball-impact`, with contact) or `paper-tables` (the paper's Tables II
-    /// and III: every ball mesh with and without fracture).
+    /// and III: every ball mesh with and without fracture, the short runs repeated in pairs and
+    /// the median shown).
     pub what: String,
     /// Number of elements: for a cube the nearest n^3 (default 100000); for the ball one of
     /// the example's meshes (default 2800).

@@ -8,6 +8,12 @@
 //!
 //! Deck ids appear only in the model's id tables and in messages; everything else uses dense
 //! internal indices (`u32` for nodes and elements, `usize` for parts, materials, curves).
+//!
+//! The module docs explain the algorithms down to private helpers and link to them: read them
+//! with `cargo doc --document-private-items` (CI builds them so, warnings denied).
+
+// NOTE: the links to private items resolve in the private docs, which are the ones to read
+#![allow(rustdoc::private_intra_doc_links)]
 
 pub mod awake;
 pub mod contact;

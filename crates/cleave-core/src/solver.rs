@@ -156,7 +156,7 @@ pub struct Solver<'m> {
     /// checked proper once, its writes are race-free only so).
     colouring: Colouring<'m>,
     /// Nodal forces; with separation, one entry per slot of the coincident sets (each the sum
-    /// over its set, [`CoincidentSets::slots`]).
+    /// over its set, [`crate::separation::coincident::CoincidentSets::slots`]).
     f: Vec<Vec3>,
     /// With separation, the mass of each slot's set (a node's own when in none); empty
     /// without.

@@ -1,7 +1,7 @@
 //! Structured mesh generators for tests, benchmarks and examples: boxes ([`BoxMesh`]),
 //! O-grid discs extruded into cylinders ([`ogrid_disc`], [`extrude`]), O-grid spheres
 //! ([`ogrid_sphere`]), models built from them ([`single_part_model`], [`box_model`],
-//! [`Assembly`] for several parts), and shape measures ([`quality`]).
+//! [`Assembly`] for several parts), and shape measures ([`quality`](fn@quality)).
 
 mod assembly;
 mod quality;

@@ -98,7 +98,7 @@ impl LinearSoftening {
 
     /// The law's traction at zero opening for a face whose traction at onset was `t` (normal
     /// `n`): compression dropped, then scaled to the effective strength,
-    /// sqrt(<tn>^2 + |ts|^2 / BETA^2) = SIGMAX. Used until the face starts to open, so the
+    /// `sqrt(<tn>^2 + |ts|^2 / BETA^2) = SIGMAX`. Used until the face starts to open, so the
     /// faces feel no jump in traction at release.
     pub fn onset_traction(&self, t: Vec3, n: Vec3) -> Vec3 {
         let tn = dot(t, n);

@@ -4,7 +4,7 @@
 //! Reading is done in three passes: [`lex`] splits the text into keyword blocks, `cards`
 //! decodes each supported keyword's cards into a raw deck (deck ids, with their lines), and
 //! `build` resolves every reference into the dense indices of a
-//! [`Model`](cleave_core::model::Model). Card layouts are those of the LS-DYNA Keyword
+//! [`Model`]. Card layouts are those of the LS-DYNA Keyword
 //! User's Manual; the supported subset is listed in `shared/spec/interface.md`.
 
 mod build;

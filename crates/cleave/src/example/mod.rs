@@ -3,8 +3,8 @@
 //! | name | what |
 //! |---|---|
 //! | `taylor-bar` | the classic copper Taylor impact test (LS-DYNA/NAFEMS benchmark): a cylinder of radius 3.2 mm and length 32.4 mm at 227 m/s onto a rigid wall, bilinear plasticity (E 117 GPa, nu 0.35, rho 8930 kg/m^3, SIGY 400 MPa, ETAN 100 MPa), 80 us. Published results: final length about 21.4-21.7 mm, foot radius about 7.0-7.1 mm. |
-//! | `ball-impact` | the paper's section 4.1: an alumina ball of 10 mm diameter (O-grid mesh of 256 to 20000 elements, `--elements`) at 75 m/s onto and 50 m/s along a rigid steel plate, fracturing by MODEL 1 at 310 MPa, 10 ms ([`ball_impact`]). |
-//! | `three-point-bend` | the paper's section 4.2: a notched steel beam (200 x 75 x 25 mm, notch 25 mm) hit at mid-span by a rigid tup at a constant 10 m/s, a separation strip ahead of the notch (MODEL 1 at 2 GPa, or `--model 3` cohesive), 0.3 ms ([`three_point_bend`]). |
+//! | `ball-impact` | the paper's section 4.1: an alumina ball of 10 mm diameter (O-grid mesh of 256 to 20000 elements, `--elements`) at 75 m/s onto and 50 m/s along a rigid steel plate, fracturing by MODEL 1 at 310 MPa, 10 ms ([`ball_impact`](fn@ball_impact)). |
+//! | `three-point-bend` | the paper's section 4.2: a notched steel beam (200 x 75 x 25 mm, notch 25 mm) hit at mid-span by a rigid tup at a constant 10 m/s, a separation strip ahead of the notch (MODEL 1 at 2 GPa, or `--model 3` cohesive), 0.3 ms ([`three_point_bend`](fn@three_point_bend)). |
 //!
 //! The builders return the [`Model`](cleave_core::model::Model); `example` applies the options and writes the deck.
 

@@ -1,5 +1,5 @@
 //! MODEL 2 (and the onset of MODEL 3): the effective traction of Camacho and Ortiz (1996),
-//! t_eff = sqrt(<sn>^2 + (tau / BETA)^2), reaches SIGMAX. `<sn>` is the tensile part of the
+//! `t_eff = sqrt(<sn>^2 + (tau / BETA)^2)`, reaches SIGMAX. `<sn>` is the tensile part of the
 //! normal traction (compression does not count), tau the magnitude of the shear traction, BETA
 //! the shear-to-normal weight.
 
@@ -22,7 +22,7 @@ impl Criterion for EffectiveStress {
         (sn * sn + ts * ts).sqrt() / self.sigmax
     }
 
-    /// sqrt(<sn>^2 + (tau/BETA)^2) <= |t| max(1, 1/BETA).
+    /// `sqrt(<sn>^2 + (tau/BETA)^2) <= |t| max(1, 1/BETA)`.
     fn reachable(&self, traction_bound: f64) -> bool {
         traction_bound * (1.0f64).max(1.0 / self.beta) >= self.sigmax
     }

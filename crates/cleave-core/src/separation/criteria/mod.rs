@@ -10,7 +10,7 @@
 //! | MODEL | criterion | after onset |
 //! |---|---|---|
 //! | 1 | [`normal_stress::NormalStress`]: n.s.n / SIGMAX (the paper) | free |
-//! | 2 | [`effective_stress::EffectiveStress`]: sqrt(<sn>^2 + (tau/BETA)^2) / SIGMAX | free |
+//! | 2 | [`effective_stress::EffectiveStress`]: `sqrt(<sn>^2 + (tau/BETA)^2) / SIGMAX` | free |
 //! | 3 | as 2 | linear softening ([`super::cohesive::LinearSoftening`]), then free |
 
 pub mod effective_stress;

@@ -128,10 +128,11 @@
 //! sphere (565 of them ending in a drop), 1262 without drops.
 //!
 //! The bound is one for the whole definition, so it grows with the fastest relative motion
-//! anywhere: on the fracturing 2800-element ball at about 190 m/s over 44 us, twice the impact
-//! speed, the fragments flying apart (without the plate's nodes the box keeps 83-95% of it,
-//! without the 50 most extreme displacements at each end of each axis 86%: BENCHMARKS.md,
-//! Session 22), while the pairs that get tested mostly move together: on the fracturing
+//! anywhere: on the fracturing 2800-element ball at about 190 m/s over its first 44 us, twice
+//! the impact speed, and that is motion inside the breaking ball spread over many nodes, not
+//! the ball against the plate (without the plate's nodes the box keeps 83-95% of it, without
+//! the 50 most extreme displacements at each end of each axis 86%: BENCHMARKS.md, Session 22),
+//! while the pairs that get tested mostly move together: on the fracturing
 //! 20,000-element ball the pairs tested moved relative to each other at 0.055 of its growth on
 //! average. A sound bound per node (from the displacement boxes of small cells around it) would
 //! grow at 0.28 of it, so at best 3.6 times fewer tests, for about 2 MB more memory at that size

@@ -333,11 +333,6 @@ mod tests {
     use super::*;
     use crate::contact::search::tests::Rng;
 
-    /// Over 400 steps of random motion and random clearances (many zero, some tiny, some
-    /// large), the faces tested each step are exactly those a plain list with one `due` per
-    /// candidate says are due, for nodes with 0 to 40 candidates (so the inline hot places
-    /// overflow), with searches (`gather` / `split`, some taking candidates out of the list
-    /// and bringing back those out) and renewals now and then.
     /// A schedule kept in the candidates' space comes back the same, with NaN and infinite
     /// dues.
     #[test]
@@ -370,6 +365,11 @@ mod tests {
         );
     }
 
+    /// Over 400 steps of random motion and random clearances (many zero, some tiny, some
+    /// large), the faces tested each step are exactly those a plain list with one `due` per
+    /// candidate says are due, for nodes with 0 to 40 candidates (so the inline hot places
+    /// overflow), with searches (`gather` / `split`, some taking candidates out of the list
+    /// and bringing back those out) and renewals now and then.
     #[test]
     fn tests_exactly_the_due_candidates() {
         let mut r = Rng(5);

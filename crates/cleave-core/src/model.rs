@@ -244,13 +244,38 @@ pub struct ContactDef {
 pub struct SeparationDef {
     /// Index into `Model::materials`.
     pub material: usize,
-    /// 1: normal stress; 2: effective stress; 3: effective stress onset + Camacho-Ortiz law.
+    /// 1: normal stress; 2: effective stress; 3: effective stress onset + Camacho-Ortiz
+    /// linear law; 4: effective stress onset + Ortiz-Pandolfi exponential law.
     pub model: i32,
+    /// The strength (Pa) of every interface, or the scale of the Weibull distribution.
     pub sigmax: f64,
     pub beta: f64,
     pub gc: f64,
     /// 1: faces to other materials may fail; 0: they stay bonded.
     pub bond: i32,
+    /// How each interface's strength is drawn ([`crate::separation::strength`]).
+    pub strength: StrengthDist,
+}
+
+/// The distribution of interface strengths in a separation group (`*MAT_ADD_SEPARATION`
+/// DIST, SEED and card 2). Each interface draws once, from `seed` and its two elements' deck
+/// ids ([`crate::separation::strength`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum StrengthDist {
+    /// DIST 0: every interface has the strength SIGMAX.
+    #[default]
+    Constant,
+    /// DIST 1: uniform between `smin` and `smax` (Pa).
+    Uniform { smin: f64, smax: f64, seed: u64 },
+    /// DIST 2: Weibull with scale SIGMAX, modulus `m` and threshold `smin`, for a face of
+    /// area `aref` (`aref = 0`: no size scaling): the probability that a face of area A has
+    /// failed at stress s is `1 - exp(-(A / aref) ((s - smin) / SIGMAX)^m)`.
+    Weibull {
+        m: f64,
+        aref: f64,
+        smin: f64,
+        seed: u64,
+    },
 }
 
 /// Hourglass control form.

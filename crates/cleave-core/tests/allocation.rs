@@ -79,6 +79,7 @@ fn the_steady_step_allocates_nothing() {
         beta: 1.0,
         gc: 0.0,
         bond: 1,
+        strength: Default::default(),
     });
     m.contacts.push(ContactDef {
         id: 1,

@@ -510,6 +510,7 @@ fn bar_pushed_back(with_contact: bool) -> (f64, usize) {
         beta: 1.0,
         gc: 0.0,
         bond: 1,
+        strength: Default::default(),
     });
     if with_contact {
         m.contacts

@@ -765,7 +765,45 @@ fn unsupported_options_are_errors() {
             "axis",
         ),
         ("1, 2, 1.0e8, 0.5", "1, 3, 1.0e8, 0.5", "GC", "missing"),
-        ("1, 2, 1.0e8, 0.5", "1, 4, 1.0e8, 0.5", "MODEL", "4"),
+        ("1, 2, 1.0e8, 0.5", "1, 4, 1.0e8, 0.5", "GC", "missing"),
+        ("1, 2, 1.0e8, 0.5", "1, 5, 1.0e8, 0.5", "MODEL", "5"),
+        ("1, 2, 1.0e8, 0.5", "1, 2, 1.0e8, 0.5, , , 3", "DIST", "3"),
+        (
+            "1, 2, 1.0e8, 0.5",
+            "1, 2, 1.0e8, 0.5, , , 2",
+            "",
+            "missing card (SMIN SMAX M AREF)",
+        ),
+        (
+            "1, 2, 1.0e8, 0.5",
+            "1, 2, , 0.5, , , 1, 7\n2.0e8, 1.0e8",
+            "SMAX",
+            "must exceed SMIN",
+        ),
+        (
+            "1, 2, 1.0e8, 0.5",
+            "1, 2, 1.0e8, 0.5, , , 2, 7\n0., , 0., 1e-4",
+            "M",
+            "must be positive",
+        ),
+        (
+            "1, 2, 1.0e8, 0.5",
+            "1, 2, 1.0e8, 0.5, , , 2, 7\n0., 3.0e8, 6., 1e-4",
+            "SMAX",
+            "DIST 1 (uniform) only",
+        ),
+        (
+            "1, 2, 1.0e8, 0.5",
+            "1, 2, 1.0e8, 0.5, , , 1, 7\n0., 3.0e8, 6.",
+            "M",
+            "DIST 2 (Weibull) only",
+        ),
+        (
+            "1, 2, 1.0e8, 0.5",
+            "1, 2, 1.0e8, 0.5, , , 2, 7\n0., , 6., -1e-4",
+            "AREF",
+            "no size scaling",
+        ),
         (
             "-1., 0., 0., 0., 0., 0.",
             "0., 0., 0., 0., 0., 0.",
@@ -1172,6 +1210,12 @@ fn round_trip_model() -> Model {
             beta: 0.7,
             gc: 1.2e4,
             bond: 0,
+            strength: StrengthDist::Weibull {
+                m: 6.5,
+                aref: 2.5e-5,
+                smin: 1.0e7,
+                seed: 123_456_789,
+            },
         }],
         control: Control {
             end_time: 2.5e-4,
@@ -1195,6 +1239,45 @@ fn round_trip_model() -> Model {
             history_solids: vec![1],
         },
     }
+}
+
+/// `*MAT_ADD_SEPARATION` with a strength distribution: DIST and SEED on card 1, card 2
+/// `SMIN SMAX M AREF`; MODEL 4 (exponential law) needs GC.
+#[test]
+fn separation_strength_distributions_are_read() {
+    let m = parse(&with(
+        "1, 2, 1.0e8, 0.5",
+        "1, 4, , 0.5, 40., , 1, 99\n1.0e8, 3.0e8",
+    ));
+    assert_eq!(
+        m.separations[0],
+        SeparationDef {
+            material: 0,
+            model: 4,
+            sigmax: 0.0,
+            beta: 0.5,
+            gc: 40.0,
+            bond: 1,
+            strength: StrengthDist::Uniform {
+                smin: 1.0e8,
+                smax: 3.0e8,
+                seed: 99,
+            },
+        }
+    );
+    let m = parse(&with(
+        "1, 2, 1.0e8, 0.5",
+        "1, 1, 2.0e8, , , , 2\n5.0e7, , 8., 1.0e-6",
+    ));
+    assert_eq!(
+        m.separations[0].strength,
+        StrengthDist::Weibull {
+            m: 8.0,
+            aref: 1.0e-6,
+            smin: 5.0e7,
+            seed: 0,
+        }
+    );
 }
 
 #[test]

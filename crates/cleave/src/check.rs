@@ -52,6 +52,32 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
             split.interfaces,
             split.model.num_nodes()
         );
+        for (g, d) in m.separations.iter().enumerate() {
+            let s: Vec<f64> = split.faces[..split.interfaces]
+                .iter()
+                .filter(|f| f.group as usize == g)
+                .map(|f| f.strength)
+                .collect();
+            let (lo, hi) = s
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                    (a.min(x), b.max(x))
+                });
+            let mean = s.iter().sum::<f64>() / s.len().max(1) as f64;
+            println!(
+                "  group {}: material {}, MODEL {}, strength {}; {} interfaces, strength {}",
+                g + 1,
+                m.materials[d.material].id,
+                d.model,
+                describe_strength(d),
+                s.len(),
+                if s.is_empty() {
+                    "-".to_string()
+                } else {
+                    format!("min {lo:.4e} mean {mean:.4e} max {hi:.4e}")
+                }
+            );
+        }
     }
     println!("contacts    {}", m.contacts.len());
     println!("rigid walls {}", m.rigid_walls.len());
@@ -73,4 +99,29 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
     }
     println!("ok");
     Ok(())
+}
+
+/// A group's strength distribution in words, with its parameters.
+fn describe_strength(d: &cleave_core::model::SeparationDef) -> String {
+    use cleave_core::model::StrengthDist;
+    match d.strength {
+        StrengthDist::Constant => format!("SIGMAX {:e}", d.sigmax),
+        StrengthDist::Uniform { smin, smax, seed } => {
+            format!("uniform in [{smin:e}, {smax:e}], seed {seed}")
+        }
+        StrengthDist::Weibull {
+            m,
+            aref,
+            smin,
+            seed,
+        } => format!(
+            "Weibull, scale {:e}, modulus {m}, threshold {smin:e}, {}, seed {seed}",
+            d.sigmax,
+            if aref > 0.0 {
+                format!("reference area {aref:e}")
+            } else {
+                "no size scaling".to_string()
+            }
+        ),
+    }
 }

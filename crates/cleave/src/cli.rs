@@ -72,9 +72,16 @@ pub struct ExampleArgs {
     #[arg(long)]
     pub elements: Option<usize>,
     /// Separation model of the crack path (three-point-bend: 1, the paper's normal-stress
-    /// criterion, or 3, a cohesive law).
+    /// criterion, 3, a linear cohesive law, or 4, an exponential one).
     #[arg(long)]
     pub model: Option<i32>,
+    /// Draw every interface's strength from a Weibull distribution of this modulus, with the
+    /// example's strength as its scale (`*MAT_ADD_SEPARATION` DIST 2, no size scaling).
+    #[arg(long)]
+    pub weibull: Option<f64>,
+    /// Seed of the strength draw (with --weibull).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
     /// Write the deck without its separation card.
     #[arg(long = "no-separation")]
     pub no_separation: bool,

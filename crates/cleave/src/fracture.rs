@@ -2,7 +2,8 @@
 //! [`crate::crack_growth`] defines them), the crack surfaces as their own ParaView series
 //! (cracks.pvd with cracks/*.vtp, at the state interval), fragments.csv at the end, and the
 //! plots crack.png (crack length and speed over time), crack_area.png (crack area and
-//! fragments over time) and fragments.png (the fragment mass distribution).
+//! fragments over time), fragments.png (the fragment mass distribution) and, when interface
+//! strengths are drawn from a distribution, strength.png (their histogram).
 //!
 //! Fragments are the connected components of elements through shared nodes and every face
 //! still holding (bonds, intact and softening interfaces); a model without separation has the
@@ -14,6 +15,7 @@ use std::path::{Path, PathBuf};
 
 use crate::crack_growth::CrackGrowth;
 use cleave_core::math::Vec3;
+use cleave_core::model::StrengthDist;
 use cleave_core::separation::fragments::{FragmentSummary, Fragments};
 use cleave_core::separation::interfaces::{face_centroid, Status};
 use cleave_core::solver::Solver;
@@ -51,6 +53,9 @@ pub struct FractureOutput {
     growth: CrackGrowth,
     centroids: Vec<Vec3>,
     final_masses: Vec<f64>,
+    /// With a strength distribution: every interface's strength and how many failed, for
+    /// strength.png.
+    strengths: Option<(Vec<f64>, usize)>,
 }
 
 impl FractureOutput {
@@ -88,6 +93,7 @@ impl FractureOutput {
             growth: CrackGrowth::new(speed_window, thickness),
             centroids: Vec::new(),
             final_masses: Vec::new(),
+            strengths: None,
         })
     }
 
@@ -135,12 +141,14 @@ impl FractureOutput {
     }
 
     /// The crack surfaces now: both faces of every interface no longer intact, at the current
-    /// positions, with the interface number and its status (1 softening, 2 free).
+    /// positions, with the interface number, its status (1 softening, 2 free) and its
+    /// strength.
     pub fn write_surfaces(&mut self, s: &Solver) -> std::io::Result<()> {
         let mut points: Vec<Vec3> = Vec::new();
         let mut quads: Vec<[u32; 4]> = Vec::new();
         let mut ids: Vec<i32> = Vec::new();
         let mut status: Vec<i32> = Vec::new();
+        let mut strength: Vec<f64> = Vec::new();
         let x = s.positions();
         if let Some(sep) = s.separation() {
             for i in sep.failed_interfaces() {
@@ -158,6 +166,7 @@ impl FractureOutput {
                     quads.push([base, base + 1, base + 2, base + 3]);
                     ids.push(i as i32);
                     status.push(st);
+                    strength.push(face.strength);
                 }
             }
         }
@@ -170,6 +179,7 @@ impl FractureOutput {
             &[
                 ("interface", DataArray::Int(&ids)),
                 ("status", DataArray::Int(&status)),
+                ("strength", DataArray::Scalar(&strength)),
             ],
         )?;
         std::io::Write::flush(&mut w)?;
@@ -204,6 +214,23 @@ impl FractureOutput {
         Ok(())
     }
 
+    /// Keep the interface strengths of the run for strength.png when a separation group draws
+    /// them from a distribution (`*MAT_ADD_SEPARATION` DIST).
+    pub fn record_strengths(&mut self, s: &Solver) {
+        let random = s
+            .model
+            .separations
+            .iter()
+            .any(|d| d.strength != StrengthDist::Constant);
+        if let (true, Some(sep)) = (random, s.separation()) {
+            let all = sep.faces()[..sep.num_interfaces()]
+                .iter()
+                .map(|f| f.strength)
+                .collect();
+            self.strengths = Some((all, sep.num_failed()));
+        }
+    }
+
     /// Time of the first failure and mean crack speed after the slow start
     /// ([`CrackGrowth`]).
     pub fn growth(&self) -> &CrackGrowth {
@@ -234,6 +261,22 @@ impl FractureOutput {
             ("fragments", &frags),
         )
         .map_err(io)?;
+        if let Some(strengths) = &self.strengths {
+            plot_histogram(
+                &self.dir.join("strength.png"),
+                &format!(
+                    "Interface strengths ({} interfaces, {} failed)",
+                    strengths.0.len(),
+                    strengths.1
+                ),
+                "strength",
+                "interfaces",
+                &strengths.0,
+                40,
+                false,
+            )
+            .map_err(io)?;
+        }
         if !self.final_masses.is_empty() {
             let total: f64 = self.final_masses.iter().sum();
             let fractions: Vec<f64> = self.final_masses.iter().map(|m| m / total).collect();

@@ -420,6 +420,7 @@ impl Observer for RunOutput<'_> {
             if let (true, Some(fr)) = (last, &fr) {
                 let rows = fragment_table(s, fr);
                 self.fracture.write_fragments(&rows)?;
+                self.fracture.record_strengths(s);
             }
         }
         if let Some((csv, sch)) = &mut self.nodout {

@@ -8,7 +8,13 @@ mod common;
 use common::{cleave, tmp};
 
 /// Run `deck` to `end` with each thread count; every listed output file must be identical.
-fn same_on_every_thread_count(name: &str, example: &[&str], end: &str, files: &[&str]) {
+/// Returns the scratch folder (removed when dropped) and the first run's output folder.
+fn same_on_every_thread_count(
+    name: &str,
+    example: &[&str],
+    end: &str,
+    files: &[&str],
+) -> (common::Scratch, std::path::PathBuf) {
     let d = tmp(name);
     let deck = d.join("deck.k");
     let deck = deck.to_str().unwrap();
@@ -50,11 +56,13 @@ fn same_on_every_thread_count(name: &str, example: &[&str], end: &str, files: &[
         "{name}: {} identical on 1, 2 and 3 threads",
         files.join(", ")
     );
+    let first = outs.into_iter().next().unwrap();
+    (d, first)
 }
 
 #[test]
 fn fragmenting_ball_is_bit_identical_on_1_2_3_threads() {
-    same_on_every_thread_count(
+    let _ = same_on_every_thread_count(
         "det-ball",
         &["ball-impact", "--elements", "256"],
         "20e-6",
@@ -71,10 +79,43 @@ fn fragmenting_ball_is_bit_identical_on_1_2_3_threads() {
 
 #[test]
 fn notched_beam_is_bit_identical_on_1_2_3_threads() {
-    same_on_every_thread_count(
+    let _ = same_on_every_thread_count(
         "det-beam",
         &["three-point-bend"],
         "20e-6",
         &["glstat.csv", "rcforc.csv", "nodout.csv", "elout.csv"],
+    );
+}
+
+/// Weibull interface strengths (`--weibull 6 --seed 3`): drawn per interface from the seed and
+/// the element pair, so the strengths, the cracks and the fragments are the same on every
+/// thread count; the run writes the strength histogram and each crack face's strength.
+#[test]
+fn ball_with_weibull_strengths_is_bit_identical_on_1_2_3_threads() {
+    let (_scratch, out) = same_on_every_thread_count(
+        "det-weibull",
+        &[
+            "ball-impact",
+            "--elements",
+            "256",
+            "--weibull",
+            "6",
+            "--seed",
+            "3",
+        ],
+        "20e-6",
+        &["glstat.csv", "crack.csv", "fragments.csv"],
+    );
+    assert!(out.join("strength.png").is_file());
+    let last = std::fs::read_dir(out.join("cracks"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .max()
+        .unwrap();
+    let vtp = std::fs::read(last).unwrap();
+    let text = String::from_utf8_lossy(&vtp);
+    assert!(
+        text.contains("Name=\"strength\""),
+        "crack faces carry their strength"
     );
 }

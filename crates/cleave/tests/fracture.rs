@@ -68,6 +68,7 @@ fn bar_deck(dir: &Path, sigmax: f64) -> PathBuf {
         beta: 1.0,
         gc: 0.0,
         bond: 1,
+        strength: Default::default(),
     });
     m.output.history_nodes = [
         m.nodes_where(0, L / 2.0, 1e-12),

@@ -92,6 +92,7 @@ fn separation_group(sigmax: f64) -> crate::model::SeparationDef {
         beta: 1.0,
         gc: 0.0,
         bond: 1,
+        strength: Default::default(),
     }
 }
 

@@ -1,19 +1,35 @@
-//! MODEL 3 after onset: the linear-softening cohesive law of Camacho and Ortiz (1996), an
-//! extrinsic law (the interface is rigid until the onset criterion fires, then opens).
+//! The cohesive laws after onset: MODEL 3, the linear softening of Camacho and Ortiz (1996),
+//! and MODEL 4, the exponential envelope of Ortiz and Pandolfi (1999). Both are extrinsic here:
+//! the interface is rigid until the onset criterion fires at its strength SIGMAX, then opens.
 //!
 //! Opening of a point pair d = x_b - x_a, split along the current face normal n into
-//! dn = d.n and the sliding ds = d - dn n. Effective opening and traction
+//! dn = d.n and the sliding ds = d - dn n. Effective opening and traction (Ortiz and Pandolfi
+//! 1999, eq. 7-9)
 //!
 //! ```text
 //! delta = sqrt(<dn>^2 + BETA^2 |ds|^2)             (compression is left to contact)
-//! t     = SIGMAX (1 - delta_max / delta_c) delta / delta_max   unloading (delta < delta_max)
-//! t     = SIGMAX (1 - delta / delta_c)                        loading (delta = delta_max)
-//! T     = (t / delta) (BETA^2 ds + <dn> n)                    traction pulling b towards a
+//! t     = t_env(delta)                                     loading (delta = delta_max)
+//! t     = t_env(delta_max) delta / delta_max               unloading (delta < delta_max)
+//! T     = (t / delta) (BETA^2 ds + <dn> n)                 traction pulling b towards a
 //! ```
 //!
-//! with delta_c = 2 GC / SIGMAX, so the work of separation per unit area is 1/2 SIGMAX delta_c
-//! = GC; unloading goes back to the origin (irreversible: delta_max never decreases). A point
-//! is fully open when delta_max >= delta_c.
+//! Unloading goes back to the origin (irreversible: delta_max never decreases). T . dd = t
+//! d delta along any path, so the work of separation per unit area is the area under the
+//! envelope, GC, in mode I, in shear and mixed:
+//!
+//! ```text
+//! linear (MODEL 3):       t_env = SIGMAX (1 - delta / delta_c),  delta_c = 2 GC / SIGMAX
+//! exponential (MODEL 4):  t_env = SIGMAX (1 + delta / delta_c) exp(-delta / delta_c),
+//!                         delta_c = GC / (2 SIGMAX)
+//! ```
+//!
+//! The exponential law is Ortiz and Pandolfi's envelope e SIGMAX (D / delta_c) exp(-D / delta_c)
+//! beyond its peak (D = delta_c + delta): their intrinsic law rises from the origin to the peak
+//! SIGMAX at D = delta_c, which an extrinsic interface replaces by staying rigid until onset.
+//! From the peak on it dissipates 2 SIGMAX delta_c (their law's whole work is e SIGMAX
+//! delta_c), hence delta_c = GC / (2 SIGMAX) so that the interface dissipates GC. Its tail
+//! never reaches zero: a point counts as fully open at delta = [`EXP_OPEN`] delta_c, where
+//! the traction is 8e-5 SIGMAX and the work left out (2 + 12) e^-12 / 2 = 4.3e-5 of GC.
 
 use crate::math::{add, dot, scale, sub, Vec3};
 
@@ -30,24 +46,83 @@ pub fn stable_slope(young: f64, h: f64) -> f64 {
     0.5 * young / h
 }
 
-/// Parameters of the law.
+/// Where the exponential law counts a point as fully open, in units of its delta_c.
+pub const EXP_OPEN: f64 = 12.0;
+
+/// The envelope's shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Envelope {
+    /// MODEL 3: Camacho and Ortiz's linear softening.
+    Linear,
+    /// MODEL 4: Ortiz and Pandolfi's exponential envelope beyond its peak.
+    Exponential,
+}
+
+/// A separation group's cohesive law, all but the strength, which is each interface's own.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LinearSoftening {
+pub struct CohesiveParams {
+    pub envelope: Envelope,
+    /// Shear-to-normal weight BETA.
+    pub beta: f64,
+    /// Fracture energy GC (J/m^2).
+    pub gc: f64,
+}
+
+impl CohesiveParams {
+    /// The law of a `*MAT_ADD_SEPARATION` MODEL: 3 linear, 4 exponential, `None` for the
+    /// models without one.
+    pub fn of_model(model: i32, beta: f64, gc: f64) -> Option<Self> {
+        let envelope = match model {
+            3 => Envelope::Linear,
+            4 => Envelope::Exponential,
+            _ => return None,
+        };
+        Some(Self { envelope, beta, gc })
+    }
+
+    /// The law of an interface of strength `sigmax` (Pa).
+    pub fn law(&self, sigmax: f64) -> CohesiveLaw {
+        CohesiveLaw::new(self.envelope, sigmax, self.beta, self.gc)
+    }
+}
+
+/// Parameters of a cohesive law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CohesiveLaw {
     /// Cohesive strength (Pa): the traction at onset.
     pub sigmax: f64,
     /// Shear-to-normal weight.
     pub beta: f64,
-    /// Critical opening delta_c = 2 GC / SIGMAX (m).
+    /// Characteristic opening (m): 2 GC / SIGMAX (linear), GC / (2 SIGMAX) (exponential).
     pub delta_c: f64,
+    pub envelope: Envelope,
+    /// Effective opening at which a point carries no more traction (m).
+    delta_open: f64,
 }
 
-impl LinearSoftening {
-    /// The law with strength `sigmax`, shear weight `beta` and fracture energy `gc` (J/m^2).
-    pub fn new(sigmax: f64, beta: f64, gc: f64) -> Self {
+impl CohesiveLaw {
+    /// The law of `envelope` with strength `sigmax`, shear weight `beta` and fracture energy
+    /// `gc` (J/m^2).
+    pub fn new(envelope: Envelope, sigmax: f64, beta: f64, gc: f64) -> Self {
+        let (delta_c, delta_open) = match envelope {
+            Envelope::Linear => (2.0 * gc / sigmax, 2.0 * gc / sigmax),
+            Envelope::Exponential => (0.5 * gc / sigmax, EXP_OPEN * 0.5 * gc / sigmax),
+        };
         Self {
             sigmax,
             beta,
-            delta_c: 2.0 * gc / sigmax,
+            delta_c,
+            envelope,
+            delta_open,
+        }
+    }
+
+    /// The traction on the envelope (Pa) at the effective opening `delta` (m).
+    pub fn envelope(&self, delta: f64) -> f64 {
+        let x = delta / self.delta_c;
+        match self.envelope {
+            Envelope::Linear => self.sigmax * (1.0 - x).max(0.0),
+            Envelope::Exponential => self.sigmax * (1.0 + x) * (-x).exp(),
         }
     }
 
@@ -84,11 +159,11 @@ impl LinearSoftening {
                 t0
             };
         }
-        if delta <= 0.0 || *delta_max >= self.delta_c {
+        if delta <= 0.0 || self.is_open(*delta_max) {
             return [0.0; 3];
         }
         // on the envelope when delta = delta_max; below it, back towards the origin
-        let t_env = self.sigmax * (1.0 - *delta_max / self.delta_c);
+        let t_env = self.envelope(*delta_max);
         let slope = (t_env / *delta_max).min(k_max);
         let t = (t_env - slope * (*delta_max - delta)).max(0.0);
         // the sliding part's secant stiffness t / delta is capped like the unloading slope
@@ -113,7 +188,7 @@ impl LinearSoftening {
 
     /// Whether a point with largest opening `delta_max` carries no more traction.
     pub fn is_open(&self, delta_max: f64) -> bool {
-        delta_max >= self.delta_c
+        delta_max >= self.delta_open
     }
 }
 
@@ -126,7 +201,7 @@ mod tests {
     /// law except for the step containing delta_c (error < SIGMAX h / 2 relative 1e-4).
     #[test]
     fn mode_one_work_is_gc() {
-        let law = LinearSoftening::new(300e6, 1.0, 40.0);
+        let law = CohesiveLaw::new(Envelope::Linear, 300e6, 1.0, 40.0);
         let n = [0.0, 0.0, 1.0];
         let steps = 10_000;
         let h = 1.2 * law.delta_c / steps as f64;
@@ -146,12 +221,62 @@ mod tests {
         assert!(law.is_open(dmax));
     }
 
+    /// The exponential law, opened monotonically along a straight path, in pure mode I and
+    /// mixed (opening and sliding with BETA = 2): T . dd integrates to GC (the trapezoid rule
+    /// on 2 10^5 steps of a smooth envelope: error 1e-9; the tail past EXP_OPEN delta_c left
+    /// out: 4.3e-5), and the point is open at the end, free of traction.
+    #[test]
+    fn exponential_work_is_gc_in_mode_one_and_mixed() {
+        let gc = 40.0;
+        for (beta, dir) in [(1.0, [0.0, 0.0, 1.0]), (2.0, [0.0, 0.6, 0.8])] {
+            let law = CohesiveLaw::new(Envelope::Exponential, 300e6, beta, gc);
+            assert_eq!(law.delta_c, 0.5 * gc / 300e6);
+            let n = [0.0, 0.0, 1.0];
+            // the path's effective opening per unit length
+            let b = (dir[2] * dir[2] + beta * beta * dir[1] * dir[1]).sqrt();
+            let steps = 200_000;
+            let h = 1.01 * EXP_OPEN * law.delta_c / b / steps as f64;
+            let t0 = law.onset_traction(scale(dir, 300e6), n);
+            let (mut dmax, mut w) = (0.0, 0.0);
+            let mut t_old = t0;
+            for k in 1..=steps {
+                let s = k as f64 * h;
+                let t = law.traction(scale(dir, s), n, t0, f64::INFINITY, &mut dmax);
+                w += 0.5 * dot(add(t_old, t), scale(dir, h));
+                t_old = t;
+            }
+            assert!((w - gc).abs() < 1e-4 * gc, "beta {beta}: work {w}");
+            assert!(law.is_open(dmax));
+            assert_eq!(t_old, [0.0; 3]);
+        }
+    }
+
+    /// The exponential envelope: SIGMAX at onset with zero slope (a smooth start), 2 e^-1 SIGMAX at delta_c;
+    /// unloading from delta_max goes straight back to the origin.
+    #[test]
+    fn exponential_envelope_and_unloading() {
+        let law = CohesiveLaw::new(Envelope::Exponential, 100.0, 1.0, 1.0); // delta_c = 0.005
+        assert_eq!(law.envelope(0.0), 100.0);
+        assert!((law.envelope(0.005) - 200.0 / std::f64::consts::E).abs() < 1e-12);
+        // the secant slope over 1e-9 against the linear law's SIGMAX / delta_c = 2e4: its
+        // exact value is -SIGMAX x / (2 delta_c) with x = 2e-7, -0.002
+        let slope = (law.envelope(1e-9) - 100.0) / 1e-9;
+        assert!(slope.abs() < 1e-6 * 100.0 / 0.005, "slope at onset {slope}");
+        let n = [1.0, 0.0, 0.0];
+        let mut dmax = 0.0;
+        let t1 = law.traction([0.005, 0.0, 0.0], n, T0, f64::INFINITY, &mut dmax)[0];
+        assert!((t1 - 200.0 / std::f64::consts::E).abs() < 1e-12);
+        let t2 = law.traction([0.002, 0.0, 0.0], n, T0, f64::INFINITY, &mut dmax)[0];
+        assert!((t2 - 0.4 * t1).abs() < 1e-12);
+        assert_eq!(dmax, 0.005);
+    }
+
     const T0: Vec3 = [100.0, 0.0, 0.0];
 
     /// A round-off opening in any direction keeps the onset traction.
     #[test]
     fn closed_point_keeps_the_onset_traction() {
-        let law = LinearSoftening::new(100.0, 1.0, 1.0);
+        let law = CohesiveLaw::new(Envelope::Linear, 100.0, 1.0, 1.0);
         let mut dmax = 0.0;
         let t = law.traction(
             [0.0, 1e-24, 0.0],
@@ -168,7 +293,7 @@ mod tests {
     /// envelope value there.
     #[test]
     fn unloads_towards_origin() {
-        let law = LinearSoftening::new(100.0, 1.0, 1.0); // delta_c = 0.02
+        let law = CohesiveLaw::new(Envelope::Linear, 100.0, 1.0, 1.0); // delta_c = 0.02
         let n = [1.0, 0.0, 0.0];
         let mut dmax = 0.0;
         let t1 = law.traction([0.01, 0.0, 0.0], n, T0, f64::INFINITY, &mut dmax)[0];
@@ -190,7 +315,7 @@ mod tests {
     /// Pure sliding with BETA = 2: delta = 2 |ds| and T = t/delta BETA^2 ds, so |T| = 2 t.
     #[test]
     fn shear_weighting() {
-        let law = LinearSoftening::new(100.0, 2.0, 1.0);
+        let law = CohesiveLaw::new(Envelope::Linear, 100.0, 2.0, 1.0);
         let mut dmax = 0.0;
         let t = law.traction(
             [0.0, 0.005, 0.0],

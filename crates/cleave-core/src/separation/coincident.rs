@@ -423,6 +423,7 @@ mod tests {
             beta: 1.0,
             gc: 0.0,
             bond: 1,
+            strength: Default::default(),
         });
         split_model(&m)
     }

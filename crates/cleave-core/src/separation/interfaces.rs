@@ -12,7 +12,7 @@ use std::ops::Index;
 
 use rayon::prelude::*;
 
-use super::cohesive::{stable_slope, LinearSoftening};
+use super::cohesive::{stable_slope, CohesiveLaw, CohesiveParams};
 use super::coincident::CoincidentSets;
 use super::criteria::{criterion_for, traction_bound, Criterion, InterfaceSample};
 use super::fragments::{components, Fragments};
@@ -43,6 +43,8 @@ pub enum Status {
 #[derive(Clone, Debug)]
 struct CohesiveFace {
     interface: u32,
+    /// The law with the interface's own strength.
+    law: CohesiveLaw,
     delta_max: [f64; 4],
     /// Traction at onset (from the mean stress), used until the face starts to open.
     t0: Vec3,
@@ -61,7 +63,8 @@ pub struct Separation {
     /// Per face: whether it ties its node pairs (bonds always; interfaces while intact).
     ties: Vec<bool>,
     criteria: Vec<Box<dyn Criterion>>,
-    laws: Vec<Option<LinearSoftening>>,
+    /// Per group: its cohesive law but the strength (MODELs 3 and 4).
+    laws: Vec<Option<CohesiveParams>>,
     /// Per element: whether an interface failure has touched its nodes' coincident sets (it then
     /// steps with the free-element speed).
     loose: Vec<bool>,
@@ -83,7 +86,8 @@ pub struct Separation {
 }
 
 impl Separation {
-    /// All interfaces intact; one criterion (and cohesive law for MODEL 3) per separation group.
+    /// All interfaces intact; one criterion (and cohesive law for MODELs 3 and 4) per
+    /// separation group.
     /// Copies the interface table; [`Self::from_parts`] takes it over.
     pub fn new(split: &SplitModel) -> Result<Self, String> {
         Self::from_parts(&split.model, split.faces.clone(), split.interfaces)
@@ -103,7 +107,7 @@ impl Separation {
             .collect::<Result<Vec<_>, _>>()?;
         let laws = defs
             .iter()
-            .map(|d| (d.model == 3).then(|| LinearSoftening::new(d.sigmax, d.beta, d.gc)))
+            .map(|d| CohesiveParams::of_model(d.model, d.beta, d.gc))
             .collect();
         let elem_slope = (0..m.num_elements())
             .map(|e| {
@@ -170,7 +174,7 @@ impl Separation {
     }
 
     /// Check every intact interface against its group's criterion on the stresses at t^n;
-    /// release those whose failure index reached 1 (softening under MODEL 3, else free) and
+    /// release those whose failure index reached 1 (softening under MODELs 3 and 4, else free) and
     /// split the coincident sets they tied. Returns the released interfaces, ascending.
     ///
     /// `x` and `v` hold an entry per node, or per slot of the sets when `per_slot`
@@ -208,7 +212,8 @@ impl Separation {
                     let face = &faces[i];
                     let [ea, eb] = face.elems.map(|e| e as usize);
                     let criterion = &criteria[face.group as usize];
-                    if !criterion.reachable(traction_bound(&stress[ea], &stress[eb])) {
+                    let bound = traction_bound(&stress[ea], &stress[eb]);
+                    if criterion.bound_factor() * bound < face.strength {
                         continue;
                     }
                     let sample = InterfaceSample {
@@ -220,7 +225,7 @@ impl Separation {
                         x: xv,
                         v: vv,
                     };
-                    let index = criterion.failure_index(&sample);
+                    let index = criterion.stress(&sample) / face.strength;
                     if index >= 1.0 {
                         *out = index as f32;
                         *count += 1;
@@ -310,7 +315,8 @@ impl Separation {
         self.ties[i] = false;
         self.failed += 1;
         self.crack_area += face.area0;
-        if let Some(law) = self.laws[face.group as usize] {
+        if let Some(params) = self.laws[face.group as usize] {
+            let law = params.law(face.strength);
             self.status[i] = Status::Softening;
             let [ea, eb] = face.elems.map(|e| e as usize);
             let mean: Sym3 = std::array::from_fn(|k| 0.5 * (stress[ea][k] + stress[eb][k]));
@@ -321,6 +327,7 @@ impl Separation {
             });
             self.cohesive.push(CohesiveFace {
                 interface: i as u32,
+                law,
                 delta_max: [0.0; 4],
                 t0,
                 k_max: self.elem_slope[ea].min(self.elem_slope[eb]),
@@ -342,7 +349,6 @@ impl Separation {
         let Self {
             faces,
             status,
-            laws,
             cohesive,
             sets,
             ..
@@ -351,7 +357,7 @@ impl Separation {
         let x = NodeValues::new(x, per_slot.then_some(slot));
         for c in cohesive.iter_mut() {
             let face = &faces[c.interface as usize];
-            let law = laws[face.group as usize].expect("softening interfaces have a law");
+            let law = c.law;
             let n = face_normal(face, x);
             let w = 0.25 * face.area0;
             let mut open = true;

@@ -10,6 +10,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
+use super::strength;
 use crate::element::hex8::{quad_area, FACES};
 use crate::model::{Model, MotionTarget, PerNode};
 
@@ -38,6 +39,9 @@ pub struct SharedFace {
     /// Index into `Model::separations` of the criterion that governs the face.
     pub group: u16,
     pub kind: FaceKind,
+    /// Strength (Pa) of an interface, drawn once from its group's distribution
+    /// ([`crate::separation::strength`]); infinite for a bond.
+    pub strength: f64,
 }
 
 /// The split model and its interface table.
@@ -227,7 +231,12 @@ fn shared_faces(
         if ga == NONE && gb == NONE {
             continue;
         }
-        let group = if ga != NONE { ga } else { gb };
+        let area0 = {
+            let p = FACES[fa as usize].map(|k| model.x0[model.conn[ea as usize][k] as usize]);
+            quad_area(p[0], p[1], p[2], p[3])
+        };
+        let ids = (model.elem_ids[ea as usize], model.elem_ids[eb as usize]);
+        let (group, strength) = governing_group(model, [ga, gb], area0, ids);
         let mixed = ga == NONE || gb == NONE;
         let kind = if mixed && model.separations[group as usize].bond == 0 {
             FaceKind::Bond
@@ -247,14 +256,17 @@ fn shared_faces(
             nodes[k] = split_conn[ea as usize][fa_c[k]];
             nodes[4 + k] = split_conn[eb as usize][kb];
         }
-        let p = fa_c.map(|k| model.x0[ca[k] as usize]);
         let face = SharedFace {
             elems: [ea, eb],
             faces: [fa, fb],
             nodes,
-            area0: quad_area(p[0], p[1], p[2], p[3]),
+            area0,
             group: group as u16,
             kind,
+            strength: match kind {
+                FaceKind::Interface => strength,
+                FaceKind::Bond => f64::INFINITY,
+            },
         };
         match kind {
             FaceKind::Interface => interfaces.push(face),
@@ -264,6 +276,29 @@ fn shared_faces(
     let n = interfaces.len();
     interfaces.extend(bonds);
     (interfaces, n)
+}
+
+/// The group that governs a face between elements of groups `g` (`NONE`: no group) with deck
+/// ids `ids`, and the face's strength: the weaker of the two groups' draws, the first on a tie
+/// ([`crate::separation::strength`]).
+fn governing_group(model: &Model, g: [u32; 2], area0: f64, ids: (i64, i64)) -> (u32, f64) {
+    let draw = |g: u32| {
+        let s = &model.separations[g as usize];
+        strength::draw(s.sigmax, &s.strength, area0, ids.0, ids.1)
+    };
+    match g {
+        [a, NONE] => (a, draw(a)),
+        [NONE, b] => (b, draw(b)),
+        [a, b] if a == b => (a, draw(a)),
+        [a, b] => {
+            let (sa, sb) = (draw(a), draw(b));
+            if sb < sa {
+                (b, sb)
+            } else {
+                (a, sa)
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -289,6 +324,7 @@ mod tests {
             beta: 1.0,
             gc: 0.0,
             bond,
+            strength: Default::default(),
         }
     }
 

@@ -37,6 +37,7 @@ pub fn unbreakable(material: usize) -> cleave_core::model::SeparationDef {
         beta: 1.0,
         gc: 0.0,
         bond: 1,
+        strength: Default::default(),
     }
 }
 

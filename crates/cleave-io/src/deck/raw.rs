@@ -5,7 +5,7 @@ use std::rc::Rc;
 
 use cleave_core::curve::Curve;
 use cleave_core::math::Vec3;
-use cleave_core::model::{Control, MaterialKind, OutputRequests, Vad};
+use cleave_core::model::{Control, MaterialKind, OutputRequests, StrengthDist, Vad};
 
 /// Where an item was read: keyword as written and 1-based line.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -69,6 +69,7 @@ pub struct RawSeparation {
     pub beta: f64,
     pub gc: f64,
     pub bond: i32,
+    pub strength: StrengthDist,
 }
 
 #[derive(Clone, Debug)]

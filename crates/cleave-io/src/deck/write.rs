@@ -10,7 +10,7 @@
 use std::fmt::Write as _;
 
 use cleave_core::model::{
-    ContactSurface, Hourglass, MaterialKind, Model, MotionTarget, PenaltyRule, Vad,
+    ContactSurface, Hourglass, MaterialKind, Model, MotionTarget, PenaltyRule, StrengthDist, Vad,
 };
 
 /// One field of a card.
@@ -297,8 +297,26 @@ fn properties(o: &mut String, m: &Model) {
     }
     if !m.separations.is_empty() {
         o.push_str("*MAT_ADD_SEPARATION\n");
-        names(o, &["mid", "model", "sigmax", "beta", "gc", "bond"], &W10);
+        names(
+            o,
+            &[
+                "mid", "model", "sigmax", "beta", "gc", "bond", "dist", "seed",
+            ],
+            &W10,
+        );
         for s in &m.separations {
+            let (dist, seed, card2) = match s.strength {
+                StrengthDist::Constant => (0, 0, None),
+                StrengthDist::Uniform { smin, smax, seed } => {
+                    (1, seed, Some([F::R(smin), F::R(smax), F::B, F::B]))
+                }
+                StrengthDist::Weibull {
+                    m,
+                    aref,
+                    smin,
+                    seed,
+                } => (2, seed, Some([F::R(smin), F::B, F::R(m), F::R(aref)])),
+            };
             let f = [
                 F::I(m.materials[s.material].id),
                 F::I(s.model as i64),
@@ -306,8 +324,13 @@ fn properties(o: &mut String, m: &Model) {
                 F::R(s.beta),
                 F::R(s.gc),
                 F::I(s.bond as i64),
+                F::I(dist),
+                F::I(seed as i64),
             ];
             card(o, &f, &W10);
+            if let Some(c2) = card2 {
+                card(o, &c2, &W10);
+            }
         }
     }
 }

@@ -39,6 +39,7 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
             beta: 1.0,
             gc: 0.0,
             bond: 1,
+            strength: Default::default(),
         });
     }
     let prepared = crate::run::prepare(model);

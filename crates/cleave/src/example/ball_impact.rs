@@ -113,6 +113,7 @@ pub fn ball_impact(elements: usize, end_time: f64) -> Result<Model, String> {
         beta: 1.0,
         gc: 0.0,
         bond: 1,
+        strength: Default::default(),
     }];
     model.contacts = vec![ContactDef {
         id: 1,

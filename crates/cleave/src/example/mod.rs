@@ -7,6 +7,8 @@
 //! | `three-point-bend` | the paper's section 4.2: a notched steel beam (200 x 75 x 25 mm, notch 25 mm) hit at mid-span by a rigid tup at a constant 10 m/s, a separation strip ahead of the notch (MODEL 1 at 2 GPa, or `--model 3` cohesive), 0.3 ms ([`three_point_bend`](fn@three_point_bend)). |
 //!
 //! The builders return the [`Model`](cleave_core::model::Model); `example` applies the options and writes the deck.
+//! `--weibull M [--seed S]` turns the strength of every separation group into the scale of a
+//! Weibull distribution of modulus M (`*MAT_ADD_SEPARATION` DIST 2).
 
 pub mod ball_impact;
 mod taylor_bar;
@@ -20,6 +22,7 @@ pub use three_point_bend::three_point_bend;
 
 use crate::cli::ExampleArgs;
 use crate::failure::Failure;
+use cleave_core::model::StrengthDist;
 
 /// The bundled examples: name and one-line description.
 pub const EXAMPLES: &[(&str, &str)] = &[
@@ -87,6 +90,26 @@ pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
         )
         .map_err(Failure::Input)?,
     };
+    if let Some(m) = a.weibull {
+        if !(m.is_finite() && m > 0.0) {
+            return Err(Failure::Input(format!(
+                "--weibull {m}: the modulus must be a positive number"
+            )));
+        }
+        if model.separations.is_empty() {
+            return Err(Failure::Input(format!(
+                "--weibull: {name} has no separation group"
+            )));
+        }
+        for s in &mut model.separations {
+            s.strength = StrengthDist::Weibull {
+                m,
+                aref: 0.0,
+                smin: 0.0,
+                seed: a.seed,
+            };
+        }
+    }
     if a.no_separation {
         model.separations.clear();
     }

@@ -159,11 +159,12 @@ fn cylinder(n: usize, m: usize, x: f64, y: f64) -> BoxMesh {
     c
 }
 
-/// The three-point-bend model with separation MODEL `model` (1 or 3) and end time `end_time`.
+/// The three-point-bend model with separation MODEL `model` (1, 3 or 4) and end time
+/// `end_time`.
 pub fn three_point_bend(model: i32, end_time: f64) -> Result<Model, String> {
-    if model != 1 && model != 3 {
+    if ![1, 3, 4].contains(&model) {
         return Err(format!(
-            "--model {model}: three-point-bend has MODEL 1 (normal stress) or 3 (cohesive)"
+            "--model {model}: three-point-bend has MODEL 1 (normal stress), 3 (linear cohesive) or 4 (exponential cohesive)"
         ));
     }
     let mut a = Assembly::new(
@@ -231,8 +232,9 @@ pub fn three_point_bend(model: i32, end_time: f64) -> Result<Model, String> {
         model,
         sigmax: 2e9,
         beta: 1.0,
-        gc: if model == 3 { GC } else { 0.0 },
+        gc: if model >= 3 { GC } else { 0.0 },
         bond: 1,
+        strength: Default::default(),
     }];
     m.contacts = vec![ContactDef {
         id: 1,

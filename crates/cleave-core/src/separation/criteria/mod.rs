@@ -2,16 +2,20 @@
 //!
 //! Each step every intact interface is shown an [`InterfaceSample`]: the information the paper
 //! lists as available to a criterion (section 3: nodal and element variables, time, interface
-//! history), and returns a failure index; the interface fails when the index reaches 1.
+//! history), and returns its stress measure; the interface fails when the measure reaches the
+//! interface's strength (its failure index, measure over strength, reaches 1). The strength is
+//! the group's SIGMAX or, with a strength distribution, the interface's own draw
+//! ([`super::strength`]).
 //!
 //! A new criterion is one file: implement [`Criterion`] and add its MODEL number to
 //! [`criterion_for`]. The solver loop never changes.
 //!
 //! | MODEL | criterion | after onset |
 //! |---|---|---|
-//! | 1 | [`normal_stress::NormalStress`]: n.s.n / SIGMAX (the paper) | free |
-//! | 2 | [`effective_stress::EffectiveStress`]: `sqrt(<sn>^2 + (tau/BETA)^2) / SIGMAX` | free |
-//! | 3 | as 2 | linear softening ([`super::cohesive::LinearSoftening`]), then free |
+//! | 1 | [`normal_stress::NormalStress`]: n.s.n | free |
+//! | 2 | [`effective_stress::EffectiveStress`]: `sqrt(<sn>^2 + (tau/BETA)^2)` | free |
+//! | 3 | as 2 | linear softening ([`super::cohesive::CohesiveLaw`]), then free |
+//! | 4 | as 2 | exponential softening ([`super::cohesive::CohesiveLaw`]), then free |
 
 pub mod effective_stress;
 pub mod normal_stress;
@@ -58,14 +62,16 @@ impl InterfaceSample<'_> {
 
 /// A failure criterion of one separation group.
 pub trait Criterion: Send + Sync {
-    /// Failure index of the interface: it fails when the index is >= 1.
-    fn failure_index(&self, sample: &InterfaceSample) -> f64;
+    /// The stress measure (Pa) of the interface: it fails when the measure reaches its
+    /// strength.
+    fn stress(&self, sample: &InterfaceSample) -> f64;
 
-    /// Whether the criterion can fire at all when the traction on the face, for any normal, is
-    /// at most `traction_bound` (Pa): a cheap test that spares the full sample of interfaces
-    /// far from failure. The default, `true`, always takes the full sample.
-    fn reachable(&self, _traction_bound: f64) -> bool {
-        true
+    /// A factor k such that the measure is at most k |t| when the traction on the face, for
+    /// any normal, is at most |t|: with the bound of [`traction_bound`] a cheap test that
+    /// spares the full sample of interfaces far from failure. The default, infinity, always
+    /// takes the full sample.
+    fn bound_factor(&self) -> f64 {
+        f64::INFINITY
     }
 }
 
@@ -84,16 +90,15 @@ pub fn traction_bound(a: &Sym3, b: &Sym3) -> f64 {
 
 /// The criterion of a `*MAT_ADD_SEPARATION` card, by its MODEL number.
 ///
-/// MODEL 3 starts softening at the onset given by MODEL 2's effective stress.
+/// MODELs 3 and 4 start softening at the onset given by MODEL 2's effective stress.
 pub fn criterion_for(def: &SeparationDef) -> Result<Box<dyn Criterion>, String> {
     match def.model {
-        1 => Ok(Box::new(normal_stress::NormalStress { sigmax: def.sigmax })),
-        2 | 3 => Ok(Box::new(effective_stress::EffectiveStress {
-            sigmax: def.sigmax,
+        1 => Ok(Box::new(normal_stress::NormalStress)),
+        2..=4 => Ok(Box::new(effective_stress::EffectiveStress {
             beta: def.beta,
         })),
         m => Err(format!(
-            "*MAT_ADD_SEPARATION MODEL {m} is not a criterion (1, 2 or 3)"
+            "*MAT_ADD_SEPARATION MODEL {m} is not a criterion (1, 2, 3 or 4)"
         )),
     }
 }

@@ -85,6 +85,7 @@ impl Builder<'_> {
                 beta: s.beta,
                 gc: s.gc,
                 bond: s.bond,
+                strength: s.strength,
             });
         }
         Ok(())

@@ -1,7 +1,7 @@
 //! `*MAT_ELASTIC`, `*MAT_PLASTIC_KINEMATIC`, `*MAT_RIGID` (LS-DYNA Keyword Manual, Vol. II)
 //! and this project's `*MAT_ADD_SEPARATION` (see the interface page).
 
-use cleave_core::model::MaterialKind;
+use cleave_core::model::{MaterialKind, StrengthDist};
 
 use super::control::warn_ignored;
 use super::Reader;
@@ -128,28 +128,43 @@ pub fn rigid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     Ok(())
 }
 
-/// `*MAT_ADD_SEPARATION`, one card per material: `MID MODEL SIGMAX BETA GC BOND`.
-/// MODEL 1, 2 or 3; SIGMAX > 0; BETA blank or 0 means 1; GC > 0 for MODEL 3; BOND 0 or 1
-/// (blank: 1).
+/// `*MAT_ADD_SEPARATION`, per material card 1 `MID MODEL SIGMAX BETA GC BOND DIST SEED` and,
+/// when DIST is 1 or 2, card 2 `SMIN SMAX M AREF`.
+///
+/// MODEL 1, 2, 3 or 4; SIGMAX > 0 (blank for DIST 1, where it is not used); BETA blank or 0
+/// means 1; GC > 0 for MODELs 3 and 4; BOND 0 or 1 (blank: 1). DIST 0 (blank): every interface
+/// has the strength SIGMAX; 1: uniform between SMIN and SMAX (0 <= SMIN < SMAX); 2: Weibull of
+/// scale SIGMAX, modulus M > 0 and threshold SMIN >= 0, at the reference area AREF (blank or
+/// 0: no size scaling; SMAX must be blank). SEED: any integer (blank: 0).
 pub fn separation(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     while let Some(c) = r.next_nonblank(W10)? {
         let mid = c.id(0, "MID")?;
         let model = match c.opt_i64(1, "MODEL")? {
-            None => return Err(c.field_err("MODEL", "missing (1, 2 or 3)")),
-            Some(v @ 1..=3) => v as i32,
-            Some(v) => return Err(c.field_err("MODEL", format!("{v} is not one of 1, 2, 3"))),
+            None => return Err(c.field_err("MODEL", "missing (1, 2, 3 or 4)")),
+            Some(v @ 1..=4) => v as i32,
+            Some(v) => return Err(c.field_err("MODEL", format!("{v} is not one of 1, 2, 3, 4"))),
         };
-        let sigmax = c.positive(2, "SIGMAX")?;
+        let dist = c.code(6, "DIST", 0, 0, 2)?;
+        let sigmax = if dist == 1 {
+            c.f64_or(2, "SIGMAX", 0.0)?
+        } else {
+            c.positive(2, "SIGMAX")?
+        };
         let beta = c.f64_nz(3, "BETA", 1.0)?;
         if beta <= 0.0 {
             return Err(c.field_err("BETA", format!("{beta} must be positive")));
         }
-        let gc = if model == 3 {
+        let gc = if model >= 3 {
             c.positive(4, "GC")?
         } else {
             c.f64_or(4, "GC", 0.0)?
         };
         let bond = c.code(5, "BOND", 1, 0, 1)?;
+        let seed = c.i64_or(7, "SEED", 0)? as u64;
+        let strength = match dist {
+            0 => StrengthDist::Constant,
+            _ => strength_card(&r.required(W10, "SMIN SMAX M AREF")?, dist, seed)?,
+        };
         deck.separations.push(RawSeparation {
             src: r.src(c.line),
             mid,
@@ -158,7 +173,45 @@ pub fn separation(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
             beta,
             gc,
             bond,
+            strength,
         });
     }
     Ok(())
+}
+
+/// Card 2 of `*MAT_ADD_SEPARATION`, `SMIN SMAX M AREF`, for DIST 1 (uniform) or 2 (Weibull).
+fn strength_card(c: &Card<'_>, dist: i32, seed: u64) -> Result<StrengthDist, DeckError> {
+    let smin = c.f64_or(0, "SMIN", 0.0)?;
+    if smin.is_nan() || smin < 0.0 {
+        return Err(c.field_err("SMIN", format!("{smin} must be at least 0")));
+    }
+    if dist == 1 {
+        let smax = c.positive(1, "SMAX")?;
+        if smax <= smin {
+            return Err(c.field_err("SMAX", format!("{smax} must exceed SMIN = {smin}")));
+        }
+        for (i, name) in [(2, "M"), (3, "AREF")] {
+            if c.f64_or(i, name, 0.0)? != 0.0 {
+                return Err(c.field_err(name, "applies to DIST 2 (Weibull) only; leave it blank"));
+            }
+        }
+        return Ok(StrengthDist::Uniform { smin, smax, seed });
+    }
+    if c.f64_or(1, "SMAX", 0.0)? != 0.0 {
+        return Err(c.field_err("SMAX", "applies to DIST 1 (uniform) only; leave it blank"));
+    }
+    let m = c.positive(2, "M")?;
+    let aref = c.f64_or(3, "AREF", 0.0)?;
+    if !(aref >= 0.0 && aref.is_finite()) {
+        return Err(c.field_err(
+            "AREF",
+            format!("{aref} must be 0 (no size scaling) or positive"),
+        ));
+    }
+    Ok(StrengthDist::Weibull {
+        m,
+        aref,
+        smin,
+        seed,
+    })
 }

@@ -239,6 +239,22 @@ pub struct ContactDef {
     pub dc: f64,
 }
 
+impl ContactDef {
+    /// `*CONTACT_AUTOMATIC_SINGLE_SURFACE` over every part, the first contact of the deck, with
+    /// static and dynamic friction `fs`, `fd` and no decay.
+    pub fn single_surface_all(fs: f64, fd: f64) -> Self {
+        Self {
+            id: 1,
+            single_surface: true,
+            slave: ContactSurface::All,
+            master: None,
+            fs,
+            fd,
+            dc: 0.0,
+        }
+    }
+}
+
 /// `*MAT_ADD_SEPARATION`: the elements of `material` form a separation group.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SeparationDef {

@@ -68,7 +68,8 @@ pub struct ExampleArgs {
     #[arg(long = "end-time")]
     pub end_time: Option<f64>,
     /// Mesh size, where the example has several (ball-impact: 256, 425, 648, 2800, 8775 or
-    /// 20000 elements in the ball).
+    /// 20000 elements in the ball; fragmenting-bar: any number of elements along the bar,
+    /// 20 per characteristic length).
     #[arg(long)]
     pub elements: Option<usize>,
     /// Separation model of the crack path (three-point-bend: 1, the paper's normal-stress
@@ -79,9 +80,17 @@ pub struct ExampleArgs {
     /// example's strength as its scale (`*MAT_ADD_SEPARATION` DIST 2, no size scaling).
     #[arg(long)]
     pub weibull: Option<f64>,
-    /// Seed of the strength draw (with --weibull).
+    /// Seed of the strength draw (with --weibull, and fragmenting-bar's uniform strengths).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// fragmenting-bar: the strain rate in units of eps_dot0 = c SIGMAX^3 / (E^2 GC)
+    /// (default 1).
+    #[arg(long = "strain-rate")]
+    pub strain_rate: Option<f64>,
+    /// fragmenting-bar: half-width of the uniform strength distribution, a fraction of the
+    /// mean strength (default 0.1).
+    #[arg(long)]
+    pub spread: Option<f64>,
     /// Write the deck without its separation card.
     #[arg(long = "no-separation")]
     pub no_separation: bool,
@@ -90,9 +99,10 @@ pub struct ExampleArgs {
 #[derive(Args, Debug)]
 pub struct BenchArgs {
     /// What to measure: `cube` (an elastic block), `ball` (the ceramic ball on a rigid plate
-    /// of `cleave example ball-impact`, with contact) or `paper-tables` (the paper's Tables II
+    /// of `cleave example ball-impact`, with contact), `paper-tables` (the paper's Tables II
     /// and III: every ball mesh with and without fracture, the short runs repeated in pairs and
-    /// the median shown).
+    /// the median shown) or `fragmentation` (the fragmenting bar over a range of strain rates
+    /// against Zhou, Molinari and Ramesh's fit and Grady's estimate).
     pub what: String,
     /// Number of elements: for a cube the nearest n^3 (default 100000); for the ball one of
     /// the example's meshes (default 2800).
@@ -118,7 +128,20 @@ pub struct BenchArgs {
     /// Ball: print the measurements as one JSON line (what `paper-tables` reads).
     #[arg(long)]
     pub json: bool,
-    /// paper-tables: directory for paper-tables.md and paper-tables.csv.
-    #[arg(short = 'o', long = "output", default_value = "paper-tables")]
-    pub output: std::path::PathBuf,
+    /// paper-tables: directory for paper-tables.md and paper-tables.csv (default
+    /// paper-tables); fragmentation: for fragmentation.md, .csv and .png (default
+    /// fragmentation).
+    #[arg(short = 'o', long = "output")]
+    pub output: Option<std::path::PathBuf>,
+    /// fragmentation: the strain rates, in units of eps_dot0, comma-separated (default
+    /// 0.1,0.3,1,3,10,30).
+    #[arg(long)]
+    pub rates: Option<String>,
+    /// fragmentation: runs per strain rate, with seeds 1 to K.
+    #[arg(long, default_value_t = 3)]
+    pub seeds: u64,
+    /// fragmentation: half-width of the uniform strength distribution, a fraction of the mean
+    /// strength (default 0.1).
+    #[arg(long)]
+    pub spread: Option<f64>,
 }

@@ -269,6 +269,43 @@ fn missing_file_and_bad_options_exit_2() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+/// The fragmenting bar's options: each bad value exits 2 naming the option; an option the
+/// example does not take is named with the example.
+#[test]
+fn fragmenting_bar_options_are_checked() {
+    let d = tmp("bar-opts");
+    let deck = d.join("bar.k");
+    let deck = deck.to_str().unwrap();
+    for (args, needle) in [
+        (vec!["--spread", "2"], "--spread 2"),
+        (vec!["--spread", "0"], "--spread 0"),
+        (vec!["--strain-rate", "0"], "--strain-rate"),
+        (vec!["--elements", "1"], "--elements 1"),
+    ] {
+        let mut a = vec!["example", "fragmenting-bar", "-o", deck];
+        a.extend(args);
+        let out = cleave(&a);
+        assert_exit(&out, 2);
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains(needle),
+            "{a:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let out = cleave(&["example", "taylor-bar", "-o", deck, "--strain-rate", "1"]);
+    assert_exit(&out, 2);
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("fragmenting-bar only, not to taylor-bar")
+    );
+    let out = cleave(&["bench", "fragmentation", "--rates", "1,x"]);
+    assert_exit(&out, 2);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("'x'"));
+    // a good one writes a deck that checks
+    let out = cleave(&["example", "fragmenting-bar", "-o", deck, "--elements", "40"]);
+    assert_exit(&out, 0);
+    assert_exit(&cleave(&["check", deck]), 0);
+}
+
 /// A run that goes numerically wrong (the end pushed in at 10 km/s crushes an element inside
 /// out within about 1 us) stops with exit code 3, names the element, the time and the step, and
 /// leaves readable output.

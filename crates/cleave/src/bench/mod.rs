@@ -2,10 +2,12 @@
 //!
 //! - `cube`: an elastic block, the element-pass throughput ([`cube`]);
 //! - `ball`: the paper's ceramic ball on a rigid plate, with the share of contact ([`ball`]);
-//! - `paper-tables`: the paper's Tables II and III ([`paper_tables`]).
+//! - `paper-tables`: the paper's Tables II and III ([`paper_tables`]);
+//! - `fragmentation`: the fragmenting bar over a range of strain rates ([`fragmentation`]).
 
 mod ball;
 mod cube;
+pub mod fragmentation;
 mod paper_tables;
 
 use cleave_core::solver::{Observer, RunError, Solver};
@@ -30,15 +32,20 @@ struct Timing {
     steal: Option<f64>,
 }
 
+/// What a failed benchmark run exits with.
+fn run_failure(e: RunError) -> Failure {
+    match e {
+        RunError::Solver(e) => Failure::from(e),
+        RunError::Output(e) => Failure::Other(e.to_string()),
+    }
+}
+
 /// Run `solver` to its end time on `pool`, writing nothing.
 fn run_quiet(pool: &rayon::ThreadPool, solver: &mut Solver) -> Result<Timing, Failure> {
     let steal0 = steal_seconds();
     let start = std::time::Instant::now();
     pool.install(|| solver.run(&mut Quiet))
-        .map_err(|e| match e {
-            RunError::Solver(e) => Failure::from(e),
-            RunError::Output(e) => Failure::Other(e.to_string()),
-        })?;
+        .map_err(run_failure)?;
     let secs = start.elapsed().as_secs_f64();
     let steal = steal_seconds().zip(steal0).map(|(b, a)| b - a);
     Ok(Timing { secs, steal })
@@ -78,8 +85,9 @@ pub fn bench(a: &BenchArgs) -> Result<(), Failure> {
         "cube" => cube::bench_cube(a),
         "ball" => ball::bench_ball(a),
         "paper-tables" => paper_tables::bench_paper_tables(a),
+        "fragmentation" => fragmentation::bench_fragmentation(a),
         other => Err(Failure::Input(format!(
-            "unknown benchmark '{other}'; available: cube, ball, paper-tables"
+            "unknown benchmark '{other}'; available: cube, ball, paper-tables, fragmentation"
         ))),
     }
 }

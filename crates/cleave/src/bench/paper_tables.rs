@@ -158,9 +158,13 @@ pub fn bench_paper_tables(a: &BenchArgs) -> Result<(), Failure> {
     }
     let md = markdown(&meshes, end, a.threads);
     let csv = csv(&meshes);
-    std::fs::create_dir_all(&a.output).map_err(|e| io_failure("cannot create", &a.output, e))?;
+    let dir = a
+        .output
+        .clone()
+        .unwrap_or_else(|| std::path::PathBuf::from("paper-tables"));
+    std::fs::create_dir_all(&dir).map_err(|e| io_failure("cannot create", &dir, e))?;
     for (name, text) in [("paper-tables.md", &md), ("paper-tables.csv", &csv)] {
-        let path = a.output.join(name);
+        let path = dir.join(name);
         std::fs::write(&path, text).map_err(|e| io_failure("cannot write", &path, e))?;
     }
     print!("{md}");

@@ -21,7 +21,7 @@
 use cleave_core::mesh::BoxMesh;
 use cleave_core::mesh::{ogrid_sphere, Assembly};
 use cleave_core::model::{
-    ContactDef, ContactSurface, Material, MaterialKind, Model, OutputRequests, SeparationDef,
+    ContactDef, Material, MaterialKind, Model, OutputRequests, SeparationDef,
 };
 
 /// The paper's meshes: (elements, nodes, n, m) of [`ogrid_sphere`].
@@ -115,15 +115,7 @@ pub fn ball_impact(elements: usize, end_time: f64) -> Result<Model, String> {
         bond: 1,
         strength: Default::default(),
     }];
-    model.contacts = vec![ContactDef {
-        id: 1,
-        single_surface: true,
-        slave: ContactSurface::All,
-        master: None,
-        fs: 0.5,
-        fd: 0.1,
-        dc: 0.0,
-    }];
+    model.contacts = vec![ContactDef::single_surface_all(0.5, 0.1)];
     model.control.slsfac = SLSFAC;
 
     // history: the ball's lowest and highest node (ties: the first), the element with the

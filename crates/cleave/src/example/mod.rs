@@ -4,6 +4,7 @@
 //! |---|---|
 //! | `taylor-bar` | the classic copper Taylor impact test (LS-DYNA/NAFEMS benchmark): a cylinder of radius 3.2 mm and length 32.4 mm at 227 m/s onto a rigid wall, bilinear plasticity (E 117 GPa, nu 0.35, rho 8930 kg/m^3, SIGY 400 MPa, ETAN 100 MPa), 80 us. Published results: final length about 21.4-21.7 mm, foot radius about 7.0-7.1 mm. |
 //! | `ball-impact` | the paper's section 4.1: an alumina ball of 10 mm diameter (O-grid mesh of 256 to 20000 elements, `--elements`) at 75 m/s onto and 50 m/s along a rigid steel plate, fracturing by MODEL 1 at 310 MPa, 10 ms ([`ball_impact`](fn@ball_impact)). |
+//! | `fragmenting-bar` | a ceramic bar stretched at a uniform strain rate (`--strain-rate`, in units of eps_dot0 = c SIGMAX^3 / (E^2 GC)), every interface cohesive with uniform random strength (`--seed`): Zhou, Molinari and Ramesh's fragmentation problem ([`fragmenting_bar`](fn@fragmenting_bar)). |
 //! | `three-point-bend` | the paper's section 4.2: a notched steel beam (200 x 75 x 25 mm, notch 25 mm) hit at mid-span by a rigid tup at a constant 10 m/s, a separation strip ahead of the notch (MODEL 1 at 2 GPa, or `--model 3` cohesive), 0.3 ms ([`three_point_bend`](fn@three_point_bend)). |
 //!
 //! The builders return the [`Model`](cleave_core::model::Model); `example` applies the options and writes the deck.
@@ -11,12 +12,14 @@
 //! Weibull distribution of modulus M (`*MAT_ADD_SEPARATION` DIST 2).
 
 pub mod ball_impact;
+pub mod fragmenting_bar;
 mod taylor_bar;
 mod three_point_bend;
 
 use std::path::PathBuf;
 
 pub use ball_impact::ball_impact;
+pub use fragmenting_bar::fragmenting_bar;
 pub use taylor_bar::taylor_bar;
 pub use three_point_bend::three_point_bend;
 
@@ -33,6 +36,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
     (
         "ball-impact",
         "alumina ball (D 10 mm) at 75 m/s onto a rigid plate, fracture by separation (--elements 256|425|648|2800|8775|20000, default 2800; 10 ms)",
+    ),
+    (
+        "fragmenting-bar",
+        "ceramic bar stretched at a uniform strain rate, every interface cohesive with random strength (--strain-rate R in units of eps_dot0, default 1; --elements, default 2000; --spread W, strengths uniform in (1 -/+ W) x 300 MPa, default 0.1; --seed)",
     ),
     (
         "three-point-bend",
@@ -61,9 +68,14 @@ pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
             )));
         }
     }
-    if a.elements.is_some() && name != "ball-impact" {
+    if a.elements.is_some() && name != "ball-impact" && name != "fragmenting-bar" {
         return Err(Failure::Input(format!(
-            "--elements applies to ball-impact only, not to {name}"
+            "--elements applies to ball-impact and fragmenting-bar only, not to {name}"
+        )));
+    }
+    if (a.strain_rate.is_some() || a.spread.is_some()) && name != "fragmenting-bar" {
+        return Err(Failure::Input(format!(
+            "--strain-rate and --spread apply to fragmenting-bar only, not to {name}"
         )));
     }
     if a.model.is_some() && name != "three-point-bend" {
@@ -83,6 +95,14 @@ pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
             a.elements.unwrap_or(ball_impact::DEFAULT_ELEMENTS),
             a.end_time.unwrap_or(ball_impact::END_TIME),
         )
+        .map_err(Failure::Input)?,
+        "fragmenting-bar" => fragmenting_bar(fragmenting_bar::BarSpec {
+            rate: a.strain_rate.unwrap_or(1.0),
+            elements: a.elements,
+            spread: a.spread,
+            seed: a.seed,
+            end_time: a.end_time,
+        })
         .map_err(Failure::Input)?,
         _ => three_point_bend(
             a.model.unwrap_or(1),

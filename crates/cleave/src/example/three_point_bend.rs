@@ -42,8 +42,8 @@
 use cleave_core::curve::Curve;
 use cleave_core::mesh::{extrude, ogrid_disc, Assembly, BoxMesh};
 use cleave_core::model::{
-    ContactDef, ContactSurface, Material, MaterialKind, Model, MotionTarget, OutputRequests,
-    PrescribedMotion, SeparationDef, Vad,
+    ContactDef, Material, MaterialKind, Model, MotionTarget, OutputRequests, PrescribedMotion,
+    SeparationDef, Vad,
 };
 
 /// Default end time (s).
@@ -236,15 +236,7 @@ pub fn three_point_bend(model: i32, end_time: f64) -> Result<Model, String> {
         bond: 1,
         strength: Default::default(),
     }];
-    m.contacts = vec![ContactDef {
-        id: 1,
-        single_surface: true,
-        slave: ContactSurface::All,
-        master: None,
-        fs: 0.0,
-        fd: 0.0,
-        dc: 0.0,
-    }];
+    m.contacts = vec![ContactDef::single_surface_all(0.0, 0.0)];
     // history at mid-thickness (node plane k = NZ/2)
     let ic = NX / 2;
     let node = |i: usize, j: usize| (i + (NX + 1) * (j + (NY + 1) * (NZ / 2))) as u32;

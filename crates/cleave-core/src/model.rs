@@ -107,6 +107,10 @@ pub enum MaterialKind {
     /// `con1` translations, `con2` rotations, each coded 0 none, 1 x, 2 y, 3 z, 4 x+y,
     /// 5 y+z, 6 z+x, 7 all. `cmo = 0`: no constraints.
     Rigid { cmo: i32, con1: i32, con2: i32 },
+    /// `*MAT_JOHNSON_COOK` (`*MAT_015`) and `*MAT_SIMPLIFIED_JOHNSON_COOK` (`*MAT_098`):
+    /// Johnson-Cook plasticity with rate and thermal softening
+    /// ([`crate::material::JohnsonCook`]).
+    JohnsonCook(crate::material::JohnsonCook),
 }
 
 /// A node set; members are node indices.

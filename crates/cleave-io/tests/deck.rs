@@ -1,5 +1,6 @@
 //! Tests of the keyword deck reader and writer (`cleave_io::deck`).
 
+use cleave_core::material::JohnsonCook;
 use cleave_core::mesh::BoxMesh;
 use cleave_core::model::*;
 use cleave_io::deck::{parse_deck, write_deck, DeckError};
@@ -862,12 +863,15 @@ fn unsorted_curve() {
 
 #[test]
 fn unsupported_keyword() {
-    let t = with("*MAT_ELASTIC", "*MAT_JOHNSON_COOK\n1, 2\n*MAT_ELASTIC");
+    let t = with(
+        "*MAT_ELASTIC",
+        "*MAT_ELASTIC_PLASTIC_HYDRO\n1, 2\n*MAT_ELASTIC",
+    );
     let e = err(&t);
     check(
         &e,
-        Some(line_of(&t, "*MAT_JOHNSON_COOK")),
-        Some("*MAT_JOHNSON_COOK"),
+        Some(line_of(&t, "*MAT_ELASTIC_PLASTIC_HYDRO")),
+        Some("*MAT_ELASTIC_PLASTIC_HYDRO"),
         None,
         "not supported",
     );
@@ -1088,6 +1092,44 @@ fn round_trip_model() -> Model {
                     beta: 0.5,
                 },
             },
+            Material {
+                id: 7,
+                density: 7830.0,
+                young: 2.0e11,
+                poisson: 0.29,
+                kind: MaterialKind::JohnsonCook(JohnsonCook {
+                    a: 7.92e8,
+                    b: 5.1e8,
+                    n: 0.26,
+                    c: 0.014,
+                    eps0: 1.0,
+                    m: 1.03,
+                    t_melt: 1793.0,
+                    t_room: 294.0,
+                    rho_cp: 7830.0 * 477.0,
+                    sig_max: f64::INFINITY,
+                    sig_sat: f64::INFINITY,
+                }),
+            },
+            Material {
+                id: 8,
+                density: 7830.0,
+                young: 2.0e11,
+                poisson: 0.29,
+                kind: MaterialKind::JohnsonCook(JohnsonCook {
+                    a: 7.92e8,
+                    b: 5.1e8,
+                    n: 0.26,
+                    c: 0.0,
+                    eps0: 1.0,
+                    m: 1.0,
+                    t_melt: f64::INFINITY,
+                    t_room: 0.0,
+                    rho_cp: f64::INFINITY,
+                    sig_max: 1.5e9,
+                    sig_sat: f64::INFINITY,
+                }),
+            },
         ],
         curves: vec![cleave_core::curve::Curve {
             id: 9,
@@ -1238,6 +1280,86 @@ fn round_trip_model() -> Model {
             history_nodes: vec![3, 0],
             history_solids: vec![1],
         },
+    }
+}
+
+/// `*MAT_JOHNSON_COOK` and `*MAT_SIMPLIFIED_JOHNSON_COOK`: the parameters as read, the
+/// elastic constants of 015 from G and PR (or E), the defaults (M 1, no caps, no heating
+/// without CP), and an error naming the field for each feature cleave does not model.
+#[test]
+fn johnson_cook_cards_are_read() {
+    let mat = |text: &str| with("*MAT_ELASTIC\n1, 7800., 2.0e11, 0.3", text);
+    let jc015 = "*MAT_JOHNSON_COOK\n1, 7830., 7.7e10, , 0.29\n7.92e8, 5.1e8, 0.26, 0.014, 1.03, 1793., 294., 1.\n477.";
+    let m = parse(&mat(jc015));
+    let got = &m.materials[0];
+    assert!(close(got.young, 2.0 * 7.7e10 * 1.29) && got.poisson == 0.29);
+    let MaterialKind::JohnsonCook(jc) = got.kind else {
+        panic!("{:?}", got.kind)
+    };
+    assert_eq!(
+        (jc.a, jc.b, jc.n, jc.c, jc.eps0, jc.m, jc.t_melt, jc.t_room),
+        (7.92e8, 5.1e8, 0.26, 0.014, 1.0, 1.03, 1793.0, 294.0)
+    );
+    assert!(close(jc.rho_cp, 7830.0 * 477.0));
+    assert_eq!((jc.sig_max, jc.sig_sat), (f64::INFINITY, f64::INFINITY));
+    // E instead of PR
+    let m = parse(&mat(&jc015.replace("7.7e10, , 0.29", "7.7e10, 1.986e11")));
+    assert!((m.materials[0].poisson - (1.986e11 / 1.54e11 - 1.0)).abs() < 1e-12);
+    let jc098 = "*MAT_SIMPLIFIED_JOHNSON_COOK\n1, 7830., 2.0e11, 0.29\n7.92e8, 5.1e8, 0.26, 0.014, , 1.5e9, , 1.";
+    let m = parse(&mat(jc098));
+    let MaterialKind::JohnsonCook(jc) = m.materials[0].kind else {
+        panic!()
+    };
+    assert_eq!(
+        (jc.sig_max, jc.sig_sat, jc.t_melt),
+        (1.5e9, f64::INFINITY, f64::INFINITY)
+    );
+    assert_eq!((jc.m, jc.rho_cp), (1.0, f64::INFINITY));
+    for (text, field, msg) in [
+        (jc015.replace("7.7e10, , 0.29", "7.7e10"), "PR", "no *EOS"),
+        (
+            jc015.replace("7.7e10, , 0.29", "7.7e10, 2.5e11, 0.29"),
+            "E",
+            "disagrees",
+        ),
+        (jc015.replace(", 0.29", ", 0.29, , 2"), "VP", "0..1"),
+        (
+            jc015.replace(", 0.29", ", 0.29, , , 2"),
+            "RATEOP",
+            "rate form",
+        ),
+        (
+            jc015.replace("1793., 294.", "200., 294."),
+            "TM",
+            "exceed TR",
+        ),
+        (
+            jc015.replace("0.014, 1.03, 1793., 294., 1.", "0.014, 1.03, 1793., 294."),
+            "EPSO",
+            "positive",
+        ),
+        (jc015.replace("\n477.", "\n477., -1.0e9"), "PC", "spall"),
+        (
+            jc015.replace("\n477.", "\n477., , , , 0.05"),
+            "D1",
+            "erosion",
+        ),
+        (format!("{jc015}\n0.002"), "D5", "erosion"),
+        (
+            jc098.replace("0.014, , 1.5e9", "0.014, 0.8, 1.5e9"),
+            "PSFAIL",
+            "erosion",
+        ),
+        (
+            jc098.replace("0.26, 0.014", "0., 0.014"),
+            "N",
+            "positive when B",
+        ),
+        (jc098.replace("7.92e8, 5.1e8", "0., 5.1e8"), "A", "positive"),
+    ] {
+        let e = err(&mat(&text));
+        assert_eq!(e.field.as_deref(), Some(field), "{text}: {e}");
+        assert!(e.to_string().contains(msg), "{text}: {e}");
     }
 }
 

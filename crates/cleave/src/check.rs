@@ -33,6 +33,7 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
         let kind = match mat.kind {
             MaterialKind::Elastic => "elastic",
             MaterialKind::PlasticKinematic { .. } => "plastic-kinematic",
+            MaterialKind::JohnsonCook(_) => "johnson-cook",
             MaterialKind::Rigid { .. } => "rigid",
         };
         println!(

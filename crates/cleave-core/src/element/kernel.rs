@@ -114,7 +114,7 @@ pub fn hex8_step(
             rotate_sym(&r, &mut hist.back);
         }
         let old = *sigma;
-        mat.update(sigma, &d_eps, hist);
+        mat.update(sigma, &d_eps, dt_prev, hist);
         let mut avg = [0.0; 6];
         for i in 0..6 {
             avg[i] = 0.5 * (old[i] + sigma[i]);

@@ -6,21 +6,26 @@
 //! components, LS-DYNA order xx yy zz xy yz zx).
 
 mod elastic;
+mod johnson_cook;
 mod plastic;
 
 pub use elastic::update_elastic;
+pub use johnson_cook::{update_johnson_cook, JohnsonCook};
 pub use plastic::update_plastic_kinematic;
 
 use crate::math::Sym3;
 use crate::model::{Material, MaterialKind};
 
-/// Per-element history of a material point: effective plastic strain and back stress.
+/// Per-element history of a material point: effective plastic strain, back stress and
+/// temperature rise.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct History {
     /// Effective (equivalent) plastic strain.
     pub eps_p: f64,
     /// Back stress (kinematic hardening centre), deviatoric.
     pub back: Sym3,
+    /// Adiabatic temperature rise from plastic work (K; Johnson-Cook).
+    pub heat: f64,
 }
 
 /// A material law with its parameters precomputed for the kernel.
@@ -34,6 +39,8 @@ pub enum SolidLaw {
         hp: f64,
         beta: f64,
     },
+    /// Johnson-Cook plasticity.
+    JohnsonCook(JohnsonCook),
 }
 
 /// Material parameters the element kernel needs, precomputed once per material.
@@ -85,6 +92,7 @@ impl SolidParams {
                 };
                 SolidLaw::PlasticKinematic { sigy, hp, beta }
             }
+            MaterialKind::JohnsonCook(jc) => SolidLaw::JohnsonCook(jc),
             MaterialKind::Rigid { .. } => return None,
         };
         Some(Self {
@@ -97,9 +105,9 @@ impl SolidParams {
         })
     }
 
-    /// Update `sigma` (already rotated) with the strain increment `d_eps`.
+    /// Update `sigma` (already rotated) with the strain increment `d_eps` over the time `dt`.
     #[inline]
-    pub fn update(&self, sigma: &mut Sym3, d_eps: &Sym3, hist: &mut History) {
+    pub fn update(&self, sigma: &mut Sym3, d_eps: &Sym3, dt: f64, hist: &mut History) {
         match self.law {
             SolidLaw::Elastic => update_elastic(self.lambda, self.shear, sigma, d_eps),
             SolidLaw::PlasticKinematic { sigy, hp, beta } => update_plastic_kinematic(
@@ -112,6 +120,9 @@ impl SolidParams {
                 d_eps,
                 hist,
             ),
+            SolidLaw::JohnsonCook(jc) => {
+                update_johnson_cook(self.lambda, self.shear, &jc, sigma, d_eps, dt, hist)
+            }
         }
     }
 }

@@ -9,8 +9,10 @@
 
 use std::fmt::Write as _;
 
+use cleave_core::material::JohnsonCook;
 use cleave_core::model::{
-    ContactSurface, Hourglass, MaterialKind, Model, MotionTarget, PenaltyRule, StrengthDist, Vad,
+    ContactSurface, Hourglass, Material, MaterialKind, Model, MotionTarget, PenaltyRule,
+    StrengthDist, Vad,
 };
 
 /// One field of a card.
@@ -240,6 +242,71 @@ fn controls(o: &mut String, m: &Model) {
     }
 }
 
+/// A finite value, or a blank field for "none" (the reader's default).
+fn finite_or_blank(v: f64) -> F {
+    if v.is_finite() {
+        F::R(v)
+    } else {
+        F::B
+    }
+}
+
+/// Johnson-Cook: `*MAT_JOHNSON_COOK` when it softens thermally or heats (what `*MAT_098`
+/// cannot say), else `*MAT_SIMPLIFIED_JOHNSON_COOK` (which carries the caps SIGMAX, SIGSAT).
+fn johnson_cook(o: &mut String, mat: &Material, jc: &JohnsonCook) {
+    let hardening = [F::R(jc.a), F::R(jc.b), F::R(jc.n), F::R(jc.c)];
+    if jc.t_melt.is_finite() || jc.rho_cp.is_finite() {
+        simple(
+            o,
+            "*MAT_JOHNSON_COOK",
+            &["mid", "ro", "g", "e", "pr"],
+            &[
+                F::I(mat.id),
+                F::R(mat.density),
+                F::R(mat.shear_modulus()),
+                F::R(mat.young),
+                F::R(mat.poisson),
+            ],
+        );
+        names(o, &["a", "b", "n", "c", "m", "tm", "tr", "epso"], &W10);
+        let mut f = hardening.to_vec();
+        f.extend([
+            F::R(jc.m),
+            finite_or_blank(jc.t_melt),
+            F::R(jc.t_room),
+            F::R(jc.eps0),
+        ]);
+        card(o, &f, &W10);
+        names(o, &["cp"], &W10);
+        card(o, &[finite_or_blank(jc.rho_cp / mat.density)], &W10);
+    } else {
+        simple(
+            o,
+            "*MAT_SIMPLIFIED_JOHNSON_COOK",
+            &["mid", "ro", "e", "pr"],
+            &[
+                F::I(mat.id),
+                F::R(mat.density),
+                F::R(mat.young),
+                F::R(mat.poisson),
+            ],
+        );
+        names(
+            o,
+            &["a", "b", "n", "c", "psfail", "sigmax", "sigsat", "epso"],
+            &W10,
+        );
+        let mut f = hardening.to_vec();
+        f.extend([
+            F::B,
+            finite_or_blank(jc.sig_max),
+            finite_or_blank(jc.sig_sat),
+            F::R(jc.eps0),
+        ]);
+        card(o, &f, &W10);
+    }
+}
+
 fn properties(o: &mut String, m: &Model) {
     if !m.parts.is_empty() {
         o.push_str("*PART\n");
@@ -284,6 +351,7 @@ fn properties(o: &mut String, m: &Model) {
                     &f,
                 );
             }
+            MaterialKind::JohnsonCook(jc) => johnson_cook(o, mat, &jc),
             MaterialKind::Rigid { cmo, con1, con2 } => {
                 simple(o, "*MAT_RIGID", &["mid", "ro", "e", "pr"], &common);
                 names(o, &["cmo", "con1", "con2"], &W10);

@@ -7,6 +7,7 @@
 mod control;
 mod curve;
 mod interaction;
+mod johnson_cook;
 mod loads;
 mod material;
 mod mesh;
@@ -53,6 +54,10 @@ pub fn read_blocks(blocks: &[Block<'_>], file: &str) -> Result<RawDeck, DeckErro
                 material::plastic_kinematic(&mut r, &mut deck)?
             }
             "*MAT_RIGID" | "*MAT_020" => material::rigid(&mut r, &mut deck)?,
+            "*MAT_JOHNSON_COOK" | "*MAT_015" => johnson_cook::johnson_cook(&mut r, &mut deck)?,
+            "*MAT_SIMPLIFIED_JOHNSON_COOK" | "*MAT_098" => {
+                johnson_cook::simplified(&mut r, &mut deck)?
+            }
             "*MAT_ADD_SEPARATION" => material::separation(&mut r, &mut deck)?,
             "*SET_NODE_LIST" => sets::node_list(&mut r, &mut deck)?,
             "*SET_PART_LIST" => sets::part_list(&mut r, &mut deck)?,

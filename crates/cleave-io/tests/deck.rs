@@ -1496,3 +1496,135 @@ fn large_deck_timing() {
         t2 - t1
     );
 }
+
+/// A fresh directory for one test's files.
+fn tmp_dir(name: &str) -> std::path::PathBuf {
+    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// BASE split over three files: the nodes in `mesh/nodes.k` (included from beside the deck,
+/// ending in its own `*END`), the elements in `lib/elems.k` found through `*INCLUDE_PATH`, a
+/// long name continued with ` +`. The model is the one-file deck's, every field.
+#[test]
+fn include_reads_split_decks_as_one() {
+    let d = tmp_dir("include-split");
+    let (head, rest) = BASE.split_once("*NODE\n").unwrap();
+    let (nodes, rest) = rest.split_once("*ELEMENT_SOLID\n").unwrap();
+    let (elems, tail) = rest.split_once("*SET_NODE_LIST\n").unwrap();
+    std::fs::create_dir_all(d.join("mesh")).unwrap();
+    std::fs::create_dir_all(d.join("lib")).unwrap();
+    std::fs::write(
+        d.join("mesh/nodes.k"),
+        format!("*KEYWORD\n$ nodes\n*NODE\n{nodes}*END\n*JUNK\n"),
+    )
+    .unwrap();
+    std::fs::write(d.join("lib/elems.k"), format!("*ELEMENT_SOLID\n{elems}")).unwrap();
+    let main = format!(
+        "{head}*INCLUDE_PATH\nlib\n*INCLUDE\nmesh/no +\ndes.k\nelems.k\n*SET_NODE_LIST\n{tail}"
+    );
+    let path = d.join("main.k");
+    std::fs::write(&path, &main).unwrap();
+    let split = cleave_io::deck::read_deck(&path).unwrap();
+    assert!(split.warnings.is_empty(), "{:?}", split.warnings);
+    assert_eq!(format!("{:?}", split.model), format!("{:?}", parse(BASE)));
+}
+
+/// Errors in and around included files name the file and line where the card is: a bad
+/// field in an included file, an id defined in two files (both named), a missing file (the
+/// places searched), a file including itself (the chain), and the variants cleave does not
+/// apply.
+#[test]
+fn include_errors_name_the_file() {
+    let d = tmp_dir("include-errors");
+    let (head, rest) = BASE.split_once("*NODE\n").unwrap();
+    let (nodes, tail) = rest.split_once("*ELEMENT_SOLID\n").unwrap();
+    let main = format!("{head}*INCLUDE\nnodes.k\n*ELEMENT_SOLID\n{tail}");
+    let path = d.join("main.k");
+    std::fs::write(&path, &main).unwrap();
+    let inc = d.join("nodes.k");
+    let inc_name = inc.display().to_string();
+    let read = || cleave_io::deck::read_deck(&path).unwrap_err();
+
+    std::fs::write(
+        &inc,
+        format!("*NODE\n{}", nodes.replace("5, 1., 1., 0.", "5, 1., x, 0.")),
+    )
+    .unwrap();
+    let e = read();
+    assert_eq!(
+        (e.file.as_str(), e.line, e.field.as_deref()),
+        (inc_name.as_str(), Some(6), Some("Y")),
+        "{e}"
+    );
+
+    std::fs::write(&inc, format!("*NODE\n{nodes}*NODE\n12, 5., 5., 5.\n")).unwrap();
+    let e = read();
+    assert_eq!(e.file, inc_name, "{e}");
+    assert!(
+        e.message
+            .contains("node 12 is defined twice (first at line 13)"),
+        "{e}"
+    );
+    std::fs::write(&inc, format!("*NODE\n{nodes}")).unwrap();
+    let twice = format!("{head}*NODE\n12, 5., 5., 5.\n*INCLUDE\nnodes.k\n*ELEMENT_SOLID\n{tail}");
+    std::fs::write(&path, &twice).unwrap();
+    let e = read();
+    assert_eq!(e.file, inc_name, "{e}");
+    assert!(
+        e.message.contains(&format!("first at {}:", path.display())),
+        "{e}"
+    );
+
+    std::fs::write(&path, &main).unwrap();
+    std::fs::remove_file(&inc).unwrap();
+    let e = read();
+    let line = main.lines().position(|l| l == "nodes.k").unwrap() + 1;
+    assert_eq!(
+        (e.file.as_str(), e.line),
+        (path.to_str().unwrap(), Some(line)),
+        "{e}"
+    );
+    assert!(
+        e.message.contains("cannot find 'nodes.k' (looked in:"),
+        "{e}"
+    );
+
+    std::fs::write(&inc, "*INCLUDE\nmain.k\n").unwrap();
+    let e = read();
+    assert!(e.message.contains("includes itself"), "{e}");
+
+    std::fs::write(&inc, "*INCLUDE_TRANSFORM\nx.k\n").unwrap();
+    let e = read();
+    assert_eq!(
+        (e.file.as_str(), e.keyword.as_deref()),
+        (inc_name.as_str(), Some("*INCLUDE_TRANSFORM")),
+        "{e}"
+    );
+}
+
+/// `*PARAMETER` and `*PARAMETER_EXPRESSION`: BASE with some of its numbers replaced by
+/// `&name` references (reals, an integer id, a negated value, an expression, defined after
+/// their use and in fixed as well as free format) reads as BASE; an undefined name is an
+/// error at its line naming the field's position.
+#[test]
+fn parameters_stand_for_their_values() {
+    let t = with("*MAT_ELASTIC\n1, 7800., 2.0e11, 0.3", "*MAT_ELASTIC\n&mid, &rho, &e, &nu")
+        .replacen("1.0e-3, 1.", "&tend, -&neg", 1)
+        .replacen(
+            "*END",
+            "*PARAMETER\nI mid      1         R rho      7800.\n*PARAMETER\nR nu, 0.3, R neg, -1.\n*PARAMETER_EXPRESSION\nR e        2.0e11 * nu / 0.3\nR tend, max(1.0e-3, 0.5e-3)\n*END",
+            1,
+        );
+    assert_eq!(format!("{:?}", parse(&t)), format!("{:?}", parse(BASE)));
+    let bad = t.replacen("&rho,", "&rhoo,", 1);
+    let e = err(&bad);
+    assert_eq!(e.line, Some(line_of(&bad, "&mid, &rhoo")), "{e}");
+    assert!(
+        e.message
+            .contains("field 2: parameter &rhoo is not defined"),
+        "{e}"
+    );
+}

@@ -5,8 +5,11 @@
 //! gives for that card (10 characters in general). Numbers may use Fortran exponents
 //! (`1.0d-3`, `1.0D+3`); NaN and infinities are rejected.
 
+use std::borrow::Cow;
+
 use super::error::DeckError;
 use super::lex::Line;
+use super::params::Params;
 
 /// 8 fields of 10 characters: the general LS-DYNA card.
 pub const W10: &[usize] = &[10; 8];
@@ -19,7 +22,7 @@ pub struct Card<'a> {
     pub line: usize,
     /// Whether the card was comma-separated.
     pub free: bool,
-    fields: Vec<&'a str>,
+    fields: Vec<Cow<'a, str>>,
 }
 
 impl<'a> Card<'a> {
@@ -41,10 +44,16 @@ impl<'a> Card<'a> {
                 format!("text beyond column {width}, the end of this card's fixed-format fields (widths {widths:?}); check the column layout or use commas"),
             ));
         }
-        let fields: Vec<&str> = if free {
-            line.text.split(',').map(str::trim).collect()
+        let fields: Vec<Cow<'a, str>> = if free {
+            line.text
+                .split(',')
+                .map(|f| Cow::Borrowed(f.trim()))
+                .collect()
         } else {
             split_fixed(line.text, widths)
+                .into_iter()
+                .map(Cow::Borrowed)
+                .collect()
         };
         let card = Card {
             file,
@@ -74,8 +83,28 @@ impl<'a> Card<'a> {
     }
 
     /// The trimmed text of field `i` (empty if blank or absent).
-    pub fn raw(&self, i: usize) -> &'a str {
-        self.fields.get(i).copied().unwrap_or("")
+    pub fn raw(&self, i: usize) -> &str {
+        self.fields.get(i).map_or("", |f| f.as_ref())
+    }
+
+    /// Puts each `&name` or `-&name` field's parameter value in its place (`*PARAMETER`);
+    /// an undefined name is an error naming it and the field's position.
+    pub fn substitute(mut self, params: &Params) -> Result<Self, DeckError> {
+        for k in 0..self.fields.len() {
+            let f = self.fields[k].as_ref();
+            let (neg, name) = match f.strip_prefix("-&") {
+                Some(n) => (true, n),
+                None => match f.strip_prefix('&') {
+                    Some(n) => (false, n),
+                    None => continue,
+                },
+            };
+            let text = params
+                .text(self.file, name, neg)
+                .map_err(|m| self.err(format!("field {}: {m}", k + 1)))?;
+            self.fields[k] = Cow::Owned(text);
+        }
+        Ok(self)
     }
 
     /// An error at this card's line.

@@ -7,6 +7,8 @@
 //! CRLF line endings and trailing whitespace are accepted. Blank lines at the end of a block
 //! are dropped; blank lines inside a block are kept (a blank card means "all defaults").
 
+use std::rc::Rc;
+
 use super::error::DeckError;
 
 /// One data line of a block.
@@ -27,6 +29,8 @@ impl Line<'_> {
 /// A keyword and its data lines.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block<'a> {
+    /// The file the block is in (the deck, or a file it includes).
+    pub file: Rc<str>,
     /// Upper-case keyword with its leading `*`, e.g. `*MAT_ELASTIC_TITLE`.
     pub keyword: String,
     /// Line of the keyword.
@@ -37,6 +41,7 @@ pub struct Block<'a> {
 /// Splits `text` into blocks. Errors: data before the first keyword.
 pub fn lex<'a>(text: &'a str, file: &str) -> Result<Vec<Block<'a>>, DeckError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let file_rc: Rc<str> = Rc::from(file);
     let mut blocks: Vec<Block<'a>> = Vec::new();
     for (i, raw) in text.split('\n').enumerate() {
         let no = i + 1;
@@ -55,6 +60,7 @@ pub fn lex<'a>(text: &'a str, file: &str) -> Result<Vec<Block<'a>>, DeckError> {
                 break;
             }
             blocks.push(Block {
+                file: file_rc.clone(),
                 keyword,
                 line: no,
                 lines: Vec::new(),

@@ -1,7 +1,8 @@
 //! The LS-DYNA keyword deck reader: lexing, field decoding, and building a `Model`; and the
 //! writer that turns a `Model` back into a deck.
 //!
-//! Reading is done in three passes: [`lex`] splits the text into keyword blocks, `cards`
+//! Reading is done in three passes: [`lex`] splits the text into keyword blocks (`include`
+//! puts the blocks of included files in place of their `*INCLUDE`s), `cards`
 //! decodes each supported keyword's cards into a raw deck (deck ids, with their lines), and
 //! `build` resolves every reference into the dense indices of a
 //! [`Model`]. Card layouts are those of the LS-DYNA Keyword
@@ -10,8 +11,11 @@
 mod build;
 mod cards;
 mod error;
+mod expr;
 pub mod fields;
+mod include;
 pub mod lex;
+mod params;
 mod raw;
 mod write;
 
@@ -40,16 +44,18 @@ pub fn read_deck(path: &Path) -> Result<Deck, DeckError> {
     parse_deck(&text, &file)
 }
 
-/// Parses and validates a deck given as text; `file` names it in messages.
+/// Parses and validates a deck given as text; `file` names it in messages, and the files it
+/// includes (`*INCLUDE`) are looked for beside it.
 pub fn parse_deck(text: &str, file: &str) -> Result<Deck, DeckError> {
     if text.trim().is_empty() {
         return Err(DeckError::deck(file, "the deck is empty"));
     }
-    let blocks = lex::lex(text, file)?;
+    let sources = include::collect(text, file)?;
+    let blocks = include::blocks(&sources)?;
     if blocks.is_empty() {
         return Err(DeckError::deck(file, "the deck has no keywords"));
     }
-    let mut raw = cards::read_blocks(&blocks, file)?;
+    let mut raw = cards::read_blocks(&blocks)?;
     let warnings = std::mem::take(&mut raw.warnings);
     let model = build::build(raw, file)?;
     Ok(Deck { model, warnings })

@@ -10,6 +10,8 @@ use cleave_core::model::{Control, MaterialKind, OutputRequests, StrengthDist, Va
 /// Where an item was read: keyword as written and 1-based line.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Src {
+    /// The file (the deck or one it includes).
+    pub file: Rc<str>,
     pub keyword: Rc<str>,
     pub line: usize,
 }

@@ -101,6 +101,7 @@ impl Builder<'_> {
             let part = self.find(&ids.parts, e.pid, &e.src, "PID", "part")?;
             let mut conn = [0u32; 8];
             let nsrc = crate::deck::raw::Src {
+                file: e.src.file.clone(),
                 keyword: e.src.keyword.clone(),
                 line: e.node_line,
             };
@@ -141,6 +142,7 @@ impl Builder<'_> {
             let mut nodes = Vec::with_capacity(s.members.len());
             for &(nid, line) in &s.members {
                 let src = crate::deck::raw::Src {
+                    file: s.src.file.clone(),
                     keyword: s.src.keyword.clone(),
                     line,
                 };
@@ -155,6 +157,7 @@ impl Builder<'_> {
             let mut parts = Vec::with_capacity(s.members.len());
             for &(pid, line) in &s.members {
                 let src = crate::deck::raw::Src {
+                    file: s.src.file.clone(),
                     keyword: s.src.keyword.clone(),
                     line,
                 };
@@ -169,6 +172,7 @@ impl Builder<'_> {
             let mut segments = Vec::with_capacity(s.members.len());
             for &(seg, line) in &s.members {
                 let src = crate::deck::raw::Src {
+                    file: s.src.file.clone(),
                     keyword: s.src.keyword.clone(),
                     line,
                 };

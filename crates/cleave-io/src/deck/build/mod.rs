@@ -27,7 +27,7 @@ pub fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         control: raw.control.clone(),
         ..Model::default()
     };
-    let b = Builder { file, raw: &raw };
+    let b = Builder { raw: &raw };
     let ids = b.mesh(&mut model)?;
     b.conditions(&mut model, &ids)?;
     if raw.termination.is_none() {
@@ -54,14 +54,13 @@ pub struct Ids {
 }
 
 pub struct Builder<'a> {
-    pub file: &'a str,
     pub raw: &'a RawDeck,
 }
 
 impl Builder<'_> {
-    /// An error at an item's line.
+    /// An error at an item's line (in the file it was read from).
     pub fn err(&self, src: &Src, message: impl Into<String>) -> DeckError {
-        DeckError::at(self.file, src.line, Some(&src.keyword), message)
+        DeckError::at(&src.file, src.line, Some(&src.keyword), message)
     }
 
     /// The id to index map of `items`; a repeated id is an error naming both lines.
@@ -78,14 +77,19 @@ impl Builder<'_> {
                 return Err(self.err(src, format!("too many {what}s")));
             };
             if map.insert(id, idx).is_some() {
-                let first = items
-                    .iter()
-                    .map(&key)
-                    .find(|(k, _)| *k == id)
-                    .map_or(0, |(_, s)| s.line);
+                let first = items.iter().map(&key).find(|(k, _)| *k == id).map_or(
+                    String::new(),
+                    |(_, s)| {
+                        if s.file == src.file {
+                            format!("line {}", s.line)
+                        } else {
+                            format!("{}:{}", s.file, s.line)
+                        }
+                    },
+                );
                 return Err(self.err(
                     src,
-                    format!("{what} {id} is defined twice (first at line {first})"),
+                    format!("{what} {id} is defined twice (first at {first})"),
                 ));
             }
         }

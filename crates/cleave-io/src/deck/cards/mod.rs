@@ -18,12 +18,14 @@ use std::rc::Rc;
 use super::error::DeckError;
 use super::fields::Card;
 use super::lex::{Block, Line};
+use super::params::Params;
 use super::raw::{RawDeck, Src};
 
 /// Decodes every block. Unsupported keywords are errors; `*TITLE`, `*COMMENT` and unknown
 /// `*DATABASE_...` keywords are accepted (the latter with a warning, their data skipped).
-pub fn read_blocks(blocks: &[Block<'_>], file: &str) -> Result<RawDeck, DeckError> {
+pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
     let mut deck = RawDeck::default();
+    let params = Params::read(blocks)?;
     for block in blocks {
         let kw = block.keyword.as_str();
         let (base, titled) = match kw.strip_suffix("_TITLE") {
@@ -37,12 +39,17 @@ pub fn read_blocks(blocks: &[Block<'_>], file: &str) -> Result<RawDeck, DeckErro
             }
             _ => (kw, false),
         };
-        let mut r = Reader::new(file, block);
+        let mut r = Reader::new(block, &params);
         if titled {
             r.title()?;
         }
         match base {
             "*KEYWORD" | "*COMMENT" => continue,
+            // read before every other card (`Params::read`)
+            "*PARAMETER"
+            | "*PARAMETER_LOCAL"
+            | "*PARAMETER_EXPRESSION"
+            | "*PARAMETER_EXPRESSION_LOCAL" => continue,
             "*TITLE" if r.at_end() => deck.title.clear(),
             "*TITLE" => deck.title = r.title()?,
             "*NODE" => mesh::node(&mut r, &mut deck)?,
@@ -83,7 +90,7 @@ pub fn read_blocks(blocks: &[Block<'_>], file: &str) -> Result<RawDeck, DeckErro
             }
             _ => {
                 return Err(DeckError::at(
-                    file,
+                    &block.file,
                     block.line,
                     Some(kw),
                     "keyword not supported (see the supported keyword list in the README)",
@@ -98,28 +105,33 @@ pub fn read_blocks(blocks: &[Block<'_>], file: &str) -> Result<RawDeck, DeckErro
 /// A cursor over a block's data lines.
 pub struct Reader<'a> {
     pub file: &'a str,
+    file_rc: Rc<str>,
     pub keyword: &'a str,
     kw_rc: Rc<str>,
     block_line: usize,
     lines: &'a [Line<'a>],
     pos: usize,
+    params: &'a Params,
 }
 
 impl<'a> Reader<'a> {
-    fn new(file: &'a str, block: &'a Block<'a>) -> Self {
+    fn new(block: &'a Block<'a>, params: &'a Params) -> Self {
         Self {
-            file,
+            file: &block.file,
+            file_rc: block.file.clone(),
             keyword: &block.keyword,
             kw_rc: Rc::from(block.keyword.as_str()),
             block_line: block.line,
             lines: &block.lines,
             pos: 0,
+            params,
         }
     }
 
     /// Provenance of an item read at `line`.
     pub fn src(&self, line: usize) -> Src {
         Src {
+            file: self.file_rc.clone(),
             keyword: self.kw_rc.clone(),
             line,
         }
@@ -156,7 +168,9 @@ impl<'a> Reader<'a> {
             None => Ok(None),
             Some(&l) => {
                 self.pos += 1;
-                Card::new(self.file, self.keyword, l, widths).map(Some)
+                Card::new(self.file, self.keyword, l, widths)?
+                    .substitute(self.params)
+                    .map(Some)
             }
         }
     }

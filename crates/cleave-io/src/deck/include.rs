@@ -1,0 +1,256 @@
+//! `*INCLUDE`: a deck split over several files is read as one, each block keeping the file it
+//! came from, so every message names the file and line where the card is.
+//!
+//! - `*INCLUDE`: each data line names a file (a name longer than a line continues on the next
+//!   when the line ends with ` +`, as LS-DYNA's 80-column cards do). Its keywords take the
+//!   place of the `*INCLUDE` in the deck; `*END` ends only the included file.
+//! - Where a name is looked for: as given when absolute; otherwise first beside the file that
+//!   includes it, then in the `*INCLUDE_PATH` / `*INCLUDE_PATH_RELATIVE` directories read so
+//!   far (each line one directory, relative ones taken from the main deck's directory). LS-DYNA
+//!   looks in the directory it runs in first; cleave runs from anywhere, so the including
+//!   file's directory stands in for it.
+//! - A file that includes itself, directly or through others, is an error naming the chain;
+//!   so are a missing file (naming the places searched) and the `*INCLUDE_...` variants that
+//!   transform or offset what they read (`_TRANSFORM`, `_AUTO_OFFSET`, `_NASTRAN`,
+//!   `_STAMPED_PART`, ...), which cleave does not apply.
+
+use std::path::{Path, PathBuf};
+
+use super::error::DeckError;
+use super::lex::{lex, Block};
+
+/// How deep includes may nest (a guard against runaway recursion; real decks use 2 or 3).
+pub const MAX_DEPTH: usize = 32;
+
+/// One file of the deck, with the files its `*INCLUDE`s read, by the line of the `*INCLUDE`.
+#[derive(Debug)]
+pub struct Source {
+    file: String,
+    text: String,
+    includes: Vec<(usize, Vec<usize>)>,
+}
+
+/// Reads the deck `text` (the file `file`) and every file it includes, recursively.
+pub fn collect(text: &str, file: &str) -> Result<Vec<Source>, DeckError> {
+    let mut sources = vec![Source {
+        file: file.to_string(),
+        text: text.to_string(),
+        includes: Vec::new(),
+    }];
+    let main_dir = dir_of(file);
+    let mut search = Vec::new();
+    visit(
+        0,
+        &mut vec![file.to_string()],
+        &main_dir,
+        &mut search,
+        &mut sources,
+    )?;
+    Ok(sources)
+}
+
+/// The blocks of the whole deck in reading order, the included files' in place of their
+/// `*INCLUDE`s.
+pub fn blocks(sources: &[Source]) -> Result<Vec<Block<'_>>, DeckError> {
+    let mut lexed: Vec<Option<Vec<Block<'_>>>> = Vec::with_capacity(sources.len());
+    for s in sources {
+        lexed.push(Some(lex(&s.text, &s.file)?));
+    }
+    let mut out = Vec::new();
+    flatten(0, sources, &mut lexed, &mut out);
+    Ok(out)
+}
+
+fn flatten<'a>(
+    i: usize,
+    sources: &[Source],
+    lexed: &mut [Option<Vec<Block<'a>>>],
+    out: &mut Vec<Block<'a>>,
+) {
+    let Some(blocks) = lexed[i].take() else {
+        return;
+    };
+    for b in blocks {
+        if b.keyword == "*INCLUDE" {
+            let children = sources[i]
+                .includes
+                .iter()
+                .find(|(line, _)| *line == b.line)
+                .map(|(_, c)| c.clone())
+                .unwrap_or_default();
+            for c in children {
+                flatten(c, sources, lexed, out);
+            }
+        } else if !b.keyword.starts_with("*INCLUDE_PATH") {
+            out.push(b);
+        }
+    }
+}
+
+/// The directory of `file` (the current directory for a bare name).
+fn dir_of(file: &str) -> PathBuf {
+    Path::new(file)
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+}
+
+/// The names on an `*INCLUDE` block's lines, joining the lines that end with ` +`.
+fn names(block: &Block<'_>) -> Vec<(usize, String)> {
+    let mut out: Vec<(usize, String)> = Vec::new();
+    let mut pending: Option<(usize, String)> = None;
+    for l in &block.lines {
+        let t = l.text.trim();
+        if t.is_empty() && pending.is_none() {
+            continue;
+        }
+        let (line, mut name) = pending.take().unwrap_or((l.no, String::new()));
+        match t.strip_suffix(" +") {
+            Some(head) => {
+                name.push_str(head.trim_end());
+                pending = Some((line, name));
+            }
+            None => {
+                name.push_str(t);
+                out.push((line, name));
+            }
+        }
+    }
+    out.extend(pending);
+    out
+}
+
+fn visit(
+    i: usize,
+    chain: &mut Vec<String>,
+    main_dir: &Path,
+    search: &mut Vec<PathBuf>,
+    sources: &mut Vec<Source>,
+) -> Result<(), DeckError> {
+    let file = sources[i].file.clone();
+    let here = dir_of(&file);
+    // the blocks are lexed again, borrowing the text, when the deck is read (`blocks`)
+    let text = std::mem::take(&mut sources[i].text);
+    let result = (|| {
+        let found = lex(&text, &file)?;
+        let mut includes = Vec::new();
+        for b in &found {
+            let kw = b.keyword.as_str();
+            match kw {
+                "*INCLUDE" => {
+                    let mut children = Vec::new();
+                    for (line, name) in names(b) {
+                        let at = |m: String| DeckError::at(&file, line, Some(kw), m);
+                        if chain.len() > MAX_DEPTH {
+                            return Err(at(format!(
+                                "includes nest deeper than {MAX_DEPTH} files"
+                            )));
+                        }
+                        let path = resolve(&name, &here, search).map_err(at)?;
+                        let shown = path.display().to_string();
+                        let key = canonical(&path);
+                        if let Some(k) = chain.iter().position(|f| canonical(Path::new(f)) == key) {
+                            return Err(at(format!(
+                                "'{name}' includes itself: {} -> {shown}",
+                                chain[k..].join(" -> ")
+                            )));
+                        }
+                        let bytes = std::fs::read(&path)
+                            .map_err(|e| at(format!("cannot read '{shown}': {e}")))?;
+                        sources.push(Source {
+                            file: shown.clone(),
+                            text: String::from_utf8_lossy(&bytes).into_owned(),
+                            includes: Vec::new(),
+                        });
+                        let child = sources.len() - 1;
+                        chain.push(shown);
+                        visit(child, chain, main_dir, search, sources)?;
+                        chain.pop();
+                        children.push(child);
+                    }
+                    includes.push((b.line, children));
+                }
+                "*INCLUDE_PATH" | "*INCLUDE_PATH_RELATIVE" => {
+                    for (_, dir) in names(b) {
+                        let d = Path::new(&dir);
+                        search.push(if d.is_absolute() {
+                            d.to_path_buf()
+                        } else {
+                            main_dir.join(d)
+                        });
+                    }
+                }
+                k if k.starts_with("*INCLUDE") => {
+                    return Err(DeckError::at(
+                        &file,
+                        b.line,
+                        Some(k),
+                        "not supported (cleave includes files as they are: *INCLUDE, *INCLUDE_PATH, *INCLUDE_PATH_RELATIVE)",
+                    ))
+                }
+                _ => {}
+            }
+        }
+        Ok(includes)
+    })();
+    sources[i].text = text;
+    sources[i].includes = result?;
+    Ok(())
+}
+
+/// Where `name` is: absolute as given, else beside the including file (`here`), else in the
+/// search directories; the error lists the places tried.
+fn resolve(name: &str, here: &Path, search: &[PathBuf]) -> Result<PathBuf, String> {
+    if name.is_empty() {
+        return Err("an empty file name".into());
+    }
+    let p = Path::new(name);
+    if p.is_absolute() {
+        return Ok(p.to_path_buf());
+    }
+    let tried: Vec<PathBuf> = std::iter::once(here.join(p))
+        .chain(search.iter().map(|d| d.join(p)))
+        .collect();
+    if let Some(found) = tried.iter().find(|t| t.is_file()) {
+        return Ok(found.clone());
+    }
+    Err(format!(
+        "cannot find '{name}' (looked in: {})",
+        tried
+            .iter()
+            .map(|t| t.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    ))
+}
+
+/// A path's canonical form when it exists (to see a file included twice under two names).
+fn canonical(p: &Path) -> PathBuf {
+    p.canonicalize().unwrap_or_else(|_| p.to_path_buf())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_join_continued_lines() {
+        let text = "*INCLUDE\nparts/a.k\nvery/long/dir +\n/b.k\n\nc.k\n";
+        let b = lex(text, "m.k").unwrap();
+        let n = names(&b[0]);
+        assert_eq!(
+            n,
+            vec![
+                (2, "parts/a.k".to_string()),
+                (3, "very/long/dir/b.k".to_string()),
+                (6, "c.k".to_string())
+            ]
+        );
+    }
+
+    #[test]
+    fn dir_of_a_bare_name_is_here() {
+        assert_eq!(dir_of("deck.k"), PathBuf::from("."));
+        assert_eq!(dir_of("a/b/deck.k"), PathBuf::from("a/b"));
+    }
+}

@@ -111,6 +111,9 @@ pub enum MaterialKind {
     /// Johnson-Cook plasticity with rate and thermal softening
     /// ([`crate::material::JohnsonCook`]).
     JohnsonCook(crate::material::JohnsonCook),
+    /// `*MAT_PIECEWISE_LINEAR_PLASTICITY` (`*MAT_024`): a hardening curve with
+    /// Cowper-Symonds rate scaling ([`crate::material::PiecewiseLinear`]).
+    PiecewiseLinear(crate::material::PiecewiseLinear),
 }
 
 /// A node set; members are node indices.

@@ -1,6 +1,6 @@
 //! Tests of the keyword deck reader and writer (`cleave_io::deck`).
 
-use cleave_core::material::JohnsonCook;
+use cleave_core::material::{JohnsonCook, PiecewiseLinear};
 use cleave_core::mesh::BoxMesh;
 use cleave_core::model::*;
 use cleave_io::deck::{parse_deck, write_deck, DeckError};
@@ -1130,6 +1130,18 @@ fn round_trip_model() -> Model {
                     sig_sat: f64::INFINITY,
                 }),
             },
+            Material {
+                id: 9,
+                density: 7850.0,
+                young: 2.1e11,
+                poisson: 0.3,
+                kind: MaterialKind::PiecewiseLinear(PiecewiseLinear {
+                    points: vec![[0.0, 2.5e8], [0.05, 3.2e8], [0.5, 4.5e8]].into(),
+                    c: 40.4,
+                    p: 5.0,
+                    lcss: None,
+                }),
+            },
         ],
         curves: vec![cleave_core::curve::Curve {
             id: 9,
@@ -1361,6 +1373,70 @@ fn johnson_cook_cards_are_read() {
         assert_eq!(e.field.as_deref(), Some(field), "{text}: {e}");
         assert!(e.to_string().contains(msg), "{text}: {e}");
     }
+}
+
+/// `*MAT_PIECEWISE_LINEAR_PLASTICITY`: the hardening curve from LCSS (a `*DEFINE_CURVE`,
+/// scaled), from EPS/ES, or from SIGY and ETAN, Cowper-Symonds C and P; errors name the field.
+#[test]
+fn piecewise_linear_plasticity_is_read() {
+    let mat = |text: &str| with("*MAT_ELASTIC\n1, 7800., 2.0e11, 0.3", text);
+    let kind = |t: &str| match parse(&mat(t)).materials[0].kind.clone() {
+        MaterialKind::PiecewiseLinear(p) => p,
+        k => panic!("{k:?}"),
+    };
+    let curve =
+        "*DEFINE_CURVE\n7, 0, 1., 1.0e6\n0., 250.\n0.1, 300.\n*MAT_PIECEWISE_LINEAR_PLASTICITY";
+    let p = kind(&format!(
+        "{curve}\n1, 7800., 2.0e11, 0.3, 1.0e8\n40.4, 5., 7"
+    ));
+    assert_eq!(&*p.points, &[[0.0, 250e6], [0.1, 300e6]]);
+    assert_eq!((p.c, p.p, p.lcss), (40.4, 5.0, Some(7)));
+    let p = kind("*MAT_024\n1, 7800., 2.0e11, 0.3\n\n0., 0.05, 0.5\n2.5e8, 3.2e8, 4.5e8");
+    assert_eq!(&*p.points, &[[0.0, 2.5e8], [0.05, 3.2e8], [0.5, 4.5e8]]);
+    assert_eq!((p.c, p.lcss), (0.0, None));
+    let p = kind("*MAT_024\n1, 7800., 2.0e11, 0.3, 4.0e8, 2.0e9");
+    assert_eq!(p.points[0], [0.0, 4.0e8]);
+    assert!((p.points[1][1] - 4.0e8 - 2.0e11 * 2.0e9 / (2.0e11 - 2.0e9)).abs() < 1e-3);
+    for (t, field, msg) in [
+        ("*MAT_024\n1, 7800., 2.0e11, 0.3", "SIGY", "positive"),
+        (
+            "*MAT_024\n1, 7800., 2.0e11, 0.3, 4.0e8, , 0.3",
+            "FAIL",
+            "erosion",
+        ),
+        (
+            "*MAT_024\n1, 7800., 2.0e11, 0.3, 4.0e8\n40.4",
+            "P",
+            "positive",
+        ),
+        (
+            "*MAT_024\n1, 7800., 2.0e11, 0.3, 4.0e8\n, , , 3",
+            "LCSR",
+            "rate factor",
+        ),
+        (
+            "*MAT_024\n1, 7800., 2.0e11, 0.3, 4.0e8\n, , 99",
+            "LCSS",
+            "curve 99 is not defined",
+        ),
+        (
+            &format!(
+                "{}\n1, 7800., 2.0e11, 0.3\n, , 7",
+                curve.replace("0., 250.", "0.01, 250.")
+            ),
+            "LCSS",
+            "start at 0",
+        ),
+    ] {
+        let e = err(&mat(t));
+        assert_eq!(e.field.as_deref(), Some(field), "{t}: {e}");
+        assert!(e.to_string().contains(msg), "{t}: {e}");
+    }
+    // EPS/ES points out of order: the message says so, at the material's line
+    let t = mat("*MAT_024\n1, 7800., 2.0e11, 0.3\n\n0., 0.1, 0.05\n2.5e8, 3.0e8, 3.2e8");
+    let e = err(&t);
+    assert!(e.to_string().contains("must increase"), "{e}");
+    assert_eq!(e.line, Some(line_of(&t, "*MAT_024") + 1));
 }
 
 /// `*MAT_ADD_SEPARATION` with a strength distribution: DIST and SEED on card 1, card 2

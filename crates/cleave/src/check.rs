@@ -34,6 +34,7 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
             MaterialKind::Elastic => "elastic",
             MaterialKind::PlasticKinematic { .. } => "plastic-kinematic",
             MaterialKind::JohnsonCook(_) => "johnson-cook",
+            MaterialKind::PiecewiseLinear(_) => "piecewise-linear-plasticity",
             MaterialKind::Rigid { .. } => "rigid",
         };
         println!(

@@ -17,14 +17,13 @@
 //!   material point heats it, d T = sigma_y d eps_p / (RO CP) (no conduction: impacts last
 //!   microseconds, heat diffuses over millimetres in seconds). The temperature of the step's
 //!   start sets its thermal factor; the step's heat is its flow stress times d eps_p.
-//! - Radial return (Simo and Hughes 1998, box 3.1) with the hardening implicit: the increment
-//!   d eps_p solves q* - 3 G d eps_p = sigma_y(eps_p + d eps_p), q* the trial von Mises stress,
-//!   by Newton's method safeguarded by bisection (the hardening slope N B eps_p^(N-1) is
-//!   unbounded at eps_p = 0 for N < 1).
+//! - Radial return with the hardening and the rate implicit ([`super::return_map`]; the
+//!   hardening slope N B eps_p^(N-1) is unbounded at eps_p = 0 for N < 1).
 //!
 //! Without thermal softening (`t_melt` infinite) and rate (C = 0) it is isotropic power-law
 //! hardening.
 
+use super::return_map::{plastic_increment, scale_deviator};
 use super::{update_elastic, History};
 use crate::math::{ddot, deviator, Sym3};
 
@@ -122,40 +121,12 @@ pub fn update_johnson_cook(
             (y, (h_slope * r + h * r_slope) * theta)
         }
     };
-    let y0 = flow(0.0).0;
-    if q <= y0 {
+    if q <= flow(0.0).0 {
         return;
     }
-    // r(x) = q - 3 G x - sigma_y(x) falls with x: r(0) > 0 and r(q / 3G) < 0
-    let (mut lo, mut hi) = (0.0, q / (3.0 * g));
-    let mut x = 0.5 * hi;
-    for _ in 0..100 {
-        let (y, slope) = flow(x);
-        let r = q - 3.0 * g * x - y;
-        if r > 0.0 {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        if r.abs() <= 1e-12 * q || hi - lo <= 1e-15 * hi {
-            break;
-        }
-        let newton = x + r / (3.0 * g + slope);
-        x = if newton > lo && newton < hi {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-    }
+    let x = plastic_increment(q, g, flow);
     let y = flow(x).0;
-    let scale = y / q;
-    let p = (sigma[0] + sigma[1] + sigma[2]) / 3.0;
-    for i in 0..3 {
-        sigma[i] = p + s[i] * scale;
-    }
-    for i in 3..6 {
-        sigma[i] = s[i] * scale;
-    }
+    scale_deviator(sigma, &s, q, y);
     // the plastic work of the increment, at the flow stress it ends on
     if jc.rho_cp.is_finite() {
         hist.heat += y * x / jc.rho_cp;

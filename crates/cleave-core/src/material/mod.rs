@@ -7,10 +7,13 @@
 
 mod elastic;
 mod johnson_cook;
+mod piecewise;
 mod plastic;
+mod return_map;
 
 pub use elastic::update_elastic;
 pub use johnson_cook::{update_johnson_cook, JohnsonCook};
+pub use piecewise::{update_piecewise, PiecewiseLinear};
 pub use plastic::update_plastic_kinematic;
 
 use crate::math::Sym3;
@@ -29,7 +32,7 @@ pub struct History {
 }
 
 /// A material law with its parameters precomputed for the kernel.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum SolidLaw {
     Elastic,
     /// Bilinear plasticity: `sigy` initial yield, `hp` plastic hardening modulus
@@ -41,10 +44,12 @@ pub enum SolidLaw {
     },
     /// Johnson-Cook plasticity.
     JohnsonCook(JohnsonCook),
+    /// Piecewise linear hardening with Cowper-Symonds rate scaling.
+    Piecewise(PiecewiseLinear),
 }
 
 /// Material parameters the element kernel needs, precomputed once per material.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SolidParams {
     pub density: f64,
     /// Lame lambda.
@@ -93,6 +98,7 @@ impl SolidParams {
                 SolidLaw::PlasticKinematic { sigy, hp, beta }
             }
             MaterialKind::JohnsonCook(jc) => SolidLaw::JohnsonCook(jc),
+            MaterialKind::PiecewiseLinear(ref p) => SolidLaw::Piecewise(p.clone()),
             MaterialKind::Rigid { .. } => return None,
         };
         Some(Self {
@@ -122,6 +128,9 @@ impl SolidParams {
             ),
             SolidLaw::JohnsonCook(jc) => {
                 update_johnson_cook(self.lambda, self.shear, &jc, sigma, d_eps, dt, hist)
+            }
+            SolidLaw::Piecewise(ref p) => {
+                update_piecewise(self.lambda, self.shear, p, sigma, d_eps, dt, hist)
             }
         }
     }

@@ -9,7 +9,7 @@
 
 use std::fmt::Write as _;
 
-use cleave_core::material::JohnsonCook;
+use cleave_core::material::{JohnsonCook, PiecewiseLinear};
 use cleave_core::model::{
     ContactSurface, Hourglass, Material, MaterialKind, Model, MotionTarget, PenaltyRule,
     StrengthDist, Vad,
@@ -307,6 +307,45 @@ fn johnson_cook(o: &mut String, mat: &Material, jc: &JohnsonCook) {
     }
 }
 
+/// `*MAT_PIECEWISE_LINEAR_PLASTICITY`: the deck curve LCSS where the law came from one (it is
+/// written with the curves), else the points as EPS/ES (at most 8: a law of more points and no
+/// curve, which only a program can make, is written with its first 8 and a comment saying so).
+fn piecewise(o: &mut String, mat: &Material, p: &PiecewiseLinear) {
+    simple(
+        o,
+        "*MAT_PIECEWISE_LINEAR_PLASTICITY",
+        &["mid", "ro", "e", "pr", "sigy"],
+        &[
+            F::I(mat.id),
+            F::R(mat.density),
+            F::R(mat.young),
+            F::R(mat.poisson),
+            F::R(p.points.first().map_or(0.0, |q| q[1])),
+        ],
+    );
+    names(o, &["c", "p", "lcss"], &W10);
+    let (c, pp) = if p.c > 0.0 {
+        (F::R(p.c), F::R(p.p))
+    } else {
+        (F::B, F::B)
+    };
+    card(o, &[c, pp, p.lcss.map_or(F::B, F::I)], &W10);
+    if p.lcss.is_none() {
+        if p.points.len() > 8 {
+            let _ = writeln!(
+                o,
+                "$ cleave: the hardening curve has {} points; EPS/ES hold the first 8",
+                p.points.len()
+            );
+        }
+        let pts = &p.points[..p.points.len().min(8)];
+        names(o, &["eps1", "eps2", "..."], &W10);
+        card(o, &pts.iter().map(|q| F::R(q[0])).collect::<Vec<_>>(), &W10);
+        names(o, &["es1", "es2", "..."], &W10);
+        card(o, &pts.iter().map(|q| F::R(q[1])).collect::<Vec<_>>(), &W10);
+    }
+}
+
 fn properties(o: &mut String, m: &Model) {
     if !m.parts.is_empty() {
         o.push_str("*PART\n");
@@ -352,6 +391,7 @@ fn properties(o: &mut String, m: &Model) {
                 );
             }
             MaterialKind::JohnsonCook(jc) => johnson_cook(o, mat, &jc),
+            MaterialKind::PiecewiseLinear(ref p) => piecewise(o, mat, p),
             MaterialKind::Rigid { cmo, con1, con2 } => {
                 simple(o, "*MAT_RIGID", &["mid", "ro", "e", "pr"], &common);
                 names(o, &["cmo", "con1", "con2"], &W10);

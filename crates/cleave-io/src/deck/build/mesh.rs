@@ -1,6 +1,8 @@
 //! Resolving nodes, elements, parts, sections, materials, separation groups, curves and sets.
 
+use cleave_core::curve::Curve;
 use cleave_core::element::hex8::corner_jacobians;
+use cleave_core::material::PiecewiseLinear;
 use cleave_core::math::Vec3;
 use cleave_core::model::{
     Material, MaterialKind, Model, NodeSet, Part, PartSet, Section, SegmentSet, SeparationDef,
@@ -8,6 +10,7 @@ use cleave_core::model::{
 
 use super::{Builder, Ids};
 use crate::deck::error::DeckError;
+use crate::deck::raw::RawMaterial;
 
 impl Builder<'_> {
     /// Fills the mesh, the property tables and the sets; returns the id maps.
@@ -34,17 +37,16 @@ impl Builder<'_> {
                 elform: s.elform,
             })
             .collect();
-        m.materials = raw
-            .materials
-            .iter()
-            .map(|s| Material {
+        m.materials = Vec::with_capacity(raw.materials.len());
+        for s in &raw.materials {
+            m.materials.push(Material {
                 id: s.id,
                 density: s.density,
                 young: s.young,
                 poisson: s.poisson,
-                kind: s.kind.clone(),
-            })
-            .collect();
+                kind: self.material_curves(s, &m.curves, &ids)?,
+            });
+        }
         self.separations(m, &ids)?;
         for p in &raw.parts {
             m.parts.push(Part {
@@ -92,6 +94,29 @@ impl Builder<'_> {
     }
 
     /// Connectivity and part of each element; every corner Jacobian must be positive.
+    /// The material's kind with the curves it names resolved: `*MAT_024`'s LCSS becomes its
+    /// hardening points (yield stress against plastic strain), checked.
+    fn material_curves(
+        &self,
+        s: &RawMaterial,
+        curves: &[Curve],
+        ids: &Ids,
+    ) -> Result<MaterialKind, DeckError> {
+        let mut kind = s.kind.clone();
+        if let MaterialKind::PiecewiseLinear(ref mut p) = kind {
+            if let Some(id) = p.lcss {
+                let c = &curves[self.find(&ids.curves, id, &s.src, "LCSS", "curve")?];
+                let pts: Vec<[f64; 2]> = c.t.iter().zip(&c.y).map(|(&x, &y)| [x, y]).collect();
+                PiecewiseLinear::check(&pts).map_err(|m| {
+                    self.err(&s.src, format!("LCSS curve {id}: {m}"))
+                        .with_field("LCSS")
+                })?;
+                p.points = pts.into();
+            }
+        }
+        Ok(kind)
+    }
+
     fn elements(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
         let n = self.raw.elems.len();
         m.elem_ids = Vec::with_capacity(n);

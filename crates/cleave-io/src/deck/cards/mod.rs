@@ -11,6 +11,7 @@ mod johnson_cook;
 mod loads;
 mod material;
 mod mesh;
+mod piecewise;
 mod sets;
 
 use std::rc::Rc;
@@ -61,6 +62,9 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
                 material::plastic_kinematic(&mut r, &mut deck)?
             }
             "*MAT_RIGID" | "*MAT_020" => material::rigid(&mut r, &mut deck)?,
+            "*MAT_PIECEWISE_LINEAR_PLASTICITY" | "*MAT_024" => {
+                piecewise::piecewise_linear(&mut r, &mut deck)?
+            }
             "*MAT_JOHNSON_COOK" | "*MAT_015" => johnson_cook::johnson_cook(&mut r, &mut deck)?,
             "*MAT_SIMPLIFIED_JOHNSON_COOK" | "*MAT_098" => {
                 johnson_cook::simplified(&mut r, &mut deck)?

@@ -144,4 +144,8 @@ pub struct BenchArgs {
     /// strength (default 0.1).
     #[arg(long)]
     pub spread: Option<f64>,
+    /// fragmentation: the time step scale factor TSSFAC (default 0.2: the fragment count has
+    /// converged with the time step there).
+    #[arg(long)]
+    pub tssfac: Option<f64>,
 }

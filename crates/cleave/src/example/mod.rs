@@ -101,6 +101,7 @@ pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
             elements: a.elements,
             spread: a.spread,
             seed: a.seed,
+            tssfac: None,
             end_time: a.end_time,
         })
         .map_err(Failure::Input)?,

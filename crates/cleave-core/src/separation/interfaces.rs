@@ -45,10 +45,11 @@ struct CohesiveFace {
     interface: u32,
     /// The law with the interface's own strength.
     law: CohesiveLaw,
-    delta_max: [f64; 4],
-    /// Traction at onset (from the mean stress), used until the face starts to open.
+    /// Per point, the largest opening past the peak ([`CohesiveLaw::traction`]).
+    softened: [f64; 4],
+    /// Traction at onset (from the mean stress): the face's elastic stretch at release.
     t0: Vec3,
-    /// Cap of the unloading slope (Pa/m), from the thinner, stiffer side.
+    /// The stiffest slope the face takes (Pa/m), from the thinner, stiffer side.
     k_max: f64,
     /// Opening x_b - x_a and force on side a at the previous evaluation (for the work).
     d_prev: [Vec3; 4],
@@ -113,7 +114,7 @@ impl Separation {
             .map(|e| {
                 let xe: [Vec3; 8] = std::array::from_fn(|a| m.x0[m.conn[e][a] as usize]);
                 let h = hex8::volume(&xe) / hex8::max_face_area(&xe);
-                stable_slope(m.element_material(e).young, h)
+                stable_slope(m.element_material(e).young, h, m.control.tssfac)
             })
             .collect();
         let ties = vec![true; faces.len()];
@@ -328,7 +329,7 @@ impl Separation {
             self.cohesive.push(CohesiveFace {
                 interface: i as u32,
                 law,
-                delta_max: [0.0; 4],
+                softened: [0.0; 4],
                 t0,
                 k_max: self.elem_slope[ea].min(self.elem_slope[eb]),
                 d_prev,
@@ -370,10 +371,7 @@ impl Separation {
             for k in 0..4 {
                 let (a, b) = (face.nodes[k] as usize, face.nodes[4 + k] as usize);
                 let d_law = add(scale(n, dot(d[k], n)), ds);
-                let fa = scale(
-                    law.traction(d_law, n, c.t0, c.k_max, &mut c.delta_max[k]),
-                    w,
-                );
+                let fa = scale(law.traction(d_law, n, c.t0, c.k_max, &mut c.softened[k]), w);
                 let d = d[k];
                 let (ra, rb) = (slot[a] as usize, slot[b] as usize);
                 f[ra] = add(f[ra], fa);
@@ -382,7 +380,7 @@ impl Separation {
                 work += 0.5 * dot(add(c.f_prev[k], fa), sub(d, c.d_prev[k]));
                 c.d_prev[k] = d;
                 c.f_prev[k] = fa;
-                open &= law.is_open(c.delta_max[k]);
+                open &= law.is_open(c.softened[k]);
             }
             if open {
                 status[c.interface as usize] = Status::Free;

@@ -49,12 +49,13 @@ pub const LENGTH_L0: f64 = 100.0;
 /// Default half-width of the uniform strength distribution, as a fraction of the mean.
 pub const SPREAD: f64 = 0.1;
 /// The time step scale factor (`*CONTROL_TIMESTEP` TSSFAC) of the bar: the fragment count
-/// converges with the time step only below about 0.3. Seed 1, 2000 elements (`cleave bench
-/// fragmentation --tssfac F`): at 1 eps_dot0, 137, 128, 119, 110, 114, 114 fragments at TSSFAC
-/// 0.9, 0.7, 0.5, 0.3, 0.2, 0.1; at 3 eps_dot0 231, 203, 203 at 0.9, 0.2, 0.1; at 10 eps_dot0
-/// 447, 411, 405. (Akantu, on the same bar, is unstable at 0.9 and converged from 0.5 down:
-/// `studies/akantu-fragmentation`.) Near the stability limit the waves that released
-/// interfaces send ring with overshoot, and more interfaces break.
+/// converges with the time step (the cohesive faces' stiffness grows as the step shrinks,
+/// [`cleave_core::separation::cohesive::stable_slope`]). Seed 1, 2000 elements (`cleave bench
+/// fragmentation --tssfac F`): at 1 eps_dot0, 118, 115, 112, 110, 114 fragments at TSSFAC 0.9,
+/// 0.5, 0.3, 0.2, 0.1; at 3 eps_dot0 207, 206, 203, 204 from 0.5 down; at 10 eps_dot0 416,
+/// 412, 411, 409. At 0.9 the bar breaking everywhere at once (3 eps_dot0 and above) can invert
+/// elements (the cohesive law's known limit). Akantu, on the same bar, is unstable at 0.9 and
+/// converged from 0.5 down (`studies/akantu-fragmentation`).
 pub const TSSFAC: f64 = 0.2;
 /// Time run after the strongest interface's stress is reached, in units of t0.
 pub const SETTLE_T0: f64 = 40.0;

@@ -2,12 +2,10 @@
 //! uniaxial stress, stretched at a constant logarithmic strain rate, against the closed-form
 //! uniaxial response computed independently of the element.
 
-use cleave_core::curve::Curve;
 use cleave_core::material::{JohnsonCook, PiecewiseLinear};
-use cleave_core::mesh::box_model;
-use cleave_core::model::{Material, MaterialKind, MotionTarget, PrescribedMotion, Spc, Vad};
+use cleave_core::model::{Material, MaterialKind};
 mod common;
-use common::run;
+use common::{run, uniaxial_cube};
 
 /// 4340 steel (Johnson and Cook 1985): A 792 MPa, B 510 MPa, N 0.26, C 0.014 (EPSO 1/s),
 /// M 1.03, TM 1793 K, TR 294 K, RO 7830 kg/m^3, CP 477 J/(kg K); E 200 GPa, nu 0.29.
@@ -76,33 +74,9 @@ struct Uniaxial {
 fn stretch(mat: &Material, rate: f64) -> Uniaxial {
     let l0 = 1e-4;
     let t_end = 0.1 / rate;
-    let mut m = box_model([1, 1, 1], [l0; 3], mat.clone(), t_end);
     let ts: Vec<f64> = (0..=200).map(|k| t_end * k as f64 / 200.0).collect();
     let ys = ts.iter().map(|&t| l0 * ((rate * t).exp() - 1.0)).collect();
-    m.curves.push(Curve {
-        id: 1,
-        t: ts,
-        y: ys,
-    });
-    for (i, x) in m.x0.iter().enumerate() {
-        let dof = [x[0] == 0.0, x[1] == 0.0, x[2] == 0.0, false, false, false];
-        if dof.iter().any(|&d| d) {
-            m.spcs.push(Spc {
-                node: i as u32,
-                dof,
-            });
-        }
-    }
-    for node in m.nodes_where(0, l0, 1e-12) {
-        m.prescribed.push(PrescribedMotion {
-            target: MotionTarget::Node(node),
-            axis: 0,
-            vad: Vad::Displacement,
-            curve: 0,
-            sf: 1.0,
-        });
-    }
-    let face = m.nodes_where(0, l0, 1e-12)[0] as usize;
+    let (m, face) = uniaxial_cube(mat.clone(), l0, (ts, ys), t_end);
     let mut out = Uniaxial {
         eps: 0.0,
         sig: 0.0,

@@ -521,7 +521,6 @@ fn uniaxial_elastic_plastic_stress_strain_curve() {
             poisson: 0.3,
             kind: MaterialKind::PlasticKinematic { sigy, etan, beta },
         };
-        let mut m = box_model([1, 1, 1], [l0; 3], mat, t2);
         // displacement u(t) such that ln((L0 + u)/L0) is linear in time
         let ts: Vec<f64> = (0..=40).map(|k| t2 * k as f64 / 40.0).collect();
         let ys = ts
@@ -535,30 +534,7 @@ fn uniaxial_elastic_plastic_stress_strain_curve() {
                 l0 * (eps.exp() - 1.0)
             })
             .collect();
-        m.curves.push(Curve {
-            id: 1,
-            t: ts,
-            y: ys,
-        });
-        for (i, x) in m.x0.iter().enumerate() {
-            let dof = [x[0] == 0.0, x[1] == 0.0, x[2] == 0.0, false, false, false];
-            if dof.iter().any(|&d| d) {
-                m.spcs.push(Spc {
-                    node: i as u32,
-                    dof,
-                });
-            }
-        }
-        for node in m.nodes_where(0, l0, 1e-9) {
-            m.prescribed.push(PrescribedMotion {
-                target: MotionTarget::Node(node),
-                axis: 0,
-                vad: Vad::Displacement,
-                curve: 0,
-                sf: 1.0,
-            });
-        }
-        let face = m.nodes_where(0, l0, 1e-9)[0] as usize;
+        let (m, face) = common::uniaxial_cube(mat, l0, (ts, ys), t2);
         // (t, eps, sigma_xx, eps_p)
         let mut rec: Vec<(f64, f64, f64, f64)> = Vec::new();
         let mut lateral = 0.0f64;

@@ -23,9 +23,9 @@
 //! Without thermal softening (`t_melt` infinite) and rate (C = 0) it is isotropic power-law
 //! hardening.
 
-use super::return_map::{plastic_increment, scale_deviator};
-use super::{update_elastic, History};
-use crate::math::{ddot, deviator, Sym3};
+use super::return_map::radial_return;
+use super::History;
+use crate::math::Sym3;
 
 /// The Johnson-Cook parameters (SI or any consistent units).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,9 +104,6 @@ pub fn update_johnson_cook(
     dt: f64,
     hist: &mut History,
 ) {
-    update_elastic(lambda, g, sigma, d_eps);
-    let s = deviator(sigma);
-    let q = (1.5 * ddot(&s, &s)).sqrt();
     let theta = jc.thermal_factor(hist.heat);
     // the flow stress and its slope at eps_p + x, with the rate x / dt
     let flow = |x: f64| {
@@ -121,17 +118,13 @@ pub fn update_johnson_cook(
             (y, (h_slope * r + h * r_slope) * theta)
         }
     };
-    if q <= flow(0.0).0 {
-        return;
+    if let Some((x, y)) = radial_return(lambda, g, sigma, d_eps, flow) {
+        // the plastic work of the increment, at the flow stress it ends on
+        if jc.rho_cp.is_finite() {
+            hist.heat += y * x / jc.rho_cp;
+        }
+        hist.eps_p += x;
     }
-    let x = plastic_increment(q, g, flow);
-    let y = flow(x).0;
-    scale_deviator(sigma, &s, q, y);
-    // the plastic work of the increment, at the flow stress it ends on
-    if jc.rho_cp.is_finite() {
-        hist.heat += y * x / jc.rho_cp;
-    }
-    hist.eps_p += x;
 }
 
 #[cfg(test)]

@@ -15,9 +15,9 @@
 
 use std::sync::Arc;
 
-use super::return_map::{plastic_increment, scale_deviator};
-use super::{update_elastic, History};
-use crate::math::{ddot, deviator, Sym3};
+use super::return_map::radial_return;
+use super::History;
+use crate::math::Sym3;
 
 /// The hardening curve and rate parameters of `*MAT_024`.
 #[derive(Clone, Debug, PartialEq)]
@@ -111,9 +111,6 @@ pub fn update_piecewise(
     dt: f64,
     hist: &mut History,
 ) {
-    update_elastic(lambda, g, sigma, d_eps);
-    let s = deviator(sigma);
-    let q = (1.5 * ddot(&s, &s)).sqrt();
     let flow = |x: f64| {
         let (h, h_slope) = law.hardening(hist.eps_p + x);
         let rate = if dt > 0.0 { x / dt } else { 0.0 };
@@ -121,12 +118,9 @@ pub fn update_piecewise(
         let dr_dx = if dt > 0.0 { r_slope / dt } else { 0.0 };
         (h * r, h_slope * r + h * dr_dx)
     };
-    if q <= flow(0.0).0 {
-        return;
+    if let Some((x, _)) = radial_return(lambda, g, sigma, d_eps, flow) {
+        hist.eps_p += x;
     }
-    let x = plastic_increment(q, g, flow);
-    scale_deviator(sigma, &s, q, flow(x).0);
-    hist.eps_p += x;
 }
 
 #[cfg(test)]

@@ -12,7 +12,32 @@
 //! would leave it (slopes unbounded at x = 0: power-law hardening from zero plastic strain,
 //! the logarithm of a rate).
 
-use crate::math::Sym3;
+use super::update_elastic;
+use crate::math::{ddot, deviator, Sym3};
+
+/// The whole update: the elastic trial `sigma += C : d_eps`, and, where its von Mises value
+/// exceeds `flow(0).0`, the return to the flow surface. `flow(x)` gives the flow stress and its
+/// slope at the plastic increment x. Returns the increment and the flow stress it ends on, or
+/// `None` for an elastic step.
+#[inline]
+pub fn radial_return(
+    lambda: f64,
+    g: f64,
+    sigma: &mut Sym3,
+    d_eps: &Sym3,
+    flow: impl Fn(f64) -> (f64, f64),
+) -> Option<(f64, f64)> {
+    update_elastic(lambda, g, sigma, d_eps);
+    let s = deviator(sigma);
+    let q = (1.5 * ddot(&s, &s)).sqrt();
+    if q <= flow(0.0).0 {
+        return None;
+    }
+    let x = plastic_increment(q, g, &flow);
+    let y = flow(x).0;
+    scale_deviator(sigma, &s, q, y);
+    Some((x, y))
+}
 
 /// The plastic increment x solving q - 3 G x = flow(x).0, where `flow(x)` gives the flow
 /// stress and its slope at the increment x, to 1e-12 of q.

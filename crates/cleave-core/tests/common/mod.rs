@@ -66,3 +66,42 @@ pub fn copy_deviation<'a>(
     }
     worst
 }
+
+/// A cube of side `l0` of `mat` in uniaxial stress along x: symmetry constraints on its three
+/// faces through the origin, and its x = l0 face driven by the displacement curve (`ts`,
+/// `ys`) until `end`. Returns the model and a node of the driven face.
+#[allow(dead_code)]
+pub fn uniaxial_cube(
+    mat: cleave_core::model::Material,
+    l0: f64,
+    (ts, ys): (Vec<f64>, Vec<f64>),
+    end: f64,
+) -> (Model, usize) {
+    use cleave_core::model::{MotionTarget, PrescribedMotion, Spc, Vad};
+    let mut m = cleave_core::mesh::box_model([1, 1, 1], [l0; 3], mat, end);
+    m.curves.push(cleave_core::curve::Curve {
+        id: 1,
+        t: ts,
+        y: ys,
+    });
+    for (i, x) in m.x0.iter().enumerate() {
+        let dof = [x[0] == 0.0, x[1] == 0.0, x[2] == 0.0, false, false, false];
+        if dof.iter().any(|&d| d) {
+            m.spcs.push(Spc {
+                node: i as u32,
+                dof,
+            });
+        }
+    }
+    for node in m.nodes_where(0, l0, 1e-9 * l0) {
+        m.prescribed.push(PrescribedMotion {
+            target: MotionTarget::Node(node),
+            axis: 0,
+            vad: Vad::Displacement,
+            curve: 0,
+            sf: 1.0,
+        });
+    }
+    let face = m.nodes_where(0, l0, 1e-9 * l0)[0] as usize;
+    (m, face)
+}

@@ -19,8 +19,21 @@ pub fn warn_ignored(c: &Card<'_>, i: usize, name: &str, what: &str, deck: &mut R
     }
 }
 
+/// A real that must be blank or 0: the feature it switches on (`what`) is not modelled, and
+/// a deck that sets it would run different physics.
+pub fn unsupported(c: &Card<'_>, i: usize, name: &str, what: &str) -> Result<(), DeckError> {
+    let v = c.f64_or(i, name, 0.0)?;
+    if v != 0.0 {
+        return Err(c.field_err(
+            name,
+            format!("{v}: {what} is not supported; leave it blank or 0"),
+        ));
+    }
+    Ok(())
+}
+
 /// A non-negative real (blank: 0).
-fn non_negative(c: &Card<'_>, i: usize, name: &str) -> Result<f64, DeckError> {
+pub fn non_negative(c: &Card<'_>, i: usize, name: &str) -> Result<f64, DeckError> {
     let v = c.f64_or(i, name, 0.0)?;
     if v < 0.0 {
         return Err(c.field_err(name, format!("{v} must not be negative")));

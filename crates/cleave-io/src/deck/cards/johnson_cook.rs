@@ -8,32 +8,11 @@
 use cleave_core::material::JohnsonCook;
 use cleave_core::model::MaterialKind;
 
-use super::control::warn_ignored;
+use super::control::{non_negative, unsupported, warn_ignored};
 use super::Reader;
 use crate::deck::error::DeckError;
 use crate::deck::fields::{Card, W10};
 use crate::deck::raw::{RawDeck, RawMaterial};
-
-/// A real that must be blank or 0: the feature it switches on is not modelled.
-fn unsupported(c: &Card<'_>, i: usize, name: &str, what: &str) -> Result<(), DeckError> {
-    let v = c.f64_or(i, name, 0.0)?;
-    if v != 0.0 {
-        return Err(c.field_err(
-            name,
-            format!("{v}: {what} is not supported; leave it blank or 0"),
-        ));
-    }
-    Ok(())
-}
-
-/// A real >= 0 (blank: 0).
-fn non_negative(c: &Card<'_>, i: usize, name: &str) -> Result<f64, DeckError> {
-    let v = c.f64_or(i, name, 0.0)?;
-    if v < 0.0 {
-        return Err(c.field_err(name, format!("{v} must not be negative")));
-    }
-    Ok(v)
-}
 
 /// A cap whose blank or 0 means none.
 fn cap(c: &Card<'_>, i: usize, name: &str) -> Result<f64, DeckError> {

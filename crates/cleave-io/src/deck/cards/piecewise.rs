@@ -12,23 +12,11 @@
 use cleave_core::material::PiecewiseLinear;
 use cleave_core::model::MaterialKind;
 
-use super::control::warn_ignored;
+use super::control::{unsupported, warn_ignored};
 use super::Reader;
 use crate::deck::error::DeckError;
-use crate::deck::fields::{Card, W10};
+use crate::deck::fields::W10;
 use crate::deck::raw::{RawDeck, RawMaterial};
-
-/// A real that must be blank or 0.
-fn unsupported(c: &Card<'_>, i: usize, name: &str, what: &str) -> Result<(), DeckError> {
-    let v = c.f64_or(i, name, 0.0)?;
-    if v != 0.0 {
-        return Err(c.field_err(
-            name,
-            format!("{v}: {what} is not supported; leave it blank or 0"),
-        ));
-    }
-    Ok(())
-}
 
 pub fn piecewise_linear(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.required(W10, "MID RO E PR SIGY ETAN FAIL TDEL")?;

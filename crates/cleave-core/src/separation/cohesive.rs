@@ -30,6 +30,12 @@
 //! delta_c), hence delta_c = GC / (2 SIGMAX) so that the interface dissipates GC. Its tail
 //! never reaches zero: a point counts as fully open at delta = [`EXP_OPEN`] delta_c, where
 //! the traction is 8e-5 SIGMAX and the work left out (2 + 12) e^-12 / 2 = 4.3e-5 of GC.
+//!
+//! In an explicit step the law above is written on an opening shifted by the elastic stretch
+//! SIGMAX / k_max of a face of the stiffest slope the step takes ([`stable_slope`],
+//! [`CohesiveLaw::traction`]): openings below are measured past that stretch, so "rigid until
+//! onset" becomes "as stiff as the step allows", and the law tends to the one above as the
+//! step shrinks.
 
 use crate::math::{add, dot, scale, sub, Vec3};
 

@@ -875,11 +875,14 @@ fn unsupported_keyword() {
         None,
         "not supported",
     );
-    let t = with("*CONTROL_CONTACT", "*CONTROL_ENERGY\n2\n*CONTROL_CONTACT");
+    let t = with(
+        "*CONTROL_CONTACT",
+        "*CONTROL_DYNAMIC_RELAXATION\n2\n*CONTROL_CONTACT",
+    );
     check(
         &err(&t),
-        Some(line_of(&t, "*CONTROL_ENERGY")),
-        Some("*CONTROL_ENERGY"),
+        Some(line_of(&t, "*CONTROL_DYNAMIC_RELAXATION")),
+        Some("*CONTROL_DYNAMIC_RELAXATION"),
         None,
         "not supported",
     );
@@ -1703,4 +1706,56 @@ fn parameters_stand_for_their_values() {
             .contains("field 2: parameter &rhoo is not defined"),
         "{e}"
     );
+}
+
+/// `*CONTROL_` cards that change nothing cleave computes (energy and output switches, CPU and
+/// parallel options) are read past, each with one warning naming file, line and keyword;
+/// one that changes the physics stays an error.
+#[test]
+fn control_cards_that_change_nothing_warn() {
+    let t = with(
+        "*CONTROL_CONTACT",
+        "*CONTROL_ENERGY\n2, 2, 2, 2\n*CONTROL_OUTPUT\n1\n*CONTROL_MPP_IO_NOD3DUMP\n*CONTROL_CONTACT",
+    );
+    let d = parse_deck(&t, "t.k").unwrap();
+    assert_eq!(d.warnings.len(), 3, "{:?}", d.warnings);
+    assert!(d.warnings[0].starts_with(&format!(
+        "t.k:{}: *CONTROL_ENERGY",
+        line_of(&t, "*CONTROL_ENERGY")
+    )));
+    assert_eq!(format!("{:?}", d.model), format!("{:?}", parse(BASE)));
+    let t = with(
+        "*CONTROL_CONTACT",
+        "*CONTROL_DYNAMIC_RELAXATION\n\n*CONTROL_CONTACT",
+    );
+    assert!(err(&t).to_string().contains("not supported"));
+}
+
+/// `*SET_NODE_LIST_GENERATE` and `*SET_PART_LIST_GENERATE`: ranges of ids, the defined ones
+/// members; the test deck with its two sets written as ranges reads to the same model. A
+/// range that holds no id, or runs backwards, is an error at its line.
+#[test]
+fn generated_sets_take_the_ids_in_their_ranges() {
+    let t = with(
+        "*SET_NODE_LIST\n1\n1, 4, 7, 10, 0, 1",
+        "*SET_NODE_LIST_GENERATE\n1\n1, 1, 4, 4, 7, 7, 10, 10",
+    )
+    .replacen(
+        "*SET_PART_LIST\n5\n1, 2",
+        "*SET_PART_LIST_GENERATE\n5\n1, 2",
+        1,
+    );
+    assert_eq!(format!("{:?}", parse(&t)), format!("{:?}", parse(BASE)));
+    // gaps in the numbering are skipped: nodes 2..=6 of the twelve
+    let t2 = t.replacen("1, 1, 4, 4, 7, 7, 10, 10", "2, 6", 1);
+    assert_eq!(parse(&t2).node_sets[0].nodes, vec![1, 2, 3, 4, 5]);
+    let bad = t.replacen("1, 1, 4, 4, 7, 7, 10, 10", "100, 200", 1);
+    let e = err(&bad);
+    assert_eq!(e.line, Some(line_of(&bad, "100, 200")), "{e}");
+    assert!(
+        e.message.contains("no node has an id from 100 to 200"),
+        "{e}"
+    );
+    let e = err(&t.replacen("1, 1, 4, 4, 7, 7, 10, 10", "6, 2", 1));
+    assert_eq!(e.field.as_deref(), Some("B1END"), "{e}");
 }

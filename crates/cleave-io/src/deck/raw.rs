@@ -87,6 +87,9 @@ pub struct RawSet<T> {
     pub src: Src,
     pub id: i64,
     pub members: Vec<(T, usize)>,
+    /// `_GENERATE`: inclusive id ranges, each with its line; every defined id in them is a
+    /// member.
+    pub ranges: Vec<(i64, i64, usize)>,
 }
 
 /// What a boundary condition or initial velocity applies to.

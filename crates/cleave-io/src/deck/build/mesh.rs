@@ -10,7 +10,7 @@ use cleave_core::model::{
 
 use super::{Builder, Ids};
 use crate::deck::error::DeckError;
-use crate::deck::raw::RawMaterial;
+use crate::deck::raw::{RawMaterial, RawSet};
 
 impl Builder<'_> {
     /// Fills the mesh, the property tables and the sets; returns the id maps.
@@ -157,6 +157,35 @@ impl Builder<'_> {
         Ok(())
     }
 
+    /// The indices (in deck order) of the `ids` that fall in a `_GENERATE` set's ranges; a range
+    /// that holds none is an error at its line.
+    fn in_ranges<T>(
+        &self,
+        s: &RawSet<T>,
+        ids: impl Iterator<Item = i64> + Clone,
+        what: &str,
+    ) -> Result<impl Iterator<Item = u32>, DeckError> {
+        let mut out = Vec::new();
+        for &(beg, end, line) in &s.ranges {
+            let before = out.len();
+            out.extend(
+                ids.clone()
+                    .enumerate()
+                    .filter(|&(_, id)| (beg..=end).contains(&id))
+                    .map(|(i, _)| i as u32),
+            );
+            if out.len() == before {
+                let src = crate::deck::raw::Src {
+                    file: s.src.file.clone(),
+                    keyword: s.src.keyword.clone(),
+                    line,
+                };
+                return Err(self.err(&src, format!("no {what} has an id from {beg} to {end}")));
+            }
+        }
+        Ok(out.into_iter())
+    }
+
     /// Node, part and segment sets; members resolved, repeated members dropped.
     fn sets(&self, m: &mut Model, ids: &mut Ids) -> Result<(), DeckError> {
         let raw = self.raw;
@@ -173,6 +202,8 @@ impl Builder<'_> {
                 };
                 nodes.push(self.find(&ids.nodes, nid, &src, "NID", "node")?);
             }
+            let node_ids = raw.nodes.iter().map(|n| n.id);
+            nodes.extend(self.in_ranges(s, node_ids, "node")?);
             m.node_sets.push(NodeSet {
                 id: s.id,
                 nodes: dedup(nodes),
@@ -188,6 +219,8 @@ impl Builder<'_> {
                 };
                 parts.push(self.find(&ids.parts, pid, &src, "PID", "part")?);
             }
+            let part_ids = raw.parts.iter().map(|p| p.id);
+            parts.extend(self.in_ranges(s, part_ids, "part")?.map(|i| i as usize));
             m.part_sets.push(PartSet {
                 id: s.id,
                 parts: dedup(parts),

@@ -41,6 +41,19 @@ pub fn non_negative(c: &Card<'_>, i: usize, name: &str) -> Result<f64, DeckError
     Ok(v)
 }
 
+/// `*CONTROL_` keywords that only switch output, bookkeeping or parallel options in LS-DYNA:
+/// cleave always computes every energy it reports, runs on every core it is given, and reads
+/// the deck as a whole, so they are read past with a warning. (`*CONTROL_` keywords that would
+/// change the physics, such as dynamic relaxation, mass scaling or shells, stay errors.)
+const NOTHING_FOR_CLEAVE: &[&str] = &[
+    "*CONTROL_ENERGY",
+    "*CONTROL_OUTPUT",
+    "*CONTROL_CPU",
+    "*CONTROL_PARALLEL",
+    "*CONTROL_DEBUG",
+    "*CONTROL_REMOVE_ADDITIONAL_DATA",
+];
+
 /// Dispatches the `*CONTROL_` and `*DATABASE_` keywords.
 pub fn control_or_database(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     match r.keyword {
@@ -56,6 +69,15 @@ pub fn control_or_database(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(),
         | "*DATABASE_RCFORC"
         | "*DATABASE_BINARY_D3PLOT" => interval(r, deck),
         "*DATABASE_HISTORY_NODE" | "*DATABASE_HISTORY_SOLID" => history(r, deck),
+        k if NOTHING_FOR_CLEAVE.contains(&k) || k.starts_with("*CONTROL_MPP_") => {
+            deck.warnings.push(format!(
+                "{}:{}: {k}: changes nothing cleave computes, ignored",
+                r.file,
+                r.line_of_keyword()
+            ));
+            r.ignore_rest();
+            Ok(())
+        }
         k if k.starts_with("*DATABASE_") => {
             deck.warnings.push(format!(
                 "{}:{}: {k}: output request not supported, ignored",

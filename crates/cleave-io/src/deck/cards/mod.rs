@@ -73,6 +73,8 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             "*SET_NODE_LIST" => sets::node_list(&mut r, &mut deck)?,
             "*SET_PART_LIST" => sets::part_list(&mut r, &mut deck)?,
             "*SET_SEGMENT" => sets::segment(&mut r, &mut deck)?,
+            "*SET_NODE_LIST_GENERATE" => sets::node_generate(&mut r, &mut deck)?,
+            "*SET_PART_LIST_GENERATE" => sets::part_generate(&mut r, &mut deck)?,
             "*DEFINE_CURVE" => curve::define_curve(&mut r, &mut deck)?,
             "*INITIAL_VELOCITY_GENERATION" => loads::velocity_generation(&mut r, &mut deck)?,
             "*INITIAL_VELOCITY_NODE" => loads::velocity_node(&mut r, &mut deck)?,

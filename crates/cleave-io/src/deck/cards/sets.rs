@@ -1,5 +1,6 @@
-//! `*SET_NODE_LIST`, `*SET_PART_LIST`, `*SET_SEGMENT` (LS-DYNA Keyword Manual, Vol. I).
-//! Card 1 is `SID DA1 DA2 DA3 DA4 SOLVER` (only SID is used); `_TITLE` puts a title line first.
+//! `*SET_NODE_LIST`, `*SET_PART_LIST`, `*SET_SEGMENT` and the `*SET_NODE_LIST_GENERATE` and
+//! `*SET_PART_LIST_GENERATE` forms (LS-DYNA Keyword Manual, Vol. I). Card 1 is
+//! `SID DA1 DA2 DA3 DA4 SOLVER` (only SID is used); `_TITLE` puts a title line first.
 
 use super::Reader;
 use crate::deck::error::DeckError;
@@ -32,6 +33,7 @@ pub fn node_list(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError
         src: r.src(line),
         id,
         members,
+        ranges: Vec::new(),
     });
     Ok(())
 }
@@ -44,6 +46,7 @@ pub fn part_list(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError
         src: r.src(line),
         id,
         members,
+        ranges: Vec::new(),
     });
     Ok(())
 }
@@ -61,9 +64,60 @@ pub fn segment(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> 
         members.push(([n1, n2, n3, n4], c.line));
     }
     deck.segment_sets.push(RawSet {
+        ranges: Vec::new(),
         src: r.src(line),
         id,
         members,
+    });
+    Ok(())
+}
+
+/// `_GENERATE`: card 1, then ranges `B1BEG B1END .. B4BEG B4END` per card; every defined id
+/// from BnBEG to BnEND (inclusive) is a member (ids missing in between are skipped: meshes are
+/// often numbered with gaps). A range with BEG > END is an error; so is one that holds no
+/// defined id (when the deck is built).
+fn ranges(r: &mut Reader<'_>) -> Result<Vec<(i64, i64, usize)>, DeckError> {
+    let mut out = Vec::new();
+    while let Some(c) = r.next_nonblank(W10)? {
+        for k in 0..4 {
+            let (b, e) = (format!("B{}BEG", k + 1), format!("B{}END", k + 1));
+            let beg = c.ref_id(2 * k, &b)?;
+            let end = c.ref_id(2 * k + 1, &e)?;
+            match (beg, end) {
+                (None, None) => {}
+                (Some(beg), Some(end)) if beg <= end => out.push((beg, end, c.line)),
+                (Some(beg), Some(end)) => {
+                    return Err(c.field_err(&e, format!("{end} is below {b} = {beg}")))
+                }
+                _ => return Err(c.field_err(&e, "a range needs both its ends")),
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// `*SET_NODE_LIST_GENERATE`.
+pub fn node_generate(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let (id, line) = sid(r)?;
+    let ranges = ranges(r)?;
+    deck.node_sets.push(RawSet {
+        src: r.src(line),
+        id,
+        members: Vec::new(),
+        ranges,
+    });
+    Ok(())
+}
+
+/// `*SET_PART_LIST_GENERATE`.
+pub fn part_generate(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let (id, line) = sid(r)?;
+    let ranges = ranges(r)?;
+    deck.part_sets.push(RawSet {
+        src: r.src(line),
+        id,
+        members: Vec::new(),
+        ranges,
     });
     Ok(())
 }

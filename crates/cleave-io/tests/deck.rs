@@ -1759,3 +1759,35 @@ fn generated_sets_take_the_ids_in_their_ranges() {
     let e = err(&t.replacen("1, 1, 4, 4, 7, 7, 10, 10", "6, 2", 1));
     assert_eq!(e.field.as_deref(), Some("B1END"), "{e}");
 }
+
+/// `*INITIAL_VELOCITY`: a node set's nodes (or every node, NSID blank) take the velocity,
+/// cards applied in deck order after the test deck's own; a box or an undefined set is an
+/// error naming the field.
+#[test]
+fn initial_velocity_of_a_set_or_of_all() {
+    let base = parse(BASE);
+    let t = with(
+        "*END",
+        "*INITIAL_VELOCITY\n1\n0.5, -2., 3., 0., 0., 0.\n*END",
+    );
+    let m = parse(&t);
+    let set: Vec<u32> = m.node_sets[0].nodes.clone();
+    for i in 0..m.num_nodes() {
+        let expect = if set.contains(&(i as u32)) {
+            [0.5, -2.0, 3.0]
+        } else {
+            base.v0[i]
+        };
+        assert_eq!(m.v0[i], expect, "node {i}");
+    }
+    let m = parse(&with("*END", "*INITIAL_VELOCITY\n\n0., 0., -7.\n*END"));
+    assert!((0..m.num_nodes()).all(|i| m.v0[i] == [0.0, 0.0, -7.0]));
+    let e = err(&with(
+        "*END",
+        "*INITIAL_VELOCITY\n1, , 4\n0., 0., -7.\n*END",
+    ));
+    assert_eq!(e.field.as_deref(), Some("BOXID"), "{e}");
+    let e = err(&with("*END", "*INITIAL_VELOCITY\n9\n0., 0., -7.\n*END"));
+    assert_eq!(e.field.as_deref(), Some("NSID"), "{e}");
+    assert!(e.message.contains("node set 9 is not defined"), "{e}");
+}

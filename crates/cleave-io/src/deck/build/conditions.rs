@@ -198,10 +198,10 @@ impl Builder<'_> {
         part_nodes: &[Vec<u32>],
     ) -> Result<(), DeckError> {
         for iv in &self.raw.init_vel {
-            let field = if matches!(iv.target, Target::Node(_)) {
-                "NID"
-            } else {
-                "ID"
+            let field = match (iv.target, iv.src.keyword.as_ref()) {
+                (Target::Node(_), _) => "NID",
+                (_, "*INITIAL_VELOCITY") => "NSID",
+                _ => "ID",
             };
             for node in self.target_nodes(iv.target, &iv.src, field, m, ids, part_nodes)? {
                 let i = node as usize;

@@ -126,6 +126,62 @@ pub fn velocity_node(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
     Ok(())
 }
 
+/// `*INITIAL_VELOCITY`: card 1 `NSID NSIDEX BOXID IRIGID ICID` (NSID blank or 0: every
+/// node), card 2 `VX VY VZ VXR VYR VZR` (rotations ignored: solid nodes have none). An exempted
+/// set NSIDEX, a box BOXID and a local system ICID are errors (the velocity would go where
+/// cleave cannot tell); IRIGID warns.
+pub fn velocity(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    // the first card 1 may be blank (every node); further pairs start at a non-blank line
+    let mut first = true;
+    loop {
+        let c = if first {
+            r.next(W10)?
+        } else {
+            r.next_nonblank(W10)?
+        };
+        let Some(c) = c else { break };
+        first = false;
+        let target = match c.ref_id(0, "NSID")? {
+            Some(id) => Target::NodeSet(id),
+            None => Target::All,
+        };
+        for (i, name, what) in [(1, "NSIDEX", "an exempted node set"), (2, "BOXID", "a box")] {
+            if let Some(id) = c.ref_id(i, name)? {
+                return Err(c.field_err(
+                    name,
+                    format!("{id}: {what} is not supported; leave it blank"),
+                ));
+            }
+        }
+        warn_ignored(
+            &c,
+            3,
+            "IRIGID",
+            "rigid parts take their nodes' velocities",
+            deck,
+        );
+        global_only(&c, 4, "ICID")?;
+        let v_card = r.required(W10, "VX VY VZ VXR VYR VZR")?;
+        let v = [
+            v_card.f64_or(0, "VX", 0.0)?,
+            v_card.f64_or(1, "VY", 0.0)?,
+            v_card.f64_or(2, "VZ", 0.0)?,
+        ];
+        for (i, name) in [(3, "VXR"), (4, "VYR"), (5, "VZR")] {
+            warn_ignored(&v_card, i, name, "solid nodes have no rotations", deck);
+        }
+        deck.init_vel.push(RawInitVel {
+            src: r.src(c.line),
+            target,
+            omega: 0.0,
+            v,
+            centre: [0.0; 3],
+            axis: [0.0; 3],
+        });
+    }
+    Ok(())
+}
+
 /// `*BOUNDARY_SPC_NODE` / `_SET`: one card each, `NID|NSID CID DOFX DOFY DOFZ DOFRX DOFRY
 /// DOFRZ` (each DOF 0 free, 1 fixed; CID must be blank).
 pub fn spc(r: &mut Reader<'_>, deck: &mut RawDeck, set: bool) -> Result<(), DeckError> {

@@ -78,6 +78,7 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             "*DEFINE_CURVE" => curve::define_curve(&mut r, &mut deck)?,
             "*INITIAL_VELOCITY_GENERATION" => loads::velocity_generation(&mut r, &mut deck)?,
             "*INITIAL_VELOCITY_NODE" => loads::velocity_node(&mut r, &mut deck)?,
+            "*INITIAL_VELOCITY" => loads::velocity(&mut r, &mut deck)?,
             "*BOUNDARY_SPC_NODE" => loads::spc(&mut r, &mut deck, false)?,
             "*BOUNDARY_SPC_SET" => loads::spc(&mut r, &mut deck, true)?,
             "*BOUNDARY_PRESCRIBED_MOTION_NODE"

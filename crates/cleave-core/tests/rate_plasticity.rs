@@ -16,21 +16,12 @@ fn steel(heating: bool) -> Material {
         young: 200e9,
         poisson: 0.29,
         kind: MaterialKind::JohnsonCook(JohnsonCook {
-            a: 792e6,
-            b: 510e6,
-            n: 0.26,
-            c: 0.014,
-            eps0: 1.0,
-            m: 1.03,
-            t_melt: 1793.0,
-            t_room: 294.0,
             rho_cp: if heating {
-                7830.0 * 477.0
+                JohnsonCook::STEEL_4340.rho_cp
             } else {
                 f64::INFINITY
             },
-            sig_max: f64::INFINITY,
-            sig_sat: f64::INFINITY,
+            ..JohnsonCook::STEEL_4340
         }),
     }
 }

@@ -1100,19 +1100,7 @@ fn round_trip_model() -> Model {
                 density: 7830.0,
                 young: 2.0e11,
                 poisson: 0.29,
-                kind: MaterialKind::JohnsonCook(JohnsonCook {
-                    a: 7.92e8,
-                    b: 5.1e8,
-                    n: 0.26,
-                    c: 0.014,
-                    eps0: 1.0,
-                    m: 1.03,
-                    t_melt: 1793.0,
-                    t_room: 294.0,
-                    rho_cp: 7830.0 * 477.0,
-                    sig_max: f64::INFINITY,
-                    sig_sat: f64::INFINITY,
-                }),
+                kind: MaterialKind::JohnsonCook(JohnsonCook::STEEL_4340),
             },
             Material {
                 id: 8,
@@ -1312,8 +1300,11 @@ fn johnson_cook_cards_are_read() {
         panic!("{:?}", got.kind)
     };
     assert_eq!(
-        (jc.a, jc.b, jc.n, jc.c, jc.eps0, jc.m, jc.t_melt, jc.t_room),
-        (7.92e8, 5.1e8, 0.26, 0.014, 1.0, 1.03, 1793.0, 294.0)
+        jc,
+        JohnsonCook {
+            rho_cp: jc.rho_cp,
+            ..JohnsonCook::STEEL_4340
+        }
     );
     assert!(close(jc.rho_cp, 7830.0 * 477.0));
     assert_eq!((jc.sig_max, jc.sig_sat), (f64::INFINITY, f64::INFINITY));
@@ -1435,6 +1426,11 @@ fn piecewise_linear_plasticity_is_read() {
         assert_eq!(e.field.as_deref(), Some(field), "{t}: {e}");
         assert!(e.to_string().contains(msg), "{t}: {e}");
     }
+    // a field that is no number is an error even past the last point
+    let e = err(&mat(
+        "*MAT_024\n1, 7800., 2.0e11, 0.3\n\n0., 0.05\n2.5e8, 3.2e8, , , , , , x",
+    ));
+    assert_eq!(e.field.as_deref(), Some("ES8"), "{e}");
     // EPS/ES points out of order: the message says so, at the material's line
     let t = mat("*MAT_024\n1, 7800., 2.0e11, 0.3\n\n0., 0.1, 0.05\n2.5e8, 3.0e8, 3.2e8");
     let e = err(&t);

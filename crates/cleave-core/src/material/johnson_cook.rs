@@ -51,6 +51,23 @@ pub struct JohnsonCook {
 }
 
 impl JohnsonCook {
+    /// 4340 steel (Johnson and Cook, Engineering Fracture Mechanics 21, 1985): A 792 MPa,
+    /// B 510 MPa, N 0.26, C 0.014 at EPSO 1/s, M 1.03, TM 1793 K, TR 294 K, with RO CP =
+    /// 7830 kg/m^3 x 477 J/(kg K); no caps.
+    pub const STEEL_4340: JohnsonCook = JohnsonCook {
+        a: 792e6,
+        b: 510e6,
+        n: 0.26,
+        c: 0.014,
+        eps0: 1.0,
+        m: 1.03,
+        t_melt: 1793.0,
+        t_room: 294.0,
+        rho_cp: 7830.0 * 477.0,
+        sig_max: f64::INFINITY,
+        sig_sat: f64::INFINITY,
+    };
+
     /// The rate factor 1 + C ln(max(eps_dot / EPSO, 1)).
     pub fn rate_factor(&self, eps_dot: f64) -> f64 {
         if self.c == 0.0 || eps_dot <= self.eps0 {
@@ -141,21 +158,7 @@ mod tests {
     }
 
     fn steel() -> JohnsonCook {
-        // 4340 steel, Johnson and Cook (1985): A 792 MPa, B 510 MPa, N 0.26, C 0.014, M 1.03,
-        // TM 1793 K, TR 294 K; RO CP = 7830 x 477 J/(m^3 K)
-        JohnsonCook {
-            a: 792e6,
-            b: 510e6,
-            n: 0.26,
-            c: 0.014,
-            eps0: 1.0,
-            m: 1.03,
-            t_melt: 1793.0,
-            t_room: 294.0,
-            rho_cp: 7830.0 * 477.0,
-            sig_max: f64::INFINITY,
-            sig_sat: f64::INFINITY,
-        }
+        JohnsonCook::STEEL_4340
     }
 
     /// Isochoric uniaxial straining (d_eps = r (1, -1/2, -1/2)) at 1000/s to an equivalent

@@ -129,9 +129,10 @@ fn visit(
 ) -> Result<(), DeckError> {
     let file = sources[i].file.clone();
     let here = dir_of(&file);
-    // the blocks are lexed again, borrowing the text, when the deck is read (`blocks`)
+    // the blocks are lexed again, borrowing the text, when the deck is read (`blocks`); the
+    // text is taken out while `sources` grows (on an error the sources are dropped anyway)
     let text = std::mem::take(&mut sources[i].text);
-    let result = (|| {
+    {
         let found = lex(&text, &file)?;
         let mut includes = Vec::new();
         for b in &found {
@@ -191,10 +192,9 @@ fn visit(
                 _ => {}
             }
         }
-        Ok(includes)
-    })();
+        sources[i].includes = includes;
+    }
     sources[i].text = text;
-    sources[i].includes = result?;
     Ok(())
 }
 

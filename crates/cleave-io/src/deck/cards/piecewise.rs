@@ -59,16 +59,15 @@ pub fn piecewise_linear(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
         let eps = r.next(W10)?;
         let es = r.next(W10)?;
         if let (Some(eps), Some(es)) = (&eps, &es) {
-            let n = (0..8)
-                .rev()
-                .find(|&k| es.f64_or(k, "ES", 0.0).is_ok_and(|v| v != 0.0))
-                .map_or(0, |k| k + 1);
-            for k in 0..n {
-                let name = format!("EPS{}", k + 1);
-                let x = eps.f64_or(k, &name, 0.0)?;
+            // every field read (a bad one is an error), the points up to the last non-zero ES
+            let mut all = Vec::with_capacity(8);
+            for k in 0..8 {
+                let x = eps.f64_or(k, &format!("EPS{}", k + 1), 0.0)?;
                 let y = es.f64_or(k, &format!("ES{}", k + 1), 0.0)?;
-                points.push([x, y]);
+                all.push([x, y]);
             }
+            let n = all.iter().rposition(|p| p[1] != 0.0).map_or(0, |k| k + 1);
+            points = all[..n].to_vec();
             if lcss.is_none() && n == 1 {
                 return Err(es.field_err(
                     "ES2",

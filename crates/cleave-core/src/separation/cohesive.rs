@@ -154,10 +154,11 @@ impl CohesiveLaw {
     /// SIGMAX / delta_e = k_max, which is the gradient of a potential (no energy is gained or
     /// lost around a closed path) and goes to zero traction continuously as the face closes:
     /// at the shifted origin, an overlap of up to delta_e, after which contact takes the
-    /// compression. (Known limit: at TSSFAC 0.9 a bar breaking at every interface at once,
-    /// `cleave bench fragmentation --tssfac 0.9` at 3 eps_dot0 and above, can invert elements
-    /// where the law's pull and contact act on the same overlap; at TSSFAC 0.5 and below it
-    /// runs. Without contact it runs at 0.9 too.) The work after release is the envelope's area, GC, as without the shift; a
+    /// compression. (Known limit: at TSSFAC 0.9 a bar whose interfaces break within a few
+    /// steps, `cleave bench fragmentation --tssfac 0.9` at 3 eps_dot0 (1, 10, 30 ran),
+    /// inverted elements where the law's pull and contact act on the same overlap; at TSSFAC
+    /// 0.5 and below it runs, and without contact at 0.9 too.) The work after release is the
+    /// envelope's area, GC, as without the shift; a
     /// face that closes all the way gives back the stretch's energy, at most
     /// SIGMAX delta_e / 2 = SIGMAX^2 h / E per unit area with k_max = E / (2 h): h / L0 of GC
     /// for elements of thickness h (5% at 20 elements per cohesive length L0 = E GC / SIGMAX^2).

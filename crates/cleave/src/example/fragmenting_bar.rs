@@ -53,8 +53,8 @@ pub const SPREAD: f64 = 0.1;
 /// [`cleave_core::separation::cohesive::stable_slope`]). Seed 1, 2000 elements (`cleave bench
 /// fragmentation --tssfac F`): at 1 eps_dot0, 118, 115, 112, 110, 114 fragments at TSSFAC 0.9,
 /// 0.5, 0.3, 0.2, 0.1; at 3 eps_dot0 207, 206, 203, 204 from 0.5 down; at 10 eps_dot0 416,
-/// 412, 411, 409. At 0.9 the bar breaking everywhere at once (3 eps_dot0 and above) can invert
-/// elements (the cohesive law's known limit). Akantu, on the same bar, is unstable at 0.9 and
+/// 412, 411, 409. At 0.9, seed 1, the bar inverted elements at 3 eps_dot0 (1, 10 and 30 ran;
+/// the cohesive law's known limit). Akantu, on the same bar, is unstable at 0.9 and
 /// converged from 0.5 down (`studies/akantu-fragmentation`).
 pub const TSSFAC: f64 = 0.2;
 /// Time run after the strongest interface's stress is reached, in units of t0.

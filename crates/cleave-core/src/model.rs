@@ -23,7 +23,8 @@ pub struct Model {
     pub elem_ids: Vec<i64>,
     /// Part index (into `parts`) of each element.
     pub elem_part: Vec<u32>,
-    /// Connectivity: 8 node indices per hexahedron, LS-DYNA corner order.
+    /// Connectivity: 8 node indices per element, LS-DYNA corner order; wedges and tetrahedra
+    /// in the degenerate layouts of [`crate::element::shape`].
     pub conn: Vec<[u32; 8]>,
     pub parts: Vec<Part>,
     pub sections: Vec<Section>,
@@ -59,7 +60,9 @@ pub struct Part {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Section {
     pub id: i64,
-    /// Element formulation; only 1 (one-point hexahedron with hourglass control) is supported.
+    /// Element formulation: 1 (one-point hexahedron with hourglass control; wedges run it on
+    /// their degenerate corners, tetrahedra run the one-point tetrahedron) or 10 (one-point
+    /// tetrahedron; tetrahedra only). See [`crate::element::Shape`].
     pub elform: i32,
 }
 

@@ -1,7 +1,7 @@
 //! Preprocessing done once before the first step: lumped masses, per-material kernel
 //! parameters, rigid bodies and the constraint lists.
 
-use crate::element::hex8;
+use crate::element::{self, shape::shape_of, Shape};
 use crate::material::{free_element_speed, SolidParams};
 use crate::math::Vec3;
 use crate::model::{Model, MotionTarget, PrescribedMotion};
@@ -10,8 +10,11 @@ use crate::rigid::{build_rigid_bodies, RigidBody, NOT_RIGID};
 /// Everything derived from the model that the step loop reads.
 #[derive(Clone, Debug)]
 pub struct Setup {
-    /// Lumped nodal mass: each element gives rho V / 8 to each of its corners (V exact).
+    /// Lumped nodal mass: each element gives rho V / n to each of its n distinct nodes (V
+    /// exact; n = 8, 6, 4 for a hexahedron, a wedge, a tetrahedron).
     pub mass: Vec<f64>,
+    /// Shape of each element (which kernel runs it).
+    pub elem_shape: Vec<Shape>,
     /// Kernel parameters per material (None: rigid).
     pub params: Vec<Option<SolidParams>>,
     /// The same with the free-element step speed, for elements of a split mesh that have lost
@@ -39,19 +42,27 @@ impl Setup {
         let nn = model.num_nodes();
         let ne = model.num_elements();
         let mut mass = vec![0.0; nn];
+        let mut elem_shape = Vec::with_capacity(ne);
         for (e, conn) in model.conn.iter().enumerate() {
+            let shape = shape_of(conn).ok_or_else(|| {
+                format!(
+                    "element {}: repeated nodes in a pattern that is not a hexahedron, wedge or tetrahedron",
+                    model.elem_ids[e]
+                )
+            })?;
             let xe: [Vec3; 8] = std::array::from_fn(|a| model.x0[conn[a] as usize]);
-            let vol = hex8::volume(&xe);
+            let vol = element::volume(shape, &xe);
             if vol.is_nan() || vol <= 0.0 {
                 return Err(format!(
                     "element {} has a non-positive volume",
                     model.elem_ids[e]
                 ));
             }
-            let m8 = model.element_material(e).density * vol / 8.0;
-            for &n in conn {
-                mass[n as usize] += m8;
+            let share = model.element_material(e).density * vol / shape.nodes() as f64;
+            for &a in shape.corners() {
+                mass[conn[a] as usize] += share;
             }
+            elem_shape.push(shape);
         }
 
         let params: Vec<Option<SolidParams>> = model
@@ -139,6 +150,7 @@ impl Setup {
             .collect();
         Ok(Self {
             mass,
+            elem_shape,
             params,
             loose_params,
             elem_mat,
@@ -161,9 +173,11 @@ pub fn estimate_time_step(model: &Model) -> Option<(f64, usize)> {
         let Some(p) = SolidParams::from_material(model.element_material(e)) else {
             continue;
         };
+        let Some(shape) = shape_of(conn) else {
+            continue;
+        };
         let xe: [Vec3; 8] = std::array::from_fn(|a| model.x0[conn[a] as usize]);
-        let vol = hex8::volume(&xe);
-        let lc = vol / hex8::max_face_area(&xe);
+        let lc = element::characteristic_length(shape, &xe);
         let dt = model.control.tssfac * lc / p.step_speed;
         if best.is_none_or(|(b, _)| dt < b) {
             best = Some((dt, e));

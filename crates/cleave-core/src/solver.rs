@@ -49,7 +49,8 @@ use rayon::prelude::*;
 
 use crate::contact::{ContactSet, Crack};
 use crate::element::colouring::{Colouring, Scatter};
-use crate::element::kernel::{hex8_corner_forces, hex8_step, KernelControls};
+use crate::element::kernel::KernelControls;
+use crate::element::{element_corner_forces, element_step};
 use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{Model, MotionTarget, Vad};
@@ -552,7 +553,8 @@ impl<'m> Solver<'m> {
                 let xe: [Vec3; 8] = std::array::from_fn(|a| x[at[a] as usize]);
                 let ve: [Vec3; 8] = std::array::from_fn(|a| v[at[a] as usize]);
                 let mut fe = [[0.0; 3]; 8];
-                match hex8_step(
+                match element_step(
+                    setup.elem_shape[e],
                     &xe,
                     &ve,
                     dt_prev,
@@ -659,7 +661,7 @@ impl<'m> Solver<'m> {
 
     /// The element pass summed the forces of each set as it was before this step's failures:
     /// each piece of a set that split gets its own sum again, `M g` and the corner forces of
-    /// its members' elements ([`hex8_corner_forces`], from the state the pass left: the same
+    /// its members' elements ([`element_corner_forces`], from the state the pass left: the same
     /// forces bit for bit), elements in ascending order. Each new representative is checked to
     /// be of its node's class. Runs before the cohesive and contact forces are added.
     fn sum_split_sets(&mut self) {
@@ -706,7 +708,8 @@ impl<'m> Solver<'m> {
             let xe: [Vec3; 8] = std::array::from_fn(|a| x[conn[e][a] as usize]);
             let mut fe = [[0.0; 3]; 8];
             // the element pass found every element upright at these positions
-            hex8_corner_forces(&xe, &st.stress[e], st.bulk_q[e], &st.hg[e], &mut fe)
+            let shape = self.setup.elem_shape[e];
+            element_corner_forces(shape, &xe, &st.stress[e], st.bulk_q[e], &st.hg[e], &mut fe)
                 .expect("an element upright in this step's element pass");
             for (&n, fa) in conn[e].iter().zip(fe) {
                 if nodes.binary_search(&n).is_ok() {

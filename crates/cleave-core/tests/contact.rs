@@ -245,6 +245,19 @@ const G: f64 = 1e4;
 /// +x at t = 0. Returns the
 /// block's mean x velocity over time, (t, v).
 fn sliding_block(gx: f64, v0: f64, fs: f64, fd: f64, dc: f64, end_time: f64) -> Vec<(f64, f64)> {
+    sliding_block_of(|b| b, gx, v0, fs, fd, dc, end_time)
+}
+
+/// [`sliding_block`] with the block's mesh cut by `cut` (into tetrahedra, wedges).
+fn sliding_block_of(
+    cut: fn(BoxMesh) -> BoxMesh,
+    gx: f64,
+    v0: f64,
+    fs: f64,
+    fd: f64,
+    dc: f64,
+    end_time: f64,
+) -> Vec<(f64, f64)> {
     use cleave_core::curve::Curve;
     use cleave_core::model::BodyLoad;
     let mut a = Assembly::new("block on plate", end_time);
@@ -254,7 +267,7 @@ fn sliding_block(gx: f64, v0: f64, fs: f64, fd: f64, dc: f64, end_time: f64) -> 
     let plate_part = a.part("plate", plate_mat);
     let mut block = BoxMesh::new([4, 2, 4], [0.01, 0.005, 0.01]);
     block.translate([-0.005, 0.0, -0.005]);
-    let (nodes, _) = a.mesh(block, |_| block_part);
+    let (nodes, _) = a.mesh(cut(block), |_| block_part);
     let mut plate = BoxMesh::new([10, 1, 4], [0.05, 0.004, 0.02]);
     plate.translate([-0.01, -0.004, -0.01]);
     a.mesh(plate, |_| plate_part);
@@ -360,6 +373,21 @@ fn sliding_block_decelerates_at_dynamic_mu_g() {
     );
 }
 
+/// The sliding block of tetrahedra: its contact faces are triangles (friction acts on each
+/// node against the triangle it slides on); the same deceleration within 3%.
+#[test]
+fn sliding_tetrahedral_block_decelerates_at_dynamic_mu_g() {
+    let fd = 0.3;
+    let h = sliding_block_of(|b| b.split_tets(), 0.0, 1.0, 0.5, fd, 20.0, 0.3e-3);
+    let a = slope(&h, 0.1e-3, 0.25e-3);
+    println!(
+        "sliding tetrahedral block: deceleration {:.4e} m/s^2 (mu_d g = {:.4e})",
+        -a,
+        fd * G
+    );
+    assert!((-a / (fd * G) - 1.0).abs() < 0.03);
+}
+
 /// Static against dynamic friction under a sideways pull of 0.4 g and 0.6 g (FS 0.5, FD 0.3,
 /// DC 20 s/m, so mu = FS at rest and FD once sliding faster than ~0.2 m/s), from rest: at
 /// 0.4 g < FS g the block sticks (its mean speed once pulled stays below 1% of what sliding
@@ -400,6 +428,19 @@ fn static_friction_holds_below_fs_and_dynamic_friction_acts_above() {
 ///   penalty's estimate: contact stress rho c v / 2 over SLSFAC K / h, 1.7%).
 #[test]
 fn head_on_blocks_exchange_momentum_without_penetrating() {
+    head_on("hexahedra", |b| b);
+}
+
+/// The head-on collision of blocks of tetrahedra and of wedges: the contact surfaces are
+/// triangles (every face of the tetrahedra; the wedges' faces on y = const), with the same
+/// pins as for hexahedra.
+#[test]
+fn head_on_blocks_of_tetrahedra_and_wedges() {
+    head_on("tetrahedra", |b| b.split_tets());
+    head_on("wedges", |b| b.split_wedges());
+}
+
+fn head_on(name: &str, cut: fn(BoxMesh) -> BoxMesh) {
     let v0 = 10.0;
     let (l, n) = (0.02, 8);
     let h = l / n as f64;
@@ -410,8 +451,8 @@ fn head_on_blocks_exchange_momentum_without_penetrating() {
     let right = a.part("right", mat);
     let mut bl = BoxMesh::new([n, 4, 4], [l, 0.01, 0.01]);
     bl.translate([-l - 1e-5, 0.0, 0.0]);
-    let (ln, _) = a.mesh(bl, |_| left);
-    let (rn, _) = a.mesh(BoxMesh::new([n, 4, 4], [l, 0.01, 0.01]), |_| right);
+    let (ln, _) = a.mesh(cut(bl), |_| left);
+    let (rn, _) = a.mesh(cut(BoxMesh::new([n, 4, 4], [l, 0.01, 0.01])), |_| right);
     let mut m = a.finish();
     for i in ln.clone() {
         m.v0[i as usize] = [v0, 0.0, 0.0];
@@ -450,7 +491,7 @@ fn head_on_blocks_exchange_momentum_without_penetrating() {
     let p = s.momentum()[0];
     let e = &s.state.energy;
     println!(
-        "head on: after, left {vl:.4} m/s, right {vr:.4} m/s; momentum error {:.2e}; kinetic {:.4e} J of {e0:.4e} J, contact {:.3e} J; largest penetration {:.3e} m = {:.4} h",
+        "head on, {name}: after, left {vl:.4} m/s, right {vr:.4} m/s; momentum error {:.2e}; kinetic {:.4e} J of {e0:.4e} J, contact {:.3e} J; largest penetration {:.3e} m = {:.4} h",
         (p - p0).abs() / p0,
         e.kinetic,
         e.contact,

@@ -669,7 +669,7 @@ fn inverted_element_is_rejected() {
         None,
         "element 1 has a non-positive Jacobian",
     );
-    // a degenerate (collapsed) hexahedron has a zero corner Jacobian
+    // a hexahedron collapsed in a pattern that is no wedge or tetrahedron
     let t = with(
         "1, 1, 1, 2, 5, 4, 7, 8, 11, 10",
         "1, 1, 1, 2, 5, 4, 7, 8, 11, 11",
@@ -679,7 +679,28 @@ fn inverted_element_is_rejected() {
         Some(line_of(&t, "1, 1, 1, 2, 5, 4, 7, 8, 11, 11")),
         Some("*ELEMENT_SOLID"),
         None,
-        "non-positive Jacobian",
+        "repeated nodes in a pattern cleave does not take",
+    );
+    // a tetrahedron N1 N2 N3 N4 N4 N4 N4 N4 is read; turned inside out it is an error
+    let t = with(
+        "1, 1, 1, 2, 5, 4, 7, 8, 11, 10",
+        "1, 1, 1, 2, 4, 7, 7, 7, 7, 7",
+    );
+    let d = parse_deck(&t, "t.k").unwrap();
+    assert_eq!(
+        d.model.conn[0][2], d.model.conn[0][3],
+        "stored N1 N2 N3 N3 N4.."
+    );
+    let t = with(
+        "1, 1, 1, 2, 5, 4, 7, 8, 11, 10",
+        "1, 1, 2, 1, 4, 7, 7, 7, 7, 7",
+    );
+    check(
+        &err(&t),
+        Some(line_of(&t, "1, 1, 2, 1, 4, 7")),
+        Some("*ELEMENT_SOLID"),
+        None,
+        "tetrahedron 1 is inverted or flat",
     );
 }
 
@@ -757,7 +778,7 @@ fn unsupported_options_are_errors() {
             "*SECTION_SOLID\n1, 1",
             "*SECTION_SOLID\n1, 2",
             "ELFORM",
-            "only 1",
+            "2 not supported",
         ),
         (
             "0., 0., 0., 0., 0., 2.",

@@ -1,5 +1,6 @@
 //! `cleave check DECK.k`: validate a deck and print a model summary without running it.
 
+use cleave_core::element::Shape;
 use cleave_core::model::MaterialKind;
 use cleave_core::setup::{estimate_time_step, Setup};
 
@@ -23,13 +24,33 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
     println!("nodes       {}", m.num_nodes());
     println!("elements    {}", m.num_elements());
     println!("parts       {}", m.parts.len());
-    for p in &m.parts {
+    for (pi, p) in m.parts.iter().enumerate() {
         let mat = &m.materials[p.material];
-        let n = m
+        // elements of each shape in the part
+        let mut shapes = [0usize; 3];
+        for (e, _) in m
             .elem_part
             .iter()
-            .filter(|&&q| m.parts[q as usize].id == p.id)
-            .count();
+            .enumerate()
+            .filter(|(_, &q)| q as usize == pi)
+        {
+            shapes[setup.elem_shape[e] as usize] += 1;
+        }
+        let n: usize = shapes.iter().sum();
+        let elform = m.sections[p.section].elform;
+        let form: Vec<String> = [Shape::Hex, Shape::Wedge, Shape::Tet]
+            .iter()
+            .zip(shapes)
+            .filter(|(_, k)| *k > 0)
+            .map(|(s, k)| {
+                let how = match (s, elform) {
+                    (Shape::Tet, _) => "one-point tetrahedron",
+                    (Shape::Wedge, _) => "degenerate one-point hexahedron",
+                    _ => "one-point hexahedron",
+                };
+                format!("{k} {}{} ({how})", s.name(), if k == 1 { "" } else { "s" })
+            })
+            .collect();
         let kind = match mat.kind {
             MaterialKind::Elastic => "elastic",
             MaterialKind::PlasticKinematic { .. } => "plastic-kinematic",
@@ -44,6 +65,13 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
             mat.id,
             p.title.trim()
         );
+        if !form.is_empty() {
+            println!(
+                "              section {} ELFORM {elform}: {}",
+                m.sections[p.section].id,
+                form.join(", ")
+            );
+        }
     }
     println!("materials   {}", m.materials.len());
     println!("separation  {} group(s)", m.separations.len());

@@ -94,6 +94,10 @@ pub struct ExampleArgs {
     /// Write the deck without its separation card.
     #[arg(long = "no-separation")]
     pub no_separation: bool,
+    /// taylor-bar: the element shape, `hex` (default), `wedge` or `tet` (each hexahedron of
+    /// the same mesh cut into 2 wedges or 6 tetrahedra).
+    #[arg(long)]
+    pub shape: Option<String>,
 }
 
 #[derive(Args, Debug)]

@@ -11,6 +11,7 @@
 use std::collections::HashMap;
 
 use crate::element::hex8::{quad_area, volume, FACES};
+use crate::element::shape::{face_corners, face_key};
 use crate::math::Vec3;
 use crate::model::{ContactSurface, Model, PenaltyRule};
 
@@ -23,14 +24,15 @@ pub type FaceId = (u32, u8);
 /// contacts default to the same limit for solids (PENMAX 0.4).
 pub const DEPTH_FRACTION: f64 = 0.4;
 
-/// The 4 nodes of local face `face` of an element with connectivity `c`, outward order.
+/// The 4 nodes of local face `face` of an element with connectivity `c`, outward order (a
+/// triangle of a wedge or tetrahedron as `N1 N2 N3 N3`, [`face_corners`]).
 #[inline]
 pub fn face_nodes(c: &[u32; 8], face: u8) -> [u32; 4] {
-    FACES[face as usize].map(|k| c[k])
+    face_corners(c, face as usize).map(|k| c[k])
 }
 
 /// The faces of the elements accepted by `elem_filter` that no other element of `conn` shares
-/// (same 4 nodes in any order), sorted by (element, face).
+/// (same nodes in any order, [`face_key`]), sorted by (element, face).
 ///
 /// Exterior is decided over the whole mesh, not over the filtered elements: a face between two
 /// parts that share their nodes is inside the body, bonded, and never a contact surface.
@@ -39,12 +41,10 @@ pub fn exterior_faces(conn: &[[u32; 8]], elem_filter: impl Fn(u32) -> bool) -> V
     let mut keyed: Vec<([u32; 4], u32, u8)> = Vec::with_capacity(6 * conn.len());
     for (e, c) in conn.iter().enumerate() {
         for f in 0..6u8 {
-            let mut key = face_nodes(c, f);
-            key.sort_unstable();
-            if key[0] == key[2] || key[1] == key[3] {
-                continue; // collapsed to an edge or a point: no area
+            // a triangle keyed by its 3 nodes; collapsed to an edge or a point: no face
+            if let Some(key) = face_key(face_nodes(c, f)) {
+                keyed.push((key, e as u32, f));
             }
-            keyed.push((key, e as u32, f));
         }
     }
     keyed.sort_unstable();
@@ -101,15 +101,18 @@ impl<'m> FaceTable<'m> {
     /// `origin[i]` is the deck node of solved node i in a split model, `None` when the model
     /// is not split.
     pub fn new(model: &'m Model, origin: Option<&'m [u32]>) -> Self {
-        let ne = model.num_elements();
-        let mut sum = 0.0;
+        let (mut sum, mut faces) = (0.0, 0usize);
         for c in &model.conn {
             for corners in FACES.iter() {
+                if face_key(corners.map(|a| c[a])).is_none() {
+                    continue; // a wedge's or tetrahedron's collapsed face
+                }
                 let p = corners.map(|a| model.x0[c[a] as usize]);
                 sum += quad_area(p[0], p[1], p[2], p[3]).sqrt();
+                faces += 1;
             }
         }
-        let mean_size = if ne > 0 { sum / (6 * ne) as f64 } else { 0.0 };
+        let mean_size = if faces > 0 { sum / faces as f64 } else { 0.0 };
         let mut t = Self {
             model,
             mean_size,
@@ -273,18 +276,16 @@ pub fn match_segments(
     let mut by_key: HashMap<[u32; 4], Vec<FaceId>> = HashMap::new();
     for (e, c) in deck_conn.iter().enumerate() {
         for f in 0..6u8 {
-            let mut key = face_nodes(c, f);
-            key.sort_unstable();
-            by_key.entry(key).or_default().push((e as u32, f));
+            if let Some(key) = face_key(face_nodes(c, f)) {
+                by_key.entry(key).or_default().push((e as u32, f));
+            }
         }
     }
     let s = &model.segment_sets[set];
     let mut out = Vec::with_capacity(s.segments.len());
     for seg in &s.segments {
         let nodes = seg.map(deck);
-        let mut key = nodes;
-        key.sort_unstable();
-        let Some(cands) = by_key.get(&key) else {
+        let Some(cands) = face_key(nodes).and_then(|key| by_key.get(&key)) else {
             let ids: Vec<String> = seg
                 .iter()
                 .map(|&n| model.node_ids[n as usize].to_string())

@@ -80,57 +80,8 @@ pub fn hex8_step(
     let jv = centre_jacobian(v);
 
     // 1-4: stress update over the previous interval.
-    let mut de_internal = 0.0;
-    let mut q = 0.0;
-    let mut eps_v_rate = 0.0;
-    if dt_prev > 0.0 {
-        let mut jm = jn;
-        for i in 0..3 {
-            for k in 0..3 {
-                jm[i][k] -= 0.5 * dt_prev * jv[i][k];
-            }
-        }
-        let (detm, jminv) = det_inverse(&jm).ok_or(InvertedElement)?;
-        let vol_mid = 8.0 * detm;
-        let l = crate::math::mat_mul(&jv, &jminv);
-        let d_eps: Sym3 = [
-            l[0][0] * dt_prev,
-            l[1][1] * dt_prev,
-            l[2][2] * dt_prev,
-            0.5 * (l[0][1] + l[1][0]) * dt_prev,
-            0.5 * (l[1][2] + l[2][1]) * dt_prev,
-            0.5 * (l[2][0] + l[0][2]) * dt_prev,
-        ];
-        // half-step spin W dt / 2, as (w_x, w_y, w_z) with W = [[0,-wz,wy],[wz,0,-wx],[-wy,wx,0]]
-        let h = 0.25 * dt_prev;
-        let w = [
-            h * (l[2][1] - l[1][2]),
-            h * (l[0][2] - l[2][0]),
-            h * (l[1][0] - l[0][1]),
-        ];
-        let r = hughes_winget(w);
-        rotate_sym(&r, sigma);
-        if hist.back != [0.0; 6] {
-            rotate_sym(&r, &mut hist.back);
-        }
-        let old = *sigma;
-        mat.update(sigma, &d_eps, dt_prev, hist);
-        let mut avg = [0.0; 6];
-        for i in 0..6 {
-            avg[i] = 0.5 * (old[i] + sigma[i]);
-        }
-        de_internal = vol_mid * crate::math::ddot(&avg, &d_eps);
-        eps_v_rate = l[0][0] + l[1][1] + l[2][2];
-        if eps_v_rate < 0.0 {
-            let lq = l_vol;
-            q = mat.density
-                * lq
-                * (ctl.q1 * lq * eps_v_rate * eps_v_rate - ctl.q2 * mat.wave_speed * eps_v_rate);
-        }
-        // trapezoid in q for the same reason as the hourglass work below
-        de_internal -= vol_mid * 0.5 * (*q_prev + q) * eps_v_rate * dt_prev;
-    }
-    *q_prev = q;
+    let (de_internal, q, eps_v_rate) =
+        update_stress(&jn, &jv, 8.0, l_vol, dt_prev, mat, ctl, sigma, hist, q_prev)?;
 
     // 5: corner forces from the total stress sigma - q I.
     stress_forces(vol, &b, sigma, q, f);
@@ -176,14 +127,7 @@ pub fn hex8_step(
     hourglass_forces(&gamma, stored, f);
 
     // 7: stable time step.
-    let lc = vol / max_face_area(x);
-    let c = mat.step_speed;
-    let qv = if eps_v_rate < 0.0 {
-        ctl.q2 * c + ctl.q1 * lc * eps_v_rate.abs()
-    } else {
-        0.0
-    };
-    let dt_crit = lc / (qv + (qv * qv + c * c).sqrt());
+    let dt_crit = stable_dt(vol / max_face_area(x), mat.step_speed, eps_v_rate, ctl);
 
     Ok(ElementStep {
         dt_crit,
@@ -191,6 +135,93 @@ pub fn hex8_step(
         de_internal,
         de_hourglass,
     })
+}
+
+/// Parts 1-4 of the step for any element whose geometry is one linear map: `jn` and `jv`
+/// are the Jacobians of the positions at t^n and of the velocities (the hexahedron's centre
+/// Jacobian, the tetrahedron's edge matrix), `vol_per_det` the volume per unit determinant
+/// (8 for the hexahedron, 1/6 for the tetrahedron), `l_vol` the bulk-viscosity length.
+/// Updates `sigma`, `hist` and `q_prev`; returns the internal energy increment, the bulk
+/// viscosity q at t^n and the volumetric strain rate tr(L).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn update_stress(
+    jn: &Mat3,
+    jv: &Mat3,
+    vol_per_det: f64,
+    l_vol: f64,
+    dt_prev: f64,
+    mat: &SolidParams,
+    ctl: &KernelControls,
+    sigma: &mut Sym3,
+    hist: &mut History,
+    q_prev: &mut f64,
+) -> Result<(f64, f64, f64), InvertedElement> {
+    let mut de_internal = 0.0;
+    let mut q = 0.0;
+    let mut eps_v_rate = 0.0;
+    if dt_prev > 0.0 {
+        let mut jm = *jn;
+        for i in 0..3 {
+            for k in 0..3 {
+                jm[i][k] -= 0.5 * dt_prev * jv[i][k];
+            }
+        }
+        let (detm, jminv) = det_inverse(&jm).ok_or(InvertedElement)?;
+        let vol_mid = vol_per_det * detm;
+        let l = crate::math::mat_mul(jv, &jminv);
+        let d_eps: Sym3 = [
+            l[0][0] * dt_prev,
+            l[1][1] * dt_prev,
+            l[2][2] * dt_prev,
+            0.5 * (l[0][1] + l[1][0]) * dt_prev,
+            0.5 * (l[1][2] + l[2][1]) * dt_prev,
+            0.5 * (l[2][0] + l[0][2]) * dt_prev,
+        ];
+        // half-step spin W dt / 2, as (w_x, w_y, w_z) with W = [[0,-wz,wy],[wz,0,-wx],[-wy,wx,0]]
+        let h = 0.25 * dt_prev;
+        let w = [
+            h * (l[2][1] - l[1][2]),
+            h * (l[0][2] - l[2][0]),
+            h * (l[1][0] - l[0][1]),
+        ];
+        let r = hughes_winget(w);
+        rotate_sym(&r, sigma);
+        if hist.back != [0.0; 6] {
+            rotate_sym(&r, &mut hist.back);
+        }
+        let old = *sigma;
+        mat.update(sigma, &d_eps, dt_prev, hist);
+        let mut avg = [0.0; 6];
+        for i in 0..6 {
+            avg[i] = 0.5 * (old[i] + sigma[i]);
+        }
+        de_internal = vol_mid * crate::math::ddot(&avg, &d_eps);
+        eps_v_rate = l[0][0] + l[1][1] + l[2][2];
+        if eps_v_rate < 0.0 {
+            let lq = l_vol;
+            q = mat.density
+                * lq
+                * (ctl.q1 * lq * eps_v_rate * eps_v_rate - ctl.q2 * mat.wave_speed * eps_v_rate);
+        }
+        // trapezoid in q for the same reason as the hourglass work below
+        de_internal -= vol_mid * 0.5 * (*q_prev + q) * eps_v_rate * dt_prev;
+    }
+    *q_prev = q;
+    Ok((de_internal, q, eps_v_rate))
+}
+
+/// Part 7: the stable time step `l_c / (Q + sqrt(Q^2 + c^2))` of an element of
+/// characteristic length `lc` and step speed `c`, with `Q = Q2 c + Q1 l_c |tr L|` in
+/// compression (`eps_v_rate` < 0), else 0 (LS-DYNA theory manual, eq. 22.11).
+#[inline(always)]
+pub(super) fn stable_dt(lc: f64, c: f64, eps_v_rate: f64, ctl: &KernelControls) -> f64 {
+    let qv = if eps_v_rate < 0.0 {
+        ctl.q2 * c + ctl.q1 * lc * eps_v_rate.abs()
+    } else {
+        0.0
+    };
+    lc / (qv + (qv * qv + c * c).sqrt())
 }
 
 /// The corner forces of an element at x^n from the state its last [`hex8_step`] left (the
@@ -213,7 +244,13 @@ pub fn hex8_corner_forces(
 
 /// Part 5: `f_a = -V (sigma - q I) b_a`.
 #[inline(always)]
-fn stress_forces(vol: f64, b: &[Vec3; 8], sigma: &Sym3, q: f64, f: &mut [Vec3; 8]) {
+pub(super) fn stress_forces<const N: usize>(
+    vol: f64,
+    b: &[Vec3; N],
+    sigma: &Sym3,
+    q: f64,
+    f: &mut [Vec3; N],
+) {
     let s = [
         sigma[0] - q,
         sigma[1] - q,
@@ -222,7 +259,7 @@ fn stress_forces(vol: f64, b: &[Vec3; 8], sigma: &Sym3, q: f64, f: &mut [Vec3; 8
         sigma[4],
         sigma[5],
     ];
-    for a in 0..8 {
+    for a in 0..N {
         let ba = b[a];
         f[a] = [
             -vol * (s[0] * ba[0] + s[3] * ba[1] + s[5] * ba[2]),

@@ -1,10 +1,12 @@
 //! Structured mesh generators for tests, benchmarks and examples: boxes ([`BoxMesh`]),
 //! O-grid discs extruded into cylinders ([`ogrid_disc`], [`extrude`]), O-grid spheres
-//! ([`ogrid_sphere`]), models built from them ([`single_part_model`], [`box_model`],
+//! ([`ogrid_sphere`]), tetrahedra and wedges cut from any of them ([`BoxMesh::split_tets`],
+//! [`BoxMesh::split_wedges`]), models built from them ([`single_part_model`], [`box_model`],
 //! [`Assembly`] for several parts), and shape measures ([`quality`](fn@quality)).
 
 mod assembly;
 mod quality;
+mod simplex;
 mod sphere;
 
 pub use assembly::Assembly;
@@ -80,7 +82,7 @@ pub fn box_model(n: [usize; 3], l: [f64; 3], material: Material, end_time: f64) 
     m
 }
 
-/// A one-part model of any hexahedral mesh (deck ids = index + 1), at rest, every other
+/// A one-part model of any mesh (deck ids = index + 1), at rest, every other
 /// setting at its default.
 pub fn single_part_model(mesh: BoxMesh, material: Material, end_time: f64) -> Model {
     let nn = mesh.x.len();

@@ -17,7 +17,9 @@ use super::coincident::CoincidentSets;
 use super::criteria::{criterion_for, traction_bound, Criterion, InterfaceSample};
 use super::fragments::{components, Fragments};
 use super::split::{FaceKind, SharedFace, SplitModel};
-use crate::element::hex8::{self, quad_normal_area};
+use crate::element::characteristic_length;
+use crate::element::hex8::quad_normal_area;
+use crate::element::shape::{face_points, shape_of};
 use crate::material::History;
 use crate::math::{add, dot, scale, sub, sym_mul_vec, Sym3, Vec3};
 use crate::model::Model;
@@ -112,8 +114,9 @@ impl Separation {
             .collect();
         let elem_slope = (0..m.num_elements())
             .map(|e| {
-                let xe: [Vec3; 8] = std::array::from_fn(|a| m.x0[m.conn[e][a] as usize]);
-                let h = hex8::volume(&xe) / hex8::max_face_area(&xe);
+                let c = &m.conn[e];
+                let xe: [Vec3; 8] = std::array::from_fn(|a| m.x0[c[a] as usize]);
+                let h = shape_of(c).map_or(0.0, |s| characteristic_length(s, &xe));
                 stable_slope(m.element_material(e).young, h, m.control.tssfac)
             })
             .collect();
@@ -360,15 +363,21 @@ impl Separation {
             let face = &faces[c.interface as usize];
             let law = c.law;
             let n = face_normal(face, x);
-            let w = 0.25 * face.area0;
+            // a quadrilateral's 4 points or a triangle's 3 share the area equally
+            let points = face_points(&std::array::from_fn(|k| face.nodes[k]));
+            let w = face.area0 / points as f64;
             let mut open = true;
             let d: [Vec3; 4] = std::array::from_fn(|k| {
                 sub(x[face.nodes[4 + k] as usize], x[face.nodes[k] as usize])
             });
             // sliding: the tangential part of the mean opening (the faces' relative translation)
-            let d_mean = scale(add(add(d[0], d[1]), add(d[2], d[3])), 0.25);
+            let d_mean = if points == 4 {
+                scale(add(add(d[0], d[1]), add(d[2], d[3])), 0.25)
+            } else {
+                scale(add(add(d[0], d[1]), d[2]), 1.0 / 3.0)
+            };
             let ds = sub(d_mean, scale(n, dot(d_mean, n)));
-            for k in 0..4 {
+            for k in 0..points {
                 let (a, b) = (face.nodes[k] as usize, face.nodes[4 + k] as usize);
                 let d_law = add(scale(n, dot(d[k], n)), ds);
                 let fa = scale(law.traction(d_law, n, c.t0, c.k_max, &mut c.softened[k]), w);
@@ -415,13 +424,17 @@ pub fn face_normal(face: &SharedFace, x: NodeValues<Vec3>) -> Vec3 {
     quad_normal_area(p[0], p[1], p[2], p[3]).0
 }
 
-/// Current centroid of a shared face (mean of its 8 nodes).
+/// Current centroid of a shared face (mean of its 8 nodes; of its 6 for a triangle).
 ///
 /// `x`: the positions of the nodes (a slice, or a model's `x0`).
 pub fn face_centroid(face: &SharedFace, x: &(impl Index<usize, Output = Vec3> + ?Sized)) -> Vec3 {
+    let points = face_points(&std::array::from_fn(|k| face.nodes[k]));
     let mut c = [0.0; 3];
-    for &n in &face.nodes {
-        c = add(c, x[n as usize]);
+    for k in 0..points {
+        c = add(
+            c,
+            add(x[face.nodes[k] as usize], x[face.nodes[4 + k] as usize]),
+        );
     }
-    scale(c, 0.125)
+    scale(c, 0.5 / points as f64)
 }

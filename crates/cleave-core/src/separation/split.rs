@@ -1,9 +1,11 @@
 //! Splitting the mesh of separation groups and building the interface table.
 //!
 //! Node numbering of the split model: the deck's nodes that some element outside every group
-//! still uses keep a node (in deck order); then each group element, in element order, gets 8
-//! new nodes in corner order. Deck nodes used only by group elements have no node of their own
-//! any more (as in the paper: a fully split mesh has 8 nodes per element). Every solved node
+//! still uses keep a node (in deck order); then each group element, in element order, gets a
+//! new node for each distinct corner, in corner order (8 for a hexahedron, 6 for a wedge, 4 for
+//! a tetrahedron: repeated corners stay one node). Deck nodes used only by group elements have
+//! no node of their own any more (as in the paper: a fully split mesh has 8 nodes per
+//! hexahedron). Every solved node
 //! remembers its deck node (`origin`), and copies inherit coordinates, initial velocity, single
 //! point constraints, prescribed motion, node-set membership and rigid-wall membership.
 
@@ -12,6 +14,7 @@ use std::sync::Arc;
 
 use super::strength;
 use crate::element::hex8::{quad_area, FACES};
+use crate::element::shape::{face_corners, face_key};
 use crate::model::{Model, MotionTarget, PerNode};
 
 /// Sentinel: the deck node has no solved node of its own.
@@ -28,6 +31,8 @@ pub enum FaceKind {
 
 /// One shared face: the two elements, and the 4 + 4 coincident solved nodes, `nodes[k]` of
 /// element `elems[0]` (in its outward face order) coinciding with `nodes[4 + k]` of `elems[1]`.
+/// A triangle (between wedges or tetrahedra) has its last node repeated, `N1 N2 N3 N3`
+/// ([`crate::element::shape::face_points`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SharedFace {
     pub elems: [u32; 2],
@@ -81,7 +86,7 @@ pub fn split_model(model: &Model) -> SplitModel {
     }
     let group_elems = elem_group.iter().filter(|&&g| g != NONE).count();
     let kept = keep.iter().filter(|&&k| k != NONE).count();
-    let mut origin = Vec::with_capacity(kept + 8 * group_elems);
+    let mut origin = Vec::with_capacity(kept + 8 * group_elems); // 8: at most
     for (n, k) in keep.iter_mut().enumerate() {
         if *k != NONE {
             *k = origin.len() as u32;
@@ -90,12 +95,22 @@ pub fn split_model(model: &Model) -> SplitModel {
     }
     let mut conn = model.conn.clone();
     for (e, c) in conn.iter_mut().enumerate() {
-        for n in c.iter_mut() {
-            if elem_group[e] == NONE {
+        if elem_group[e] == NONE {
+            for n in c.iter_mut() {
                 *n = keep[*n as usize];
-            } else {
-                origin.push(*n);
-                *n = (origin.len() - 1) as u32;
+            }
+            continue;
+        }
+        // a node of its own for each distinct corner: a wedge's or tetrahedron's repeated
+        // corners stay one node
+        let deck = *c;
+        for a in 0..8 {
+            match deck[..a].iter().position(|&d| d == deck[a]) {
+                Some(b) => c[a] = c[b],
+                None => {
+                    origin.push(deck[a]);
+                    c[a] = (origin.len() - 1) as u32;
+                }
             }
         }
     }
@@ -212,8 +227,10 @@ fn shared_faces(
     let mut found: Vec<(u32, u8, u32, u8)> = Vec::new();
     for (e, c) in model.conn.iter().enumerate() {
         for (f, corners) in FACES.iter().enumerate() {
-            let mut key = corners.map(|k| c[k]);
-            key.sort_unstable();
+            // a triangle is keyed by its 3 nodes; an edge or a point is no face
+            let Some(key) = face_key(corners.map(|k| c[k])) else {
+                continue;
+            };
             match open.remove(&key) {
                 Some((ea, fa)) => found.push((ea, fa, e as u32, f as u8)),
                 None => {
@@ -245,7 +262,7 @@ fn shared_faces(
         };
         let ca = &model.conn[ea as usize];
         let cb = &model.conn[eb as usize];
-        let fa_c = FACES[fa as usize];
+        let fa_c = face_corners(ca, fa as usize);
         let mut nodes = [0u32; 8];
         for k in 0..4 {
             let deck = ca[fa_c[k]];

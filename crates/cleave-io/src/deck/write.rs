@@ -9,6 +9,7 @@
 
 use std::fmt::Write as _;
 
+use cleave_core::element::shape::{shape_of, Shape};
 use cleave_core::material::{JohnsonCook, PiecewiseLinear};
 use cleave_core::model::{
     ContactSurface, Hourglass, Material, MaterialKind, Model, MotionTarget, PenaltyRule,
@@ -459,6 +460,11 @@ fn mesh(o: &mut String, m: &Model) {
     );
     for ((id, c), &p) in m.elem_ids.iter().zip(&m.conn).zip(&m.elem_part) {
         let mut f = vec![F::I(*id), F::I(m.parts.get(p as usize).map_or(0, |p| p.id))];
+        // a tetrahedron as LS-DYNA writes it, N1 N2 N3 N4 N4 N4 N4 N4
+        let c = match shape_of(c) {
+            Some(Shape::Tet) => [c[0], c[1], c[2], c[4], c[4], c[4], c[4], c[4]],
+            _ => *c,
+        };
         f.extend(c.iter().map(|&n| F::I(m.node_ids[n as usize])));
         card(o, &f, &ELEM);
     }

@@ -213,3 +213,69 @@ fn vtk_reads_the_vtu_and_vtp_files() {
     assert_eq!(r["empty_points"], 0);
     assert_eq!(r["empty_polys"], 0);
 }
+
+/// A grid of one hexahedron, one wedge and one tetrahedron (cleave's stored layouts) read by
+/// meshio: the cell types and counts, and each cell's volume computed by the reader's side
+/// (numpy, from the points in the order meshio gives them: meshio turns VTK's wedge into its
+/// own order, Gmsh's, whose triangle 0-1-2 points to 3-4-5) equal the exact volumes, all
+/// positive: 1 for the unit cube, 1/2 for the half cube, 1/6 for the corner tetrahedron.
+const MESHIO_SHAPES: &str = r#"
+import json, sys, meshio, numpy as np
+m = meshio.read(sys.argv[1])
+p = m.points
+def tet(a, b, c, d):
+    return float(np.dot(np.cross(p[b] - p[a], p[c] - p[a]), p[d] - p[a]) / 6)
+vol = {}
+for blk in m.cells:
+    c = blk.data[0]
+    if blk.type == "tetra":
+        vol["tetra"] = tet(*c)
+    elif blk.type == "wedge":
+        # 3 tetrahedra of the prism a b c / d e f (Gmsh order)
+        a, b, cc, d, e, f = c
+        vol["wedge"] = tet(a, b, cc, d) + tet(b, cc, d, e) + tet(cc, d, e, f)
+    elif blk.type == "hexahedron":
+        vol["hexahedron"] = len(c)
+print(json.dumps({"blocks": [[b.type, len(b.data)] for b in m.cells], "vol": vol}))
+"#;
+
+#[test]
+fn meshio_reads_tetrahedra_and_wedges() {
+    if !python_has("meshio", "meshio_reads_tetrahedra_and_wedges") {
+        return;
+    }
+    // unit cube 0..7 (LS-DYNA order) and, beside it at x = 1..2, the half cube as a wedge
+    // (triangles on y = 0 and y = 1) and a corner tetrahedron at x = 2..3
+    let mut points = Vec::new();
+    for x0 in [0.0, 1.0, 2.0] {
+        for [x, y, z] in [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 1.0],
+        ] {
+            points.push([x + x0, y, z]);
+        }
+    }
+    let hex = [0, 1, 2, 3, 4, 5, 6, 7];
+    // wedge N1..N6 = cube corners 0 1 2 3 5 6 (triangles 0-1-5 on y = 0 and 3-2-6 on y = 1)
+    let w = |k: u32| 8 + k;
+    let wedge = [w(0), w(1), w(2), w(3), w(5), w(5), w(6), w(6)];
+    // tetrahedron N1 N2 N3 N4 = corners 0 1 3 4, stored N1 N2 N3 N3 N4 N4 N4 N4
+    let t = |k: u32| 16 + k;
+    let tet = [t(0), t(1), t(3), t(3), t(4), t(4), t(4), t(4)];
+    let path = scratch("meshio_shapes").join("shapes.vtu");
+    let mut bytes = Vec::new();
+    cleave_io::output::write_vtu(&mut bytes, &points, &[hex, wedge, tet], &[], &[]).unwrap();
+    std::fs::write(&path, bytes).unwrap();
+    let r = run_python(MESHIO_SHAPES, &[&path]);
+    let blocks = r["blocks"].as_array().unwrap();
+    assert_eq!(blocks.len(), 3, "{r}");
+    assert!((f(&r["vol"]["wedge"]) - 0.5).abs() < 1e-14, "{r}");
+    assert!((f(&r["vol"]["tetra"]) - 1.0 / 6.0).abs() < 1e-14, "{r}");
+    assert_eq!(r["vol"]["hexahedron"], 8);
+}

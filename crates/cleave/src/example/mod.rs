@@ -20,18 +20,19 @@ use std::path::PathBuf;
 
 pub use ball_impact::ball_impact;
 pub use fragmenting_bar::fragmenting_bar;
-pub use taylor_bar::taylor_bar;
+pub use taylor_bar::taylor_bar_of;
 pub use three_point_bend::three_point_bend;
 
 use crate::cli::ExampleArgs;
 use crate::failure::Failure;
+use cleave_core::element::Shape;
 use cleave_core::model::StrengthDist;
 
 /// The bundled examples: name and one-line description.
 pub const EXAMPLES: &[(&str, &str)] = &[
     (
         "taylor-bar",
-        "copper Taylor bar, 227 m/s onto a rigid wall, bilinear plasticity (4320 elements, 80 us)",
+        "copper Taylor bar, 227 m/s onto a rigid wall, bilinear plasticity (4320 elements, 80 us; --shape wedge|tet cuts each into 2 wedges or 6 tetrahedra)",
     ),
     (
         "ball-impact",
@@ -83,9 +84,27 @@ pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
             "--model applies to three-point-bend only, not to {name}"
         )));
     }
+    let shape = match (a.shape.as_deref(), name) {
+        (None, _) => Shape::Hex,
+        (Some(s), "taylor-bar") => match s {
+            "hex" => Shape::Hex,
+            "wedge" => Shape::Wedge,
+            "tet" => Shape::Tet,
+            other => {
+                return Err(Failure::Input(format!(
+                    "--shape {other}: one of hex, wedge, tet"
+                )))
+            }
+        },
+        (Some(_), _) => {
+            return Err(Failure::Input(format!(
+                "--shape applies to taylor-bar only, not to {name}"
+            )))
+        }
+    };
     let mut model = match name {
         "taylor-bar" => {
-            let mut m = taylor_bar();
+            let mut m = taylor_bar_of(shape);
             if let Some(t) = a.end_time {
                 m.control.end_time = t;
             }
@@ -161,7 +180,9 @@ mod tests {
     #[test]
     fn decks_read_back_as_the_models_built() {
         let models: Vec<(&str, Model)> = vec![
-            ("taylor-bar", taylor_bar()),
+            ("taylor-bar", taylor_bar_of(Shape::Hex)),
+            ("taylor-bar tet", taylor_bar_of(Shape::Tet)),
+            ("taylor-bar wedge", taylor_bar_of(Shape::Wedge)),
             ("ball 256", ball_impact(256, 1e-5).unwrap()),
             ("ball 2800", ball_impact(2800, 10e-3).unwrap()),
             ("bend 1", three_point_bend(1, 0.3e-3).unwrap()),

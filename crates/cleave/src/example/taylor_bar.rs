@@ -1,14 +1,22 @@
 //! The copper Taylor bar (see the module table in [`super`]).
 
+use cleave_core::element::Shape;
 use cleave_core::mesh::{extrude, ogrid_disc, single_part_model};
 use cleave_core::model::{Material, MaterialKind, Model, OutputRequests, RigidWall};
 
 /// The Taylor bar: an O-grid cylinder (n = 6, m = 3: 108 elements per layer, 40 layers) along
-/// z from 0 to L, moving at -227 m/s, with a stonewall at z = 0.
-pub fn taylor_bar() -> Model {
+/// z from 0 to L, moving at -227 m/s, with a stonewall at z = 0; on `shape`, each hexahedron
+/// of that mesh cut into 2 wedges or 6 tetrahedra
+/// ([`cleave_core::mesh::BoxMesh::split_wedges`], `split_tets`).
+pub fn taylor_bar_of(shape: Shape) -> Model {
     let (r, l) = (3.2e-3, 32.4e-3);
     let (pts, quads) = ogrid_disc(r, 6, 3);
-    let mesh = extrude(&pts, &quads, l, 40);
+    let hexes = extrude(&pts, &quads, l, 40);
+    let mesh = match shape {
+        Shape::Hex => hexes,
+        Shape::Wedge => hexes.split_wedges(),
+        Shape::Tet => hexes.split_tets(),
+    };
     let copper = Material {
         id: 1,
         density: 8930.0,
@@ -45,6 +53,14 @@ pub fn taylor_bar() -> Model {
         .unwrap_or(0) as u32;
     let mut m = single_part_model(mesh, copper, 80e-6);
     m.title = "Taylor bar: copper cylinder R 3.2 mm L 32.4 mm at 227 m/s onto a rigid wall".into();
+    if shape != Shape::Hex {
+        let on = if shape == Shape::Tet {
+            "tetrahedra"
+        } else {
+            "wedges"
+        };
+        m.title = format!("Taylor bar on {on}: copper R 3.2 L 32.4 mm, 227 m/s onto a rigid wall");
+    }
     m.parts[0].title = "copper bar".into();
     m.v0.iter_mut().for_each(|v| *v = [0.0, 0.0, -227.0]);
     m.rigid_walls = vec![RigidWall {

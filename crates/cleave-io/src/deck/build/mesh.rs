@@ -1,7 +1,8 @@
 //! Resolving nodes, elements, parts, sections, materials, separation groups, curves and sets.
 
 use cleave_core::curve::Curve;
-use cleave_core::element::hex8::corner_jacobians;
+use cleave_core::element::shape::canonical;
+use cleave_core::element::{first_bad_corner, Shape};
 use cleave_core::material::PiecewiseLinear;
 use cleave_core::math::Vec3;
 use cleave_core::model::{
@@ -93,7 +94,6 @@ impl Builder<'_> {
         Ok(())
     }
 
-    /// Connectivity and part of each element; every corner Jacobian must be positive.
     /// The material's kind with the curves it names resolved: `*MAT_024`'s LCSS becomes its
     /// hardening points (yield stress against plastic strain), checked.
     fn material_curves(
@@ -117,6 +117,8 @@ impl Builder<'_> {
         Ok(kind)
     }
 
+    /// Connectivity and part of each element, in the stored layout of its shape
+    /// ([`canonical`]); every element must be upright ([`first_bad_corner`]).
     fn elements(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
         let n = self.raw.elems.len();
         m.elem_ids = Vec::with_capacity(n);
@@ -133,21 +135,37 @@ impl Builder<'_> {
             for (k, (c, &nid)) in conn.iter_mut().zip(&e.nodes).enumerate() {
                 *c = self.find(&ids.nodes, nid, &nsrc, &format!("N{}", k + 1), "node")?;
             }
+            let (conn, shape) = canonical(conn)
+                .map_err(|msg| self.err(&nsrc, format!("element {}: {msg}", e.id)))?;
+            let elform = m.sections[m.parts[part].section].elform;
+            if elform == 10 && shape != Shape::Tet {
+                return Err(self.err(
+                    &nsrc,
+                    format!(
+                        "element {} is a {} in part {}, whose section has ELFORM 10 (tetrahedra only)",
+                        e.id,
+                        shape.name(),
+                        m.parts[part].id
+                    ),
+                ));
+            }
             let x: [Vec3; 8] = conn.map(|i| m.x0[i as usize]);
-            let jac = corner_jacobians(&x);
-            if let Some((k, j)) = jac
-                .iter()
-                .enumerate()
-                .find(|(_, j)| j.is_nan() || **j <= 0.0)
-            {
+            if let Some((k, j)) = first_bad_corner(shape, &x) {
+                let node = m.node_ids[conn[k] as usize];
                 return Err(self.err(
                     &e.src,
-                    format!(
-                        "element {} has a non-positive Jacobian ({j:.3e}) at corner {} (node {}): check the node order and coordinates",
-                        e.id,
-                        k + 1,
-                        e.nodes[k]
-                    ),
+                    match shape {
+                        Shape::Hex => format!(
+                            "element {} has a non-positive Jacobian ({j:.3e}) at corner {} (node {node}): check the node order and coordinates",
+                            e.id,
+                            k + 1,
+                        ),
+                        _ => format!(
+                            "{} {} is inverted or flat (Jacobian {j:.3e} at node {node}): check the node order and coordinates",
+                            shape.name(),
+                            e.id,
+                        ),
+                    },
                 ));
             }
             m.elem_ids.push(e.id);

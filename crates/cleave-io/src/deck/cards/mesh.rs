@@ -130,19 +130,22 @@ pub fn section_solid(
         first = false;
         let c = r.required(W10, "SECID ELFORM")?;
         let id = c.id(0, "SECID")?;
-        let elform = c.i64_or(1, "ELFORM", 1)?;
-        if elform != 0 && elform != 1 {
-            return Err(c.field_err(
-                "ELFORM",
-                format!(
-                    "{elform} not supported: only 1 (one-point hexahedron with hourglass control)"
-                ),
-            ));
-        }
+        let elform = match c.i64_or(1, "ELFORM", 1)? {
+            0 | 1 => 1,
+            10 => 10,
+            e => {
+                return Err(c.field_err(
+                    "ELFORM",
+                    format!(
+                        "{e} not supported: 1 (one-point hexahedron with hourglass control; wedges as degenerate hexahedra, tetrahedra as ELFORM 10) or 10 (one-point tetrahedron)"
+                    ),
+                ))
+            }
+        };
         deck.sections.push(RawSection {
             src: r.src(c.line),
             id,
-            elform: 1,
+            elform,
         });
     }
     Ok(())

@@ -12,10 +12,10 @@ pub(super) enum Payload<'a> {
     Data(DataArray<'a>),
     /// Point indices (connectivity), written as Int64.
     Indices(&'a [u32]),
-    /// End offsets `stride, 2 stride, ..., count stride` of fixed-size cells, as Int64.
-    Offsets { count: usize, stride: usize },
-    /// `count` copies of one VTK cell type code, as UInt8.
-    CellTypes { count: usize, code: u8 },
+    /// End offsets of cells of any sizes, as Int64.
+    OffsetList(&'a [i64]),
+    /// One VTK cell type code per cell, as UInt8.
+    CellTypes(&'a [u8]),
 }
 
 impl Payload<'_> {
@@ -23,8 +23,8 @@ impl Payload<'_> {
         match self {
             Payload::Data(DataArray::Int(_)) => "Int32",
             Payload::Data(_) => "Float64",
-            Payload::Indices(_) | Payload::Offsets { .. } => "Int64",
-            Payload::CellTypes { .. } => "UInt8",
+            Payload::Indices(_) | Payload::OffsetList(_) => "Int64",
+            Payload::CellTypes(_) => "UInt8",
         }
     }
 
@@ -40,8 +40,8 @@ impl Payload<'_> {
             Payload::Data(DataArray::Int(v)) => 4 * v.len(),
             Payload::Data(array) => 8 * array.len() * array.components(),
             Payload::Indices(v) => 8 * v.len(),
-            Payload::Offsets { count, .. } => 8 * count,
-            Payload::CellTypes { count, .. } => *count,
+            Payload::OffsetList(v) => 8 * v.len(),
+            Payload::CellTypes(v) => v.len(),
         };
         bytes as u64
     }
@@ -57,10 +57,8 @@ impl Payload<'_> {
             Payload::Indices(v) => v
                 .iter()
                 .try_for_each(|&x| w.write_all(&i64::from(x).to_le_bytes())),
-            Payload::Offsets { count, stride } => {
-                (1..=count as i64).try_for_each(|k| w.write_all(&(k * stride as i64).to_le_bytes()))
-            }
-            Payload::CellTypes { count, code } => (0..count).try_for_each(|_| w.write_all(&[code])),
+            Payload::OffsetList(v) => v.iter().try_for_each(|x| w.write_all(&x.to_le_bytes())),
+            Payload::CellTypes(v) => w.write_all(v),
         }
     }
 }

@@ -1,4 +1,4 @@
-//! `.vtp`: a polygonal surface of quadrilaterals (crack surfaces).
+//! `.vtp`: a polygonal surface of quadrilaterals and triangles (crack surfaces).
 
 use super::appended::{Appended, Payload};
 use super::xml::{check_arrays, check_indices, vtk_file_open};
@@ -7,7 +7,8 @@ use std::io::{self, BufWriter, Write};
 
 /// Writes a VTK XML PolyData (`.vtp`) whose cells are quadrilateral polygons.
 ///
-/// `quads` holds 0-based indices into `points`, in order around each face. `cell_data` arrays
+/// `quads` holds 0-based indices into `points`, in order around each face; a triangle is a
+/// quadrilateral with its last point repeated (`N1 N2 N3 N3`) and is written with 3. `cell_data` arrays
 /// need one tuple per quadrilateral; names must be non-empty and unique. No quads (and even no
 /// points) is valid: it writes an empty surface, which ParaView opens as an empty dataset.
 /// Encoding: see [the module page](super). Errors with `InvalidInput` on a length mismatch, a
@@ -35,14 +36,15 @@ pub fn write_vtp_quads<W: Write>(
     xml.push_str(&format!(
         "      <Points>\n        {points_tag}\n      </Points>\n"
     ));
-    let connectivity = data.push("connectivity", Payload::Indices(quads.as_flattened()));
-    let offsets = data.push(
-        "offsets",
-        Payload::Offsets {
-            count: quads.len(),
-            stride: 4,
-        },
-    );
+    let mut points_of = Vec::with_capacity(4 * quads.len());
+    let mut ends = Vec::with_capacity(quads.len());
+    for q in quads {
+        let n = if q[3] == q[2] { 3 } else { 4 };
+        points_of.extend_from_slice(&q[..n]);
+        ends.push(points_of.len() as i64);
+    }
+    let connectivity = data.push("connectivity", Payload::Indices(&points_of));
+    let offsets = data.push("offsets", Payload::OffsetList(&ends));
     xml.push_str(&format!(
         "      <Polys>\n        {connectivity}\n        {offsets}\n      </Polys>\n"
     ));

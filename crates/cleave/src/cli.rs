@@ -23,6 +23,8 @@ pub enum Command {
     Check(CheckArgs),
     /// Write a ready deck for a bundled example.
     Example(ExampleArgs),
+    /// Convert a Gmsh mesh (.msh) to keyword text: nodes, solids, sets.
+    Import(ImportArgs),
     /// Benchmarks (time per element step, peak memory).
     Bench(BenchArgs),
 }
@@ -52,6 +54,15 @@ pub struct RunArgs {
 pub struct CheckArgs {
     /// The keyword deck (.k).
     pub deck: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct ImportArgs {
+    /// The Gmsh mesh (MSH 4.1 or 2.2, ASCII or binary).
+    pub mesh: PathBuf,
+    /// Where to write the keyword text (default: MESH.k beside the mesh).
+    #[arg(short = 'o', long = "output")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]

@@ -12,6 +12,7 @@ mod crack_growth;
 mod example;
 mod failure;
 mod fracture;
+mod import;
 mod progress;
 mod results;
 mod run;
@@ -43,6 +44,7 @@ fn dispatch(cli: cli::Cli) -> Result<(), Failure> {
         cli::Command::Run(a) => run::run(&a),
         cli::Command::Check(a) => check::check(&a),
         cli::Command::Example(a) => example::example(&a),
+        cli::Command::Import(a) => import::import(&a),
         cli::Command::Bench(a) => bench::bench(&a),
     }
 }

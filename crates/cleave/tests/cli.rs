@@ -432,3 +432,92 @@ fn outputs_parse_with_their_headers() {
     );
     assert_eq!(vals[3], 1.0);
 }
+
+/// A Gmsh fixture of cleave-io's tests (the hexahedral box, `gen.py` beside it).
+fn gmsh_fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../cleave-io/tests/data/gmsh")
+        .join(name)
+}
+
+/// A deck that includes `mesh` and gives physical volume 1 a part, section and material.
+fn gmsh_deck(mesh: &str) -> String {
+    format!(
+        "*KEYWORD\n*CONTROL_TERMINATION\n1.0e-6\n*INCLUDE\n{mesh}\n*PART\nblock\n1,1,1\n\
+         *SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7800.0,2.0e11,0.3\n*BOUNDARY_SPC_SET\n2,0,1,1,1\n*END\n"
+    )
+}
+
+#[test]
+fn import_writes_keyword_text_that_a_deck_includes() {
+    let d = tmp("gmsh-import");
+    let k = d.join("hex.k");
+    let msh = gmsh_fixture("hex-41b.msh");
+    let out = cleave(&["import", msh.to_str().unwrap(), "-o", k.to_str().unwrap()]);
+    assert_exit(&out, 0);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    for s in [
+        "MSH 4.1 binary",
+        "nodes 60",
+        "solid elements 24 (hex8 24); 0 turned the right way out",
+        "part 1 \"block\": hex8 24",
+        "node set 2 (physical surface \"fixed\"): 12 nodes; segment set 2: 6 segments",
+        "node set 4 (physical point \"tip\"): 1 nodes",
+    ] {
+        assert!(stdout.contains(s), "lacks '{s}': {stdout}");
+    }
+    let text = std::fs::read_to_string(&k).unwrap();
+    // the header is the summary printed
+    assert!(text.contains("$ part 1 \"block\": hex8 24"), "{text}");
+    // the written text and the .msh itself, included in a deck, check the same
+    for inc in [k.to_str().unwrap(), msh.to_str().unwrap()] {
+        let deck = d.join("deck.k");
+        std::fs::write(&deck, gmsh_deck(inc)).unwrap();
+        let out = cleave(&["check", deck.to_str().unwrap()]);
+        assert_exit(&out, 0);
+        let s = String::from_utf8_lossy(&out.stdout);
+        assert!(s.contains("elements    24"), "{s}");
+        assert!(s.contains("nodes       60"), "{s}");
+    }
+}
+
+#[test]
+fn bad_meshes_exit_2_naming_file_and_line() {
+    let d = tmp("gmsh-bad");
+    let text = std::fs::read_to_string(gmsh_fixture("hex-22a.msh")).unwrap();
+    // an element of the ASCII file that refers to node 999: its line named
+    let (no, line) = text
+        .lines()
+        .enumerate()
+        .find(|(_, l)| l.split(' ').nth(1) == Some("5"))
+        .unwrap();
+    let mut fields: Vec<&str> = line.split(' ').collect();
+    let last = fields.len() - 1;
+    fields[last] = "999";
+    let bad = replace_line(&text, no + 1, &fields.join(" "));
+    let msh = d.join("bad.msh");
+    std::fs::write(&msh, bad).unwrap();
+    let out = cleave(&["import", msh.to_str().unwrap()]);
+    assert_exit(&out, 2);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("bad.msh:{}: ", no + 1)), "{err}");
+    assert!(err.contains("node 999"), "{err}");
+    assert!(!d.join("bad.k").exists());
+    // the same through a deck's *INCLUDE, by `cleave check`
+    let deck = d.join("deck.k");
+    std::fs::write(&deck, gmsh_deck("bad.msh")).unwrap();
+    let out = cleave(&["check", deck.to_str().unwrap()]);
+    assert_exit(&out, 2);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("bad.msh:{}: ", no + 1)), "{err}");
+    // a missing mesh, and a truncated binary one
+    let out = cleave(&["import", d.join("none.msh").to_str().unwrap()]);
+    assert_exit(&out, 2);
+    let bin = std::fs::read(gmsh_fixture("hex-41b.msh")).unwrap();
+    std::fs::write(&msh, &bin[..bin.len() / 2]).unwrap();
+    let out = cleave(&["import", msh.to_str().unwrap()]);
+    assert_exit(&out, 2);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.msh: byte "), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}

@@ -9,6 +9,10 @@
 //!   far (each line one directory, relative ones taken from the main deck's directory). LS-DYNA
 //!   looks in the directory it runs in first; cleave runs from anywhere, so the including
 //!   file's directory stands in for it.
+//! - A file whose name ends in `.msh` is a Gmsh mesh: it is read by [`crate::gmsh`] and stands
+//!   in the deck as its keyword text (`*NODE`, `*ELEMENT_SOLID`, `*SET_NODE_LIST`,
+//!   `*SET_SEGMENT`), the deck's own `*PART` cards giving the physical volumes' part ids their
+//!   section and material.
 //! - A file that includes itself, directly or through others, is an error naming the chain;
 //!   so are a missing file (naming the places searched) and the `*INCLUDE_...` variants that
 //!   transform or offset what they read (`_TRANSFORM`, `_AUTO_OFFSET`, `_NASTRAN`,
@@ -158,6 +162,11 @@ fn visit(
                         }
                         let bytes = std::fs::read(&path)
                             .map_err(|e| at(format!("cannot read '{shown}': {e}")))?;
+                        if is_msh(&path) {
+                            sources.push(msh_source(&bytes, &shown)?);
+                            children.push(sources.len() - 1);
+                            continue;
+                        }
                         sources.push(Source {
                             file: shown.clone(),
                             text: String::from_utf8_lossy(&bytes).into_owned(),
@@ -196,6 +205,25 @@ fn visit(
     }
     sources[i].text = text;
     Ok(())
+}
+
+/// True for a Gmsh mesh: a name ending in `.msh` (any case).
+fn is_msh(p: &Path) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("msh"))
+}
+
+/// A Gmsh mesh (the file `shown`) as the keyword text `cleave import` writes for it: nodes,
+/// solids, node and segment sets ([`crate::gmsh`]). An error in the mesh names the .msh and
+/// its line (or byte, in a binary file); the text is named `NAME.msh (converted)`, so that an
+/// error the deck finds in it (a part the deck does not define) names the mesh and the line of
+/// the text `cleave import NAME.msh` writes.
+fn msh_source(bytes: &[u8], shown: &str) -> Result<Source, DeckError> {
+    let mesh = crate::gmsh::parse_msh(bytes, shown)?;
+    Ok(Source {
+        file: format!("{shown} (converted)"),
+        text: crate::gmsh::keyword_text(&mesh, shown),
+        includes: Vec::new(),
+    })
 }
 
 /// Where `name` is: absolute as given, else beside the including file (`here`), else in the

@@ -17,7 +17,7 @@ mod include;
 pub mod lex;
 mod params;
 mod raw;
-mod write;
+pub(crate) mod write;
 
 use std::path::Path;
 

@@ -18,7 +18,7 @@ use cleave_core::model::{
 
 /// One field of a card.
 #[derive(Clone, Copy, Debug)]
-enum F {
+pub(crate) enum F {
     I(i64),
     R(f64),
     /// A blank field (the reader's default).
@@ -26,7 +26,7 @@ enum F {
 }
 
 /// The `$#` line naming the fields, aligned with them.
-fn names(out: &mut String, names: &[&str], widths: &[usize]) {
+pub(crate) fn names(out: &mut String, names: &[&str], widths: &[usize]) {
     let mut line = String::from("$#");
     for (k, (n, &w)) in names.iter().zip(widths).enumerate() {
         let w = if k == 0 { w.saturating_sub(2) } else { w };
@@ -108,7 +108,7 @@ fn trim_zeros(s: &str) -> String {
 }
 
 /// Writes a card: fixed width if every field fits, comma-separated otherwise.
-fn card(out: &mut String, fields: &[F], widths: &[usize]) {
+pub(crate) fn card(out: &mut String, fields: &[F], widths: &[usize]) {
     let text: Vec<String> = fields
         .iter()
         .zip(widths)
@@ -131,7 +131,7 @@ fn card(out: &mut String, fields: &[F], widths: &[usize]) {
     out.push('\n');
 }
 
-const W10: [usize; 8] = [10; 8];
+pub(crate) const W10: [usize; 8] = [10; 8];
 
 /// A keyword with one card of 10-character fields.
 fn simple(out: &mut String, kw: &str, n: &[&str], fields: &[F]) {
@@ -142,7 +142,7 @@ fn simple(out: &mut String, kw: &str, n: &[&str], fields: &[F]) {
 }
 
 /// Ids 8 per card in 10-character fields.
-fn id_cards(out: &mut String, ids: impl IntoIterator<Item = i64>) {
+pub(crate) fn id_cards(out: &mut String, ids: impl IntoIterator<Item = i64>) {
     let ids: Vec<F> = ids.into_iter().map(F::I).collect();
     for chunk in ids.chunks(8) {
         card(out, chunk, &W10);
@@ -150,7 +150,7 @@ fn id_cards(out: &mut String, ids: impl IntoIterator<Item = i64>) {
 }
 
 /// A title line: at most 80 characters, never read as a comment or keyword.
-fn title_line(t: &str) -> String {
+pub(crate) fn title_line(t: &str) -> String {
     t.trim_start_matches(['$', '*', ' '])
         .chars()
         .filter(|c| !c.is_control())

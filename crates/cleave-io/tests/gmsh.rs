@@ -784,3 +784,56 @@ fn truncated_fixtures_are_errors_at_their_end() {
         }
     }
 }
+
+/// The tetrahedral, prism and mixed meshes through a deck (`*INCLUDE` of the `.msh`), each
+/// physical volume a part: the model holds Gmsh's solids with the shapes Gmsh wrote (tet4
+/// as tetrahedra, prism6 as wedges, hex8 as hexahedra), every part's volume is its exact
+/// volume to 1e-12 relative (the solver's volume of each shape), and the solver's setup takes
+/// the mesh, lumping rho V in total.
+#[test]
+fn decks_include_tetrahedral_prism_and_mixed_meshes() {
+    use cleave_core::element::shape::shape_of;
+    use cleave_core::element::{volume, Shape};
+    let exp = expected();
+    for kind in ["tet", "prism", "mixed"] {
+        let e = &exp["meshes"][kind];
+        for enc in ENCODINGS {
+            let groups = e["files"][enc]["groups"].as_array().unwrap();
+            let parts: Vec<i64> = groups
+                .iter()
+                .filter(|g| g["dim"] == 3)
+                .map(|g| g["tag"].as_i64().unwrap())
+                .collect();
+            let mut text = format!(
+                "*KEYWORD\n*CONTROL_TERMINATION\n1.0e-5\n*INCLUDE\n{}\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7800.0,2.0e11,0.3\n",
+                fixture(kind, enc).to_str().unwrap()
+            );
+            for p in &parts {
+                text.push_str(&format!("*PART\npart {p}\n{p},1,1\n"));
+            }
+            text.push_str("*END\n");
+            let d = parse_deck(&text, "deck-under-test.k").unwrap_or_else(|e| panic!("{e}"));
+            let m = &d.model;
+            let counts = &e["files"][enc]["elements"];
+            let want = |t: &str| counts[t].as_u64().unwrap_or(0) as usize;
+            let mut shapes = [0usize; 3];
+            let mut part_vol = vec![0.0; m.parts.len()];
+            for (c, &p) in m.conn.iter().zip(&m.elem_part) {
+                let s = shape_of(c).expect("a known shape");
+                shapes[s as usize] += 1;
+                part_vol[p as usize] += volume(s, &c.map(|n| m.x0[n as usize]));
+            }
+            assert_eq!(shapes[Shape::Hex as usize], want("5"), "{kind} {enc}");
+            assert_eq!(shapes[Shape::Wedge as usize], want("6"), "{kind} {enc}");
+            assert_eq!(shapes[Shape::Tet as usize], want("4"), "{kind} {enc}");
+            for (p, v) in m.parts.iter().zip(&part_vol) {
+                let exact = e["exact"]["volumes"][p.id.to_string()].as_f64().unwrap();
+                assert!(rel(*v, exact) < 1e-12, "{kind} {enc} part {}: {v}", p.id);
+            }
+            let setup = cleave_core::setup::Setup::new(m).unwrap_or_else(|e| panic!("{e}"));
+            let mass: f64 = setup.mass.iter().sum();
+            let v: f64 = part_vol.iter().sum();
+            assert!(rel(mass, 7800.0 * v) < 1e-12, "{kind} {enc}: mass {mass}");
+        }
+    }
+}

@@ -50,7 +50,8 @@ use rayon::prelude::*;
 use crate::contact::{ContactSet, Crack};
 use crate::element::colouring::{Colouring, Scatter};
 use crate::element::kernel::KernelControls;
-use crate::element::{element_corner_forces, element_step};
+use crate::element::nodal_pressure::NodalPressure;
+use crate::element::{element_corner_forces, element_step, Shape};
 use crate::error::SolverError;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{Model, MotionTarget, Vad};
@@ -189,6 +190,8 @@ pub struct Solver<'m> {
     new_cracks: Vec<Crack>,
     /// Stable time step of the contact penalty springs (infinite without contact).
     dt_contact: f64,
+    /// The nodal averaging of the ELFORM 13 tetrahedra, if any.
+    nodal_pressure: Option<NodalPressure>,
     /// Time spent in each phase.
     pub times: PhaseTimes,
 }
@@ -236,6 +239,14 @@ impl<'m> Solver<'m> {
             initial_energy: 0.0,
             dt_element: 0,
         };
+        let nodal_pressure = NodalPressure::new(
+            &model.conn,
+            |e| {
+                setup.elem_shape[e] == Shape::Tet
+                    && model.sections[model.parts[model.elem_part[e] as usize].section].elform == 13
+            },
+            nn,
+        );
         let colouring = Colouring::new(&model.conn, nn);
         // the element pass's parallel writes are race-free only with a proper colouring
         assert!(
@@ -266,6 +277,7 @@ impl<'m> Solver<'m> {
             contact: None,
             new_cracks: Vec::new(),
             dt_contact: f64::INFINITY,
+            nodal_pressure,
             times: PhaseTimes::default(),
         })
     }
@@ -295,6 +307,10 @@ impl<'m> Solver<'m> {
     }
 
     fn attach(&mut self, separation: Separation, per_slot: bool) {
+        assert!(
+            self.nodal_pressure.is_none(),
+            "ELFORM 13 tetrahedra with element separation: the deck reader refuses this model"
+        );
         assert_eq!(
             separation.num_failed(),
             0,
@@ -456,6 +472,7 @@ impl<'m> Solver<'m> {
     pub fn advance_to_half_step(&mut self) -> Result<(), SolverError> {
         let t0 = Instant::now();
         let (dt_crit, dt_elem) = self.compute_element_forces()?;
+        self.average_nodal_pressure();
         let t1 = Instant::now();
         self.check_interfaces();
         let t2 = Instant::now();
@@ -496,6 +513,11 @@ impl<'m> Solver<'m> {
     /// count); returns the smallest element time step and its element.
     fn compute_element_forces(&mut self) -> Result<(f64, u32), SolverError> {
         let g = self.body_acceleration(self.state.t);
+        if let Some(np) = &mut self.nodal_pressure {
+            // ELFORM 13: the volume change averaged over the nodes, before the material update
+            let (x, v) = (&self.state.x, &self.state.v);
+            np.average_volume_change(|n| x[n as usize], |n| v[n as usize], self.state.dt_prev);
+        }
         let Self {
             model,
             setup,
@@ -526,6 +548,7 @@ impl<'m> Solver<'m> {
         let conn = colouring.conn();
         let (size, colour, colours) = (colouring.size(), colouring.colour(), colouring.colours());
         let loose = separation.as_ref().map(|s| s.loose_elements());
+        let np = self.nodal_pressure.as_ref();
         let sink = Scatter::new(f);
         let process = |c: usize,
                        sc: &mut [crate::math::Sym3],
@@ -557,6 +580,7 @@ impl<'m> Solver<'m> {
                     setup.elem_shape[e],
                     &xe,
                     &ve,
+                    np.and_then(|n| n.theta_bar(e)),
                     dt_prev,
                     p,
                     &ctl,
@@ -624,6 +648,23 @@ impl<'m> Solver<'m> {
             }
         }
         Ok((dt_min, dt_elem))
+    }
+
+    /// ELFORM 13: the corner forces of the averaging tetrahedra carry the nodal mean of their
+    /// pressures ([`NodalPressure::correct_forces`]); nothing without such elements. (The model
+    /// has no separation: [`Self::attach_separation`] refuses one with ELFORM 13.)
+    fn average_nodal_pressure(&mut self) {
+        let Some(np) = &mut self.nodal_pressure else {
+            return;
+        };
+        let (x, f) = (&self.state.x, &mut self.f);
+        np.correct_forces(
+            |n| x[n as usize],
+            &self.state.stress,
+            |n, df| {
+                f[n as usize] = add(f[n as usize], df);
+            },
+        );
     }
 
     /// Check every intact interface on the stresses at t^n; release the failed ones. The sets

@@ -1808,3 +1808,23 @@ fn initial_velocity_of_a_set_or_of_all() {
     assert_eq!(e.field.as_deref(), Some("NSID"), "{e}");
     assert!(e.message.contains("node set 9 is not defined"), "{e}");
 }
+
+/// ELFORM 10 and 13 take tetrahedra only; a hexahedron in such a part is an error naming
+/// element, shape and part at the element's line.
+#[test]
+fn tetrahedron_formulations_refuse_hexahedra() {
+    for form in ["10", "13"] {
+        let t = with(
+            "*SECTION_SOLID\n1, 1",
+            &format!("*SECTION_SOLID\n1, {form}"),
+        );
+        let e = err(&t);
+        assert_eq!(e.keyword.as_deref(), Some("*ELEMENT_SOLID"), "{e}");
+        assert!(
+            e.message.contains(&format!(
+                "element 1 is a hexahedron in part 1, whose section has ELFORM {form}"
+            )),
+            "{e}"
+        );
+    }
+}

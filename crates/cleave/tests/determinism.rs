@@ -119,3 +119,15 @@ fn ball_with_weibull_strengths_is_bit_identical_on_1_2_3_threads() {
         "crack faces carry their strength"
     );
 }
+
+/// The Taylor bar on ELFORM 13 tetrahedra: the nodal averaging of the volume change and the
+/// pressure (gathers in a fixed order) gives the same bits on every thread count.
+#[test]
+fn nodal_pressure_tetrahedra_are_bit_identical_on_1_2_3_threads() {
+    let _ = same_on_every_thread_count(
+        "det-tet13",
+        &["taylor-bar", "--shape", "tet13"],
+        "5e-6",
+        &["glstat.csv", "nodout.csv", "elout.csv"],
+    );
+}

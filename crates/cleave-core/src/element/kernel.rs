@@ -80,8 +80,9 @@ pub fn hex8_step(
     let jv = centre_jacobian(v);
 
     // 1-4: stress update over the previous interval.
-    let (de_internal, q, eps_v_rate) =
-        update_stress(&jn, &jv, 8.0, l_vol, dt_prev, mat, ctl, sigma, hist, q_prev)?;
+    let (de_internal, q, eps_v_rate) = update_stress(
+        &jn, &jv, 8.0, l_vol, None, dt_prev, mat, ctl, sigma, hist, q_prev,
+    )?;
 
     // 5: corner forces from the total stress sigma - q I.
     stress_forces(vol, &b, sigma, q, f);
@@ -140,7 +141,9 @@ pub fn hex8_step(
 /// Parts 1-4 of the step for any element whose geometry is one linear map: `jn` and `jv`
 /// are the Jacobians of the positions at t^n and of the velocities (the hexahedron's centre
 /// Jacobian, the tetrahedron's edge matrix), `vol_per_det` the volume per unit determinant
-/// (8 for the hexahedron, 1/6 for the tetrahedron), `l_vol` the bulk-viscosity length.
+/// (8 for the hexahedron, 1/6 for the tetrahedron), `l_vol` the bulk-viscosity length,
+/// `theta_bar` a volumetric strain increment that replaces the element's own in the material
+/// update (the nodal averaging of [`super::nodal_pressure`]; `None`: the element's own).
 /// Updates `sigma`, `hist` and `q_prev`; returns the internal energy increment, the bulk
 /// viscosity q at t^n and the volumetric strain rate tr(L).
 #[allow(clippy::too_many_arguments)]
@@ -150,6 +153,7 @@ pub(super) fn update_stress(
     jv: &Mat3,
     vol_per_det: f64,
     l_vol: f64,
+    theta_bar: Option<f64>,
     dt_prev: f64,
     mat: &SolidParams,
     ctl: &KernelControls,
@@ -170,7 +174,7 @@ pub(super) fn update_stress(
         let (detm, jminv) = det_inverse(&jm).ok_or(InvertedElement)?;
         let vol_mid = vol_per_det * detm;
         let l = crate::math::mat_mul(jv, &jminv);
-        let d_eps: Sym3 = [
+        let mut d_eps: Sym3 = [
             l[0][0] * dt_prev,
             l[1][1] * dt_prev,
             l[2][2] * dt_prev,
@@ -178,6 +182,12 @@ pub(super) fn update_stress(
             0.5 * (l[1][2] + l[2][1]) * dt_prev,
             0.5 * (l[2][0] + l[0][2]) * dt_prev,
         ];
+        if let Some(tb) = theta_bar {
+            let shift = (tb - (d_eps[0] + d_eps[1] + d_eps[2])) / 3.0;
+            for d in &mut d_eps[..3] {
+                *d += shift;
+            }
+        }
         // half-step spin W dt / 2, as (w_x, w_y, w_z) with W = [[0,-wz,wy],[wz,0,-wx],[-wy,wx,0]]
         let h = 0.25 * dt_prev;
         let w = [

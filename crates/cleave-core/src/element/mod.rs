@@ -7,6 +7,7 @@
 pub mod colouring;
 pub mod hex8;
 pub mod kernel;
+pub mod nodal_pressure;
 pub mod shape;
 pub mod tet4;
 
@@ -21,13 +22,16 @@ const TET: [usize; 4] = [0, 1, 2, 4];
 
 /// The element phase of one element of shape `shape`, on its 8 stored corners: the
 /// hexahedron kernel for hexahedra and wedges, the tetrahedron's on the 4 distinct corners of
-/// a tetrahedron (the other corners get zero force). Arguments as [`kernel::hex8_step`].
+/// a tetrahedron (the other corners get zero force). Arguments as [`kernel::hex8_step`], and
+/// `theta_bar`: an ELFORM 13 tetrahedron's averaged volumetric strain increment
+/// ([`nodal_pressure`]; `None` otherwise).
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn element_step(
     shape: Shape,
     x: &[Vec3; 8],
     v: &[Vec3; 8],
+    theta_bar: Option<f64>,
     dt_prev: f64,
     mat: &SolidParams,
     ctl: &KernelControls,
@@ -46,6 +50,7 @@ pub fn element_step(
             let r = tet4::tet4_step(
                 &TET.map(|a| x[a]),
                 &TET.map(|a| v[a]),
+                theta_bar,
                 dt_prev,
                 mat,
                 ctl,

@@ -75,13 +75,36 @@ fn gradients_from_inverse(jinv: &Mat3) -> [Vec3; 4] {
     [b0, b1, b2, b3]
 }
 
+/// The mid-step volume and volumetric strain increment `tr(J_v J_mid^-1) dt` of a
+/// tetrahedron at positions `x` (t^n) and velocities `v` (t^(n-1/2)), as its step takes them
+/// (`None` if inverted at mid-step; `(0, 0)`-like zeros when `dt` is 0 are fine to average).
+pub fn volume_increment(x: &[Vec3; 4], v: &[Vec3; 4], dt: f64) -> Option<(f64, f64)> {
+    let jn = edge_matrix(x);
+    let jv = edge_matrix(v);
+    let mut jm = jn;
+    for i in 0..3 {
+        for k in 0..3 {
+            jm[i][k] -= 0.5 * dt * jv[i][k];
+        }
+    }
+    let d = det(&jm);
+    if d.is_nan() || d <= 0.0 || !d.is_finite() {
+        return None;
+    }
+    let inv = inverse(&jm)?;
+    let l = crate::math::mat_mul(&jv, &inv);
+    Some((d / 6.0, (l[0][0] + l[1][1] + l[2][2]) * dt))
+}
+
 /// The element phase for one tetrahedron (the arguments as [`super::kernel::hex8_step`]'s,
-/// without hourglass forces); writes the 4 corner forces to `f`.
+/// without hourglass forces; `theta_bar` the averaged volumetric strain increment of ELFORM 13,
+/// [`super::nodal_pressure`], `None` for the element's own); writes the 4 corner forces to `f`.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn tet4_step(
     x: &[Vec3; 4],
     v: &[Vec3; 4],
+    theta_bar: Option<f64>,
     dt_prev: f64,
     mat: &SolidParams,
     ctl: &KernelControls,
@@ -99,6 +122,7 @@ pub fn tet4_step(
         &jv,
         1.0 / 6.0,
         l_vol,
+        theta_bar,
         dt_prev,
         mat,
         ctl,
@@ -203,7 +227,7 @@ mod tests {
         // positions at t^n from the mid-step geometry x - dt/2 v ... here x^n itself
         let (mut s, mut h, mut q) = ([0.0; 6], History::default(), 0.0);
         let mut f = [[0.0; 3]; 4];
-        let r = tet4_step(&x, &v, dt, &mat, &ctl, &mut s, &mut h, &mut q, &mut f).unwrap();
+        let r = tet4_step(&x, &v, None, dt, &mat, &ctl, &mut s, &mut h, &mut q, &mut f).unwrap();
         let eps = [
             rate[0][0] * dt,
             rate[1][1] * dt,
@@ -260,7 +284,9 @@ mod tests {
         };
         let (mut s, mut h, mut q) = ([0.0; 6], History::default(), 0.0);
         let mut f = [[0.0; 3]; 4];
-        let r = tet4_step(&x, &x, 0.0, &mat, &ctl, &mut s, &mut h, &mut q, &mut f);
+        let r = tet4_step(
+            &x, &x, None, 0.0, &mat, &ctl, &mut s, &mut h, &mut q, &mut f,
+        );
         assert_eq!(r, Err(InvertedElement));
     }
 }

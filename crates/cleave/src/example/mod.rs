@@ -32,7 +32,7 @@ use cleave_core::model::StrengthDist;
 pub const EXAMPLES: &[(&str, &str)] = &[
     (
         "taylor-bar",
-        "copper Taylor bar, 227 m/s onto a rigid wall, bilinear plasticity (4320 elements, 80 us; --shape wedge|tet cuts each into 2 wedges or 6 tetrahedra)",
+        "copper Taylor bar, 227 m/s onto a rigid wall, bilinear plasticity (4320 elements, 80 us; --shape wedge|tet|tet13 cuts each into 2 wedges or 6 tetrahedra, ELFORM 10 or 13)",
     ),
     (
         "ball-impact",
@@ -84,15 +84,16 @@ pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
             "--model applies to three-point-bend only, not to {name}"
         )));
     }
-    let shape = match (a.shape.as_deref(), name) {
-        (None, _) => Shape::Hex,
+    let (shape, elform) = match (a.shape.as_deref(), name) {
+        (None, _) => (Shape::Hex, 1),
         (Some(s), "taylor-bar") => match s {
-            "hex" => Shape::Hex,
-            "wedge" => Shape::Wedge,
-            "tet" => Shape::Tet,
+            "hex" => (Shape::Hex, 1),
+            "wedge" => (Shape::Wedge, 1),
+            "tet" => (Shape::Tet, 10),
+            "tet13" => (Shape::Tet, 13),
             other => {
                 return Err(Failure::Input(format!(
-                    "--shape {other}: one of hex, wedge, tet"
+                    "--shape {other}: one of hex, wedge, tet, tet13"
                 )))
             }
         },
@@ -104,7 +105,7 @@ pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
     };
     let mut model = match name {
         "taylor-bar" => {
-            let mut m = taylor_bar_of(shape);
+            let mut m = taylor_bar_of(shape, elform);
             if let Some(t) = a.end_time {
                 m.control.end_time = t;
             }
@@ -180,9 +181,9 @@ mod tests {
     #[test]
     fn decks_read_back_as_the_models_built() {
         let models: Vec<(&str, Model)> = vec![
-            ("taylor-bar", taylor_bar_of(Shape::Hex)),
-            ("taylor-bar tet", taylor_bar_of(Shape::Tet)),
-            ("taylor-bar wedge", taylor_bar_of(Shape::Wedge)),
+            ("taylor-bar", taylor_bar_of(Shape::Hex, 1)),
+            ("taylor-bar tet", taylor_bar_of(Shape::Tet, 13)),
+            ("taylor-bar wedge", taylor_bar_of(Shape::Wedge, 1)),
             ("ball 256", ball_impact(256, 1e-5).unwrap()),
             ("ball 2800", ball_impact(2800, 10e-3).unwrap()),
             ("bend 1", three_point_bend(1, 0.3e-3).unwrap()),

@@ -7,8 +7,9 @@ use cleave_core::model::{Material, MaterialKind, Model, OutputRequests, RigidWal
 /// The Taylor bar: an O-grid cylinder (n = 6, m = 3: 108 elements per layer, 40 layers) along
 /// z from 0 to L, moving at -227 m/s, with a stonewall at z = 0; on `shape`, each hexahedron
 /// of that mesh cut into 2 wedges or 6 tetrahedra
-/// ([`cleave_core::mesh::BoxMesh::split_wedges`], `split_tets`).
-pub fn taylor_bar_of(shape: Shape) -> Model {
+/// ([`cleave_core::mesh::BoxMesh::split_wedges`], `split_tets`), with the section's `elform`
+/// (1 for hexahedra and wedges; 10 or 13 for tetrahedra).
+pub fn taylor_bar_of(shape: Shape, elform: i32) -> Model {
     let (r, l) = (3.2e-3, 32.4e-3);
     let (pts, quads) = ogrid_disc(r, 6, 3);
     let hexes = extrude(&pts, &quads, l, 40);
@@ -53,6 +54,7 @@ pub fn taylor_bar_of(shape: Shape) -> Model {
         .unwrap_or(0) as u32;
     let mut m = single_part_model(mesh, copper, 80e-6);
     m.title = "Taylor bar: copper cylinder R 3.2 mm L 32.4 mm at 227 m/s onto a rigid wall".into();
+    m.sections[0].elform = elform;
     if shape != Shape::Hex {
         let on = if shape == Shape::Tet {
             "tetrahedra"

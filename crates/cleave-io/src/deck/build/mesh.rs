@@ -138,13 +138,22 @@ impl Builder<'_> {
             let (conn, shape) = canonical(conn)
                 .map_err(|msg| self.err(&nsrc, format!("element {}: {msg}", e.id)))?;
             let elform = m.sections[m.parts[part].section].elform;
-            if elform == 10 && shape != Shape::Tet {
+            if (elform == 10 || elform == 13) && shape != Shape::Tet {
                 return Err(self.err(
                     &nsrc,
                     format!(
-                        "element {} is a {} in part {}, whose section has ELFORM 10 (tetrahedra only)",
+                        "element {} is a {} in part {}, whose section has ELFORM {elform} (tetrahedra only)",
                         e.id,
                         shape.name(),
+                        m.parts[part].id
+                    ),
+                ));
+            }
+            if elform == 13 && !m.separations.is_empty() {
+                return Err(self.err(
+                    &nsrc,
+                    format!(
+                        "part {} has ELFORM 13 in a deck with *MAT_ADD_SEPARATION: the nodal pressure averaging does not work across split nodes yet; use ELFORM 10",
                         m.parts[part].id
                     ),
                 ));

@@ -133,11 +133,12 @@ pub fn section_solid(
         let elform = match c.i64_or(1, "ELFORM", 1)? {
             0 | 1 => 1,
             10 => 10,
+            13 => 13,
             e => {
                 return Err(c.field_err(
                     "ELFORM",
                     format!(
-                        "{e} not supported: 1 (one-point hexahedron with hourglass control; wedges as degenerate hexahedra, tetrahedra as ELFORM 10) or 10 (one-point tetrahedron)"
+                        "{e} not supported: 1 (one-point hexahedron with hourglass control; wedges as degenerate hexahedra, tetrahedra as ELFORM 10), 10 (one-point tetrahedron) or 13 (tetrahedron with nodal pressure averaging)"
                     ),
                 ))
             }

@@ -1140,6 +1140,7 @@ fn round_trip_model() -> Model {
                     rho_cp: f64::INFINITY,
                     sig_max: 1.5e9,
                     sig_sat: f64::INFINITY,
+                    eos: None,
                 }),
             },
             Material {
@@ -1343,7 +1344,7 @@ fn johnson_cook_cards_are_read() {
     );
     assert_eq!((jc.m, jc.rho_cp), (1.0, f64::INFINITY));
     for (text, field, msg) in [
-        (jc015.replace("7.7e10, , 0.29", "7.7e10"), "PR", "no *EOS"),
+        (jc015.replace("7.7e10, , 0.29", "7.7e10"), "PR", "no part gives it an *EOS"),
         (
             jc015.replace("7.7e10, , 0.29", "7.7e10, 2.5e11, 0.29"),
             "E",
@@ -1827,4 +1828,48 @@ fn tetrahedron_formulations_refuse_hexahedra() {
             "{e}"
         );
     }
+}
+
+/// `*MAT_JOHNSON_COOK` with PR blank and a Mie-Gruneisen `*EOS_GRUNEISEN` on its part: the
+/// material carries the EOS with rho0 = RO, and its elastic constants come from G and
+/// K0 = rho0 C^2 (E = 9 K0 G / (3 K0 + G)); written and read back it is the same model. Errors:
+/// an undefined EOSID, an EOS on an elastic material, PR blank without an EOS, two parts giving
+/// one material different EOS.
+#[test]
+fn johnson_cook_takes_an_equation_of_state_from_its_part() {
+    use cleave_core::material::Eos;
+    let jc = "*MAT_JOHNSON_COOK\n1, 7830., 8.18e10\n7.92e8, 5.1e8, 0.26, 0.014, 1.03, 1793., 294., 1.0\n477.\n*EOS_GRUNEISEN\n5, 4578., 1.33, 0., 0., 1.67, 0.43\n1.0\n";
+    let t =
+        with("*MAT_ELASTIC\n1, 7800., 2.0e11, 0.3\n", jc).replacen("1, 1, 1\n", "1, 1, 1, 5\n", 1);
+    let m = parse(&t);
+    let mat = &m.materials[0];
+    let MaterialKind::JohnsonCook(j) = mat.kind else {
+        panic!("a Johnson-Cook material")
+    };
+    let Some(Eos::Gruneisen {
+        c, rho0, gamma0, a, ..
+    }) = j.eos
+    else {
+        panic!("the EOS is attached: {:?}", j.eos)
+    };
+    assert_eq!((c, rho0, gamma0, a), (4578.0, 7830.0, 1.67, 0.43));
+    let (k0, g) = (7830.0 * 4578.0f64 * 4578.0, 8.18e10);
+    assert!(close(mat.young, 9.0 * k0 * g / (3.0 * k0 + g)));
+    assert!(close(mat.shear_modulus(), g));
+    assert!(close(mat.bulk_modulus(), k0));
+    let again = parse(&write_deck(&m));
+    assert_eq!(again.materials[0].kind, m.materials[0].kind);
+    assert!(close(again.materials[0].young, mat.young));
+    // errors
+    let e = err(&t.replacen("1, 1, 1, 5\n", "1, 1, 1, 6\n", 1));
+    assert!(
+        e.message.contains("equation of state 6 is not defined"),
+        "{e}"
+    );
+    assert_eq!(e.field.as_deref(), Some("EOSID"));
+    let e = err(&t.replacen("2, 1, 2\n", "2, 1, 2, 5\n", 1));
+    assert!(e.message.contains("*MAT_JOHNSON_COOK only"), "{e}");
+    let e = err(&t.replacen("1, 1, 1, 5\n", "1, 1, 1\n", 1));
+    assert!(e.message.contains("PR (or E) is missing"), "{e}");
+    assert_eq!(e.field.as_deref(), Some("PR"));
 }

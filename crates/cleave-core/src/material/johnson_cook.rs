@@ -24,7 +24,7 @@
 //! hardening.
 
 use super::return_map::radial_return;
-use super::History;
+use super::{Eos, EosState, History};
 use crate::math::Sym3;
 
 /// The Johnson-Cook parameters (SI or any consistent units).
@@ -48,6 +48,9 @@ pub struct JohnsonCook {
     /// stress (SIGSAT); infinite when absent.
     pub sig_max: f64,
     pub sig_sat: f64,
+    /// The equation of state of the pressure (`*EOS_...` on the part); `None`: linear
+    /// elasticity, `p` from the bulk modulus.
+    pub eos: Option<Eos>,
 }
 
 impl JohnsonCook {
@@ -66,6 +69,7 @@ impl JohnsonCook {
         rho_cp: 7830.0 * 477.0,
         sig_max: f64::INFINITY,
         sig_sat: f64::INFINITY,
+        eos: None,
     };
 
     /// The rate factor 1 + C ln(max(eps_dot / EPSO, 1)).
@@ -135,13 +139,41 @@ pub fn update_johnson_cook(
             (y, (h_slope * r + h * r_slope) * theta)
         }
     };
-    if let Some((x, y)) = radial_return(lambda, g, sigma, d_eps, flow) {
-        // the plastic work of the increment, at the flow stress it ends on
-        if jc.rho_cp.is_finite() {
-            hist.heat += y * x / jc.rho_cp;
+    let Some(eos) = &jc.eos else {
+        if let Some((x, y)) = radial_return(lambda, g, sigma, d_eps, flow) {
+            book_plastic(jc, hist, x, y);
         }
-        hist.eps_p += x;
+        return;
+    };
+    // with an equation of state: the deviator returns on its own, the pressure follows the EOS
+    let p_old = -(sigma[0] + sigma[1] + sigma[2]) / 3.0;
+    let dv = d_eps[0] + d_eps[1] + d_eps[2];
+    let dev_eps = crate::math::deviator(d_eps);
+    let old = crate::math::deviator(sigma);
+    let mut s = old;
+    let plastic = radial_return(0.0, g, &mut s, &dev_eps, flow);
+    let avg: Sym3 = std::array::from_fn(|i| 0.5 * (old[i] + s[i]));
+    let w_dev = crate::math::ddot(&avg, &dev_eps);
+    let p = EosState {
+        ln_j: &mut hist.ln_j,
+        energy: &mut hist.energy,
     }
+    .step(eos, dv, w_dev, p_old);
+    *sigma = [s[0] - p, s[1] - p, s[2] - p, s[3], s[4], s[5]];
+    if let Some((x, y)) = plastic {
+        book_plastic(jc, hist, x, y);
+    }
+}
+
+/// The heat and plastic strain of a return that took the plastic increment `x` at the flow
+/// stress `y`.
+#[inline]
+fn book_plastic(jc: &JohnsonCook, hist: &mut History, x: f64, y: f64) {
+    // the plastic work of the increment, at the flow stress it ends on
+    if jc.rho_cp.is_finite() {
+        hist.heat += y * x / jc.rho_cp;
+    }
+    hist.eps_p += x;
 }
 
 #[cfg(test)]
@@ -256,5 +288,66 @@ mod tests {
             "consistency"
         );
         assert_eq!(h.heat, 0.0);
+    }
+
+    /// Uniaxial strain (a plate impact's state: d_eps = (-r, 0, 0) dt) of 4340 steel with a
+    /// Mie-Gruneisen EOS, to 20% compression in 4000 steps:
+    /// - without the energy term (GAMMA0 = A = 0) the pressure is the EOS's curve at the
+    ///   volume reached, rho0 C^2 eta / (1 - S1 eta)^2 with eta = 1 - V (1e-9), and the
+    ///   deviator is on the flow surface (von Mises = the flow stress, 1e-9);
+    /// - with GAMMA0 = 1.67 the energy the history books is the work of the stress, the running
+    ///   sum of J_mid sigma_avg : d_eps (trapezoid, J = V/V_start) to 1e-9 of it, and the
+    ///   pressure is the EOS at that energy and volume (1e-9).
+    #[test]
+    fn uniaxial_strain_follows_the_gruneisen_eos() {
+        let (lambda, g) = lame();
+        for gamma0 in [0.0, 1.67] {
+            let eos = Eos::Gruneisen {
+                c: 4578.0,
+                s: [1.33, 0.0, 0.0],
+                gamma0,
+                a: 0.0,
+                rho0: 7830.0,
+                e0: 0.0,
+                v0: 1.0,
+            };
+            // no rate or heat: the flow stress is the hardening curve's
+            let jc = JohnsonCook {
+                eos: Some(eos),
+                rho_cp: f64::INFINITY,
+                c: 0.0,
+                ..steel()
+            };
+            let n = 4000;
+            let de = (0.8f64).ln() / n as f64; // tr d_eps per step (log strain)
+            let (mut s, mut h, mut work) = ([0.0; 6], History::default(), 0.0);
+            for _ in 0..n {
+                let old = s;
+                let j_old = h.ln_j.exp();
+                let d = [de, 0.0, 0.0, 0.0, 0.0, 0.0];
+                update_johnson_cook(lambda, g, &jc, &mut s, &d, 1e-7, &mut h);
+                let j_mid = 0.5 * (j_old + h.ln_j.exp());
+                work += j_mid * 0.5 * (old[0] + s[0]) * de;
+            }
+            let v = h.ln_j.exp();
+            assert!((v - 0.8).abs() < 1e-12);
+            let p = -(s[0] + s[1] + s[2]) / 3.0;
+            let q = von_mises(&s);
+            let flow = jc.flow_stress(h.eps_p, 0.0, 0.0);
+            assert!((q - flow).abs() < 1e-9 * q, "{q} vs {flow}");
+            if gamma0 == 0.0 {
+                let eta = 1.0 - v;
+                let want = 7830.0 * 4578.0f64.powi(2) * eta / (1.0 - 1.33 * eta).powi(2);
+                assert!((p - want).abs() < 1e-9 * want, "{p} vs {want}");
+            } else {
+                assert!(
+                    (h.energy - work).abs() < 1e-9 * work,
+                    "{} vs {work}",
+                    h.energy
+                );
+                let want = eos.pressure(v, h.energy);
+                assert!((p - want).abs() < 1e-9 * want, "{p} vs {want}");
+            }
+        }
     }
 }

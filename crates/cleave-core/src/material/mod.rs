@@ -6,12 +6,14 @@
 //! components, LS-DYNA order xx yy zz xy yz zx).
 
 mod elastic;
+mod eos;
 mod johnson_cook;
 mod piecewise;
 mod plastic;
 mod return_map;
 
 pub use elastic::update_elastic;
+pub use eos::{Eos, EosState};
 pub use johnson_cook::{update_johnson_cook, JohnsonCook};
 pub use piecewise::{update_piecewise, PiecewiseLinear};
 pub use plastic::update_plastic_kinematic;
@@ -19,8 +21,9 @@ pub use plastic::update_plastic_kinematic;
 use crate::math::Sym3;
 use crate::model::{Material, MaterialKind};
 
-/// Per-element history of a material point: effective plastic strain, back stress and
-/// temperature rise.
+/// Per-element history of a material point: effective plastic strain, back stress,
+/// temperature rise, and for a material with an equation of state the log volume ratio and the
+/// internal energy ([`EosState`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct History {
     /// Effective (equivalent) plastic strain.
@@ -29,6 +32,10 @@ pub struct History {
     pub back: Sym3,
     /// Adiabatic temperature rise from plastic work (K; Johnson-Cook).
     pub heat: f64,
+    /// ln(V / V_start) of an equation of state's material point.
+    pub ln_j: f64,
+    /// Internal energy per unit reference volume less E0 (Pa), for an equation of state.
+    pub energy: f64,
 }
 
 /// A material law with its parameters precomputed for the kernel.

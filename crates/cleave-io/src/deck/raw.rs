@@ -4,6 +4,7 @@
 use std::rc::Rc;
 
 use cleave_core::curve::Curve;
+use cleave_core::material::Eos;
 use cleave_core::math::Vec3;
 use cleave_core::model::{Control, MaterialKind, OutputRequests, StrengthDist, Vad};
 
@@ -43,6 +44,8 @@ pub struct RawPart {
     pub title: String,
     pub secid: i64,
     pub mid: i64,
+    /// EOSID, if given.
+    pub eosid: Option<i64>,
 }
 
 #[derive(Clone, Debug)]
@@ -60,6 +63,18 @@ pub struct RawMaterial {
     pub young: f64,
     pub poisson: f64,
     pub kind: MaterialKind,
+    /// `*MAT_JOHNSON_COOK` with G but neither PR nor E: the shear modulus, the bulk modulus to
+    /// come from the part's equation of state (young and poisson are then NaN until it does).
+    pub shear_only: Option<f64>,
+}
+
+/// `*EOS_LINEAR_POLYNOMIAL` or `*EOS_GRUNEISEN` (rho0 of the Gruneisen form is filled in from
+/// the material it is attached to).
+#[derive(Clone, Debug)]
+pub struct RawEos {
+    pub src: Src,
+    pub id: i64,
+    pub eos: Eos,
 }
 
 #[derive(Clone, Debug)]
@@ -177,6 +192,7 @@ pub struct RawDeck {
     pub parts: Vec<RawPart>,
     pub sections: Vec<RawSection>,
     pub materials: Vec<RawMaterial>,
+    pub eos: Vec<RawEos>,
     pub separations: Vec<RawSeparation>,
     pub curves: Vec<RawCurve>,
     pub node_sets: Vec<RawSet<i64>>,

@@ -10,7 +10,7 @@
 use std::fmt::Write as _;
 
 use cleave_core::element::shape::{shape_of, Shape};
-use cleave_core::material::{JohnsonCook, PiecewiseLinear};
+use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear};
 use cleave_core::model::{
     ContactSurface, Hourglass, Material, MaterialKind, Model, MotionTarget, PenaltyRule,
     StrengthDist, Vad,
@@ -252,11 +252,13 @@ fn finite_or_blank(v: f64) -> F {
     }
 }
 
-/// Johnson-Cook: `*MAT_JOHNSON_COOK` when it softens thermally or heats (what `*MAT_098`
-/// cannot say), else `*MAT_SIMPLIFIED_JOHNSON_COOK` (which carries the caps SIGMAX, SIGSAT).
+/// Johnson-Cook: `*MAT_JOHNSON_COOK` when it softens thermally, heats or has an equation of
+/// state (what `*MAT_098` cannot say; the EOS is written after it with the material's id, and
+/// its parts name it), else `*MAT_SIMPLIFIED_JOHNSON_COOK` (which carries the caps SIGMAX,
+/// SIGSAT).
 fn johnson_cook(o: &mut String, mat: &Material, jc: &JohnsonCook) {
     let hardening = [F::R(jc.a), F::R(jc.b), F::R(jc.n), F::R(jc.c)];
-    if jc.t_melt.is_finite() || jc.rho_cp.is_finite() {
+    if jc.t_melt.is_finite() || jc.rho_cp.is_finite() || jc.eos.is_some() {
         simple(
             o,
             "*MAT_JOHNSON_COOK",
@@ -265,8 +267,17 @@ fn johnson_cook(o: &mut String, mat: &Material, jc: &JohnsonCook) {
                 F::I(mat.id),
                 F::R(mat.density),
                 F::R(mat.shear_modulus()),
-                F::R(mat.young),
-                F::R(mat.poisson),
+                // with an EOS, E and PR follow from G and its bulk modulus: left blank
+                if jc.eos.is_some() {
+                    F::B
+                } else {
+                    F::R(mat.young)
+                },
+                if jc.eos.is_some() {
+                    F::B
+                } else {
+                    F::R(mat.poisson)
+                },
             ],
         );
         names(o, &["a", "b", "n", "c", "m", "tm", "tr", "epso"], &W10);
@@ -280,6 +291,9 @@ fn johnson_cook(o: &mut String, mat: &Material, jc: &JohnsonCook) {
         card(o, &f, &W10);
         names(o, &["cp"], &W10);
         card(o, &[finite_or_blank(jc.rho_cp / mat.density)], &W10);
+        if let Some(eos) = jc.eos {
+            equation_of_state(o, mat.id, &eos);
+        }
     } else {
         simple(
             o,
@@ -305,6 +319,54 @@ fn johnson_cook(o: &mut String, mat: &Material, jc: &JohnsonCook) {
             F::R(jc.eps0),
         ]);
         card(o, &f, &W10);
+    }
+}
+
+/// `*EOS_LINEAR_POLYNOMIAL` or `*EOS_GRUNEISEN` with id `id`.
+fn equation_of_state(o: &mut String, id: i64, eos: &Eos) {
+    match *eos {
+        Eos::LinearPolynomial { c, e0, v0 } => {
+            o.push_str("*EOS_LINEAR_POLYNOMIAL\n");
+            names(
+                o,
+                &["eosid", "c0", "c1", "c2", "c3", "c4", "c5", "c6"],
+                &W10,
+            );
+            let mut f = vec![F::I(id)];
+            f.extend(c.iter().map(|&v| F::R(v)));
+            card(o, &f, &W10);
+            names(o, &["e0", "v0"], &W10);
+            card(o, &[F::R(e0), F::R(v0)], &W10);
+        }
+        Eos::Gruneisen {
+            c,
+            s,
+            gamma0,
+            a,
+            e0,
+            v0,
+            ..
+        } => {
+            o.push_str("*EOS_GRUNEISEN\n");
+            names(
+                o,
+                &["eosid", "c", "s1", "s2", "s3", "gamao", "a", "e0"],
+                &W10,
+            );
+            let f = [
+                F::I(id),
+                F::R(c),
+                F::R(s[0]),
+                F::R(s[1]),
+                F::R(s[2]),
+                F::R(gamma0),
+                F::R(a),
+                F::R(e0),
+            ];
+            card(o, &f, &W10);
+            names(o, &["v0"], &W10);
+            card(o, &[F::R(v0)], &W10);
+        }
     }
 }
 
@@ -353,9 +415,15 @@ fn properties(o: &mut String, m: &Model) {
         for p in &m.parts {
             o.push_str("$# title\n");
             let _ = writeln!(o, "{}", title_line(&p.title));
-            names(o, &["pid", "secid", "mid"], &W10);
-            let (s, mat) = (m.sections[p.section].id, m.materials[p.material].id);
-            card(o, &[F::I(p.id), F::I(s), F::I(mat)], &W10);
+            names(o, &["pid", "secid", "mid", "eosid"], &W10);
+            let material = &m.materials[p.material];
+            let (s, mat) = (m.sections[p.section].id, material.id);
+            // an equation of state is written with its material's id
+            let eos = match material.kind {
+                MaterialKind::JohnsonCook(JohnsonCook { eos: Some(_), .. }) => F::I(mat),
+                _ => F::B,
+            };
+            card(o, &[F::I(p.id), F::I(s), F::I(mat), eos], &W10);
         }
     }
     if !m.sections.is_empty() {

@@ -57,6 +57,7 @@ impl Builder<'_> {
                 material: self.find(&ids.materials, p.mid, &p.src, "MID", "material")?,
             });
         }
+        self.equations_of_state(m)?;
         self.elements(m, &ids)?;
         self.sets(m, &mut ids)?;
         Ok(ids)

@@ -5,6 +5,7 @@
 //! sections, curves and sets alike).
 
 mod conditions;
+mod eos;
 mod mesh;
 
 use std::collections::HashMap;

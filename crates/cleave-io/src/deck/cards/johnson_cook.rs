@@ -44,7 +44,15 @@ fn hardening_and_rate(c: &Card<'_>, eps0_at: usize) -> Result<[f64; 5], DeckErro
 }
 
 /// The material `mid` with density, Young's modulus and Poisson's ratio `m`.
-fn push(r: &Reader<'_>, deck: &mut RawDeck, c: &Card<'_>, mid: i64, m: [f64; 3], jc: JohnsonCook) {
+fn push(
+    r: &Reader<'_>,
+    deck: &mut RawDeck,
+    c: &Card<'_>,
+    mid: i64,
+    m: [f64; 3],
+    jc: JohnsonCook,
+    shear_only: Option<f64>,
+) {
     deck.materials.push(RawMaterial {
         src: r.src(c.line),
         id: mid,
@@ -52,6 +60,7 @@ fn push(r: &Reader<'_>, deck: &mut RawDeck, c: &Card<'_>, mid: i64, m: [f64; 3],
         young: m[1],
         poisson: m[2],
         kind: MaterialKind::JohnsonCook(jc),
+        shear_only,
     });
 }
 
@@ -91,8 +100,9 @@ pub fn simplified(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
         rho_cp: f64::INFINITY,
         sig_max: cap(&c2, 5, "SIGMAX")?,
         sig_sat: cap(&c2, 6, "SIGSAT")?,
+        eos: None,
     };
-    push(r, deck, &c, mid, [ro, e, pr], jc);
+    push(r, deck, &c, mid, [ro, e, pr], jc, None);
     Ok(())
 }
 
@@ -109,9 +119,11 @@ fn poisson(c: &Card<'_>, i: usize) -> Result<f64, DeckError> {
 /// `A B N C M TM TR EPSO`, card 3 `CP PC SPALL IT D1 D2 D3 D4`, optional card 4
 /// `D5 C2/P EROD EFMIN NUMINT`.
 ///
-/// - Elasticity: cleave reads no `*EOS` yet, so the bulk response is linear and comes from
-///   G and PR (E = 2 G (1 + PR)); E may be given instead of PR (PR = E / (2 G) - 1); given both,
-///   they must agree with G to 1e-3. An EOSID on the part is an error (`*PART`).
+/// - Elasticity: with an `*EOS` on the part (its EOSID), the pressure comes from it and the
+///   bulk modulus of the wave speed from its reference slope (`build/eos.rs`); PR and E may
+///   then be blank. Without one the bulk response is linear and comes from G and PR
+///   (E = 2 G (1 + PR)); E may be given instead of PR (PR = E / (2 G) - 1); given both, they
+///   must agree with G to 1e-3.
 /// - Thermal softening when TM > TR (M blank or 0: 1); the temperature rises adiabatically
 ///   by the plastic work over RO CP (CP blank or 0: no heating, T stays TR).
 /// - Not modelled (errors when set): RATEOP other than 0, the spall cutoff PC, the damage
@@ -136,15 +148,11 @@ pub fn johnson_cook(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
             }
             pr
         }
-        (false, None) => {
-            return Err(c.field_err(
-                "PR",
-                "missing: cleave reads no *EOS, so the bulk modulus comes from G and PR (or E)",
-            ))
-        }
+        // the bulk modulus must come from the part's *EOS (checked when the parts are built)
+        (false, None) => f64::NAN,
     };
     let from_g = 2.0 * g * (1.0 + pr);
-    if e > 0.0 && (e - from_g).abs() > 1e-3 * from_g {
+    if e > 0.0 && !pr.is_nan() && (e - from_g).abs() > 1e-3 * from_g {
         return Err(c.field_err(
             "E",
             format!("{e} disagrees with G = {g} and PR = {pr} (2 G (1 + PR) = {from_g})"),
@@ -202,7 +210,9 @@ pub fn johnson_cook(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
         rho_cp: if cp > 0.0 { ro * cp } else { f64::INFINITY },
         sig_max: f64::INFINITY,
         sig_sat: f64::INFINITY,
+        eos: None,
     };
-    push(r, deck, &c, mid, [ro, young, pr], jc);
+    let shear_only = pr.is_nan().then_some(g);
+    push(r, deck, &c, mid, [ro, young, pr], jc, shear_only);
     Ok(())
 }

@@ -40,6 +40,7 @@ fn push(
         young: m.2,
         poisson: m.3,
         kind,
+        shear_only: None,
     });
 }
 

@@ -81,8 +81,9 @@ pub fn element_solid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
 }
 
 /// `*PART`: for each part, a title line (80 characters) then
-/// `PID SECID MID EOSID HGID GRAV ADPOPT TMID`. SECID and MID are required; EOSID, HGID and
-/// TMID must be blank (those keywords are not supported).
+/// `PID SECID MID EOSID HGID GRAV ADPOPT TMID`. SECID and MID are required; EOSID names an
+/// `*EOS_...` (for `*MAT_JOHNSON_COOK` only); HGID and TMID must be blank (those keywords are
+/// not supported).
 pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     while !r.at_end() {
         let title = r.title()?;
@@ -94,8 +95,8 @@ pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
         let mid = c
             .ref_id(2, "MID")?
             .ok_or_else(|| c.field_err("MID", format!("part {id} has no material")))?;
+        let eosid = c.ref_id(3, "EOSID")?;
         for (i, name, what) in [
-            (3, "EOSID", "equations of state"),
             (4, "HGID", "*HOURGLASS (use *CONTROL_HOURGLASS)"),
             (7, "TMID", "thermal materials"),
         ] {
@@ -109,6 +110,7 @@ pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
             title,
             secid,
             mid,
+            eosid,
         });
     }
     Ok(())

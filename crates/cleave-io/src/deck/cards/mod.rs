@@ -6,6 +6,7 @@
 
 mod control;
 mod curve;
+mod eos;
 mod interaction;
 mod johnson_cook;
 mod loads;
@@ -32,6 +33,7 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
         let (base, titled) = match kw.strip_suffix("_TITLE") {
             Some(b)
                 if b.starts_with("*MAT_")
+                    || b.starts_with("*EOS_")
                     || b.starts_with("*SECTION_")
                     || b.starts_with("*SET_")
                     || b == "*DEFINE_CURVE" =>
@@ -70,6 +72,8 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
                 johnson_cook::simplified(&mut r, &mut deck)?
             }
             "*MAT_ADD_SEPARATION" => material::separation(&mut r, &mut deck)?,
+            "*EOS_LINEAR_POLYNOMIAL" => eos::linear_polynomial(&mut r, &mut deck)?,
+            "*EOS_GRUNEISEN" => eos::gruneisen(&mut r, &mut deck)?,
             "*SET_NODE_LIST" => sets::node_list(&mut r, &mut deck)?,
             "*SET_PART_LIST" => sets::part_list(&mut r, &mut deck)?,
             "*SET_SEGMENT" => sets::segment(&mut r, &mut deck)?,

@@ -110,6 +110,7 @@ pub fn piecewise_linear(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
             p: if rate_c > 0.0 { rate_p } else { 1.0 },
             lcss,
         }),
+        shear_only: None,
     });
     Ok(())
 }

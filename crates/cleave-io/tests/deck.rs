@@ -1344,7 +1344,11 @@ fn johnson_cook_cards_are_read() {
     );
     assert_eq!((jc.m, jc.rho_cp), (1.0, f64::INFINITY));
     for (text, field, msg) in [
-        (jc015.replace("7.7e10, , 0.29", "7.7e10"), "PR", "no part gives it an *EOS"),
+        (
+            jc015.replace("7.7e10, , 0.29", "7.7e10"),
+            "PR",
+            "no part gives it an *EOS",
+        ),
         (
             jc015.replace("7.7e10, , 0.29", "7.7e10, 2.5e11, 0.29"),
             "E",
@@ -1872,4 +1876,85 @@ fn johnson_cook_takes_an_equation_of_state_from_its_part() {
     let e = err(&t.replacen("1, 1, 1, 5\n", "1, 1, 1\n", 1));
     assert!(e.message.contains("PR (or E) is missing"), "{e}");
     assert_eq!(e.field.as_deref(), Some("PR"));
+}
+
+/// What LS-PrePost and other people's decks write around the cards cleave reads: the `_ID`
+/// (and `_TITLE`) options of boundary conditions and contacts (a first card `ID HEADING`),
+/// `*SET_PART` for `*SET_PART_LIST`, read to the same model as BASE; `*CONTROL_ACCURACY`, the
+/// `*CONTROL_IMPLICIT_` cards of an explicit run and `*CONTACT_FORCE_TRANSDUCER_PENALTY` warn;
+/// an implicit run (IMFLAG 1) is an error naming the field.
+#[test]
+fn id_options_and_cards_of_other_decks() {
+    let base = parse(BASE);
+    let t = BASE
+        .replacen("*BOUNDARY_SPC_SET\n", "*BOUNDARY_SPC_SET_ID\n1BC_y0\n", 1)
+        .replacen(
+            "*BOUNDARY_PRESCRIBED_MOTION_SET\n",
+            "*BOUNDARY_PRESCRIBED_MOTION_SET_ID\n0MovingNodes\n",
+            1,
+        )
+        .replacen(
+            "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n",
+            "*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID\n         1Ball to Plate\n",
+            1,
+        )
+        .replacen(
+            "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n",
+            "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TITLE\n2 plate\n",
+            1,
+        )
+        .replacen("*SET_PART_LIST\n", "*SET_PART\n", 1)
+        .replacen(
+            "*END\n",
+            "*CONTROL_ACCURACY\n1, 4, 0, 1\n*CONTROL_IMPLICIT_GENERAL\n0, 1.0\n*CONTROL_IMPLICIT_SOLVER\n6\n*CONTACT_FORCE_TRANSDUCER_PENALTY\n1, 2, 3, 3\n*END\n",
+            1,
+        );
+    let d = parse_deck(&t, "t.k").unwrap_or_else(|e| panic!("{e}"));
+    let m = &d.model;
+    assert_eq!(m.spcs, base.spcs);
+    assert_eq!(m.prescribed, base.prescribed);
+    assert_eq!(m.contacts, base.contacts);
+    assert_eq!(m.part_sets, base.part_sets);
+    for k in [
+        "*CONTROL_ACCURACY",
+        "*CONTROL_IMPLICIT_GENERAL",
+        "*CONTROL_IMPLICIT_SOLVER",
+        "*CONTACT_FORCE_TRANSDUCER_PENALTY",
+    ] {
+        assert!(
+            d.warnings.iter().any(|w| w.contains(k)),
+            "{k}: {:?}",
+            d.warnings
+        );
+    }
+    let implicit = t.replacen(
+        "*CONTROL_IMPLICIT_GENERAL\n0, 1.0",
+        "*CONTROL_IMPLICIT_GENERAL\n1, 1.0",
+        1,
+    );
+    let e = err(&implicit);
+    assert_eq!(e.field.as_deref(), Some("IMFLAG"), "{e}");
+    assert!(
+        e.message.contains("implicit analysis is not supported"),
+        "{e}"
+    );
+}
+
+/// A value wider than its fixed-format field (as `     1.0E-3` in the first 10 columns,
+/// seen in a public deck) is an error that says the text runs across the field's edge and
+/// how wide the fields are.
+#[test]
+fn a_value_across_a_field_edge_is_explained() {
+    let t = with(
+        "*CONTROL_TERMINATION\n",
+        "*CONTROL_TERMINATION\n     1.0E-3\n$",
+    );
+    let e = err(&t);
+    assert_eq!(e.field.as_deref(), Some("ENDTIM"), "{e}");
+    assert!(e.message.contains("'1.0E-' is not a number"), "{e}");
+    assert!(
+        e.message
+            .contains("runs across the edge of this field (columns 1-10)"),
+        "{e}"
+    );
 }

@@ -23,6 +23,11 @@ pub struct Card<'a> {
     /// Whether the card was comma-separated.
     pub free: bool,
     fields: Vec<Cow<'a, str>>,
+    /// Fixed format: bit i set when field i's text runs on into field i + 1 (no blank on
+    /// either side of the column between them), to explain a value that does not parse.
+    joined: u64,
+    /// The fields' widths (fixed format).
+    widths: &'static [usize],
 }
 
 impl<'a> Card<'a> {
@@ -32,7 +37,7 @@ impl<'a> Card<'a> {
         file: &'a str,
         keyword: &'a str,
         line: Line<'a>,
-        widths: &[usize],
+        widths: &'static [usize],
     ) -> Result<Self, DeckError> {
         let free = line.text.contains(',');
         let width: usize = widths.iter().sum();
@@ -55,12 +60,26 @@ impl<'a> Card<'a> {
                 .map(Cow::Borrowed)
                 .collect()
         };
+        let mut joined = 0u64;
+        if !free {
+            let chars: Vec<char> = line.text.chars().collect();
+            let mut col = 0;
+            for (i, &w) in widths.iter().enumerate().take(63) {
+                col += w;
+                let at = |k: usize| chars.get(k).is_some_and(|c| !c.is_whitespace());
+                if col > 0 && at(col - 1) && at(col) {
+                    joined |= 1 << i;
+                }
+            }
+        }
         let card = Card {
             file,
             keyword,
             line: line.no,
             free,
             fields,
+            joined,
+            widths,
         };
         if free {
             let n = card.count();
@@ -107,6 +126,23 @@ impl<'a> Card<'a> {
         Ok(self)
     }
 
+    /// A parse error of field `i`, with the likely cause when the text runs on across a
+    /// field's edge (a value wider than its field, or a card laid out in other widths).
+    fn explain(&self, i: usize, m: String) -> String {
+        let into_next = i < 63 && self.joined & (1 << i) != 0;
+        let from_prev = i > 0 && i <= 63 && self.joined & (1 << (i - 1)) != 0;
+        if !(into_next || from_prev) {
+            return m;
+        }
+        let start: usize = self.widths[..i.min(self.widths.len())].iter().sum();
+        let w = self.widths.get(i).copied().unwrap_or(0);
+        format!(
+            "{m}: the text runs across the edge of this field (columns {}-{}): fixed-format fields here are {w} characters wide; align the values to them or separate them with commas",
+            start + 1,
+            start + w
+        )
+    }
+
     /// An error at this card's line.
     pub fn err(&self, message: impl Into<String>) -> DeckError {
         DeckError::at(self.file, self.line, Some(self.keyword), message)
@@ -123,7 +159,9 @@ impl<'a> Card<'a> {
         if s.is_empty() {
             return Ok(None);
         }
-        parse_f64(s).map(Some).map_err(|m| self.field_err(name, m))
+        parse_f64(s)
+            .map(Some)
+            .map_err(|m| self.field_err(name, self.explain(i, m)))
     }
 
     /// A real field; `default` if blank.
@@ -144,7 +182,9 @@ impl<'a> Card<'a> {
         if s.is_empty() {
             return Ok(None);
         }
-        parse_i64(s).map(Some).map_err(|m| self.field_err(name, m))
+        parse_i64(s)
+            .map(Some)
+            .map_err(|m| self.field_err(name, self.explain(i, m)))
     }
 
     /// An integer field; `default` if blank.

@@ -69,6 +69,25 @@ pub fn control_or_database(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(),
         | "*DATABASE_RCFORC"
         | "*DATABASE_BINARY_D3PLOT" => interval(r, deck),
         "*DATABASE_HISTORY_NODE" | "*DATABASE_HISTORY_SOLID" => history(r, deck),
+        "*CONTROL_ACCURACY" => {
+            deck.warnings.push(format!(
+                "{}:{}: *CONTROL_ACCURACY: cleave's stress update is always objective and second order (OSU 1); invariant node numbering (INN) is not applied, ignored",
+                r.file,
+                r.line_of_keyword()
+            ));
+            r.ignore_rest();
+            Ok(())
+        }
+        "*CONTROL_IMPLICIT_GENERAL" => implicit_general(r, deck),
+        k if k.starts_with("*CONTROL_IMPLICIT_") => {
+            deck.warnings.push(format!(
+                "{}:{}: {k}: implicit solver settings, ignored (cleave runs explicit dynamics; *CONTROL_IMPLICIT_GENERAL with IMFLAG 1 is an error)",
+                r.file,
+                r.line_of_keyword()
+            ));
+            r.ignore_rest();
+            Ok(())
+        }
         k if NOTHING_FOR_CLEAVE.contains(&k) || k.starts_with("*CONTROL_MPP_") => {
             deck.warnings.push(format!(
                 "{}:{}: {k}: changes nothing cleave computes, ignored",
@@ -92,6 +111,27 @@ pub fn control_or_database(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(),
             r.line_of_keyword(),
             Some(k),
             "keyword not supported (see the supported keyword list in the README)",
+        )),
+    }
+}
+
+/// `*CONTROL_IMPLICIT_GENERAL`: `IMFLAG DT0 ...`. IMFLAG 0 (blank) is an explicit run, read
+/// past with a warning; any other (an implicit or a switching analysis) is an error: cleave is
+/// an explicit code.
+fn implicit_general(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.card_or_defaults(W10)?;
+    match c.i64_or(0, "IMFLAG", 0)? {
+        0 => {
+            deck.warnings.push(format!(
+                "{}:{}: *CONTROL_IMPLICIT_GENERAL: IMFLAG 0, an explicit run; ignored",
+                c.file, c.line
+            ));
+            r.ignore_rest();
+            Ok(())
+        }
+        v => Err(c.field_err(
+            "IMFLAG",
+            format!("{v}: implicit analysis is not supported (cleave integrates explicitly in time); set IMFLAG 0 or remove the *CONTROL_IMPLICIT_ cards"),
         )),
     }
 }

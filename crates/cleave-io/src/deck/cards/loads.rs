@@ -213,7 +213,8 @@ pub fn spc(r: &mut Reader<'_>, deck: &mut RawDeck, set: bool) -> Result<(), Deck
 /// 3 (x, y, z); VAD 0 velocity, 2 displacement; SF blank or 0 means 1. DEATH and BIRTH must be
 /// left at their defaults.
 pub fn prescribed(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
-    let kw = r.keyword;
+    // the variant, without the `_ID` or `_TITLE` option
+    let kw = r.keyword.trim_end_matches("_ID").trim_end_matches("_TITLE");
     while let Some(c) = r.next_nonblank(W10)? {
         let (name, mk): (&str, fn(i64) -> Target) = if kw.ends_with("_SET") {
             ("NSID", Target::NodeSet)

@@ -36,11 +36,21 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
                     || b.starts_with("*EOS_")
                     || b.starts_with("*SECTION_")
                     || b.starts_with("*SET_")
+                    || b.starts_with("*BOUNDARY_")
+                    || b.starts_with("*CONTACT_")
                     || b == "*DEFINE_CURVE" =>
             {
                 (b, true)
             }
             _ => (kw, false),
+        };
+        // the `_ID` option of boundary conditions and contacts (what LS-PrePost writes): a
+        // first card `ID HEADING`, read past as a title
+        let (base, titled) = match base.strip_suffix("_ID") {
+            Some(b) if !titled && (b.starts_with("*BOUNDARY_") || b.starts_with("*CONTACT_")) => {
+                (b, true)
+            }
+            _ => (base, titled),
         };
         let mut r = Reader::new(block, &params);
         if titled {
@@ -75,7 +85,7 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             "*EOS_LINEAR_POLYNOMIAL" => eos::linear_polynomial(&mut r, &mut deck)?,
             "*EOS_GRUNEISEN" => eos::gruneisen(&mut r, &mut deck)?,
             "*SET_NODE_LIST" => sets::node_list(&mut r, &mut deck)?,
-            "*SET_PART_LIST" => sets::part_list(&mut r, &mut deck)?,
+            "*SET_PART_LIST" | "*SET_PART" => sets::part_list(&mut r, &mut deck)?,
             "*SET_SEGMENT" => sets::segment(&mut r, &mut deck)?,
             "*SET_NODE_LIST_GENERATE" => sets::node_generate(&mut r, &mut deck)?,
             "*SET_PART_LIST_GENERATE" => sets::part_generate(&mut r, &mut deck)?,
@@ -95,6 +105,13 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             "*CONTACT_AUTOMATIC_SINGLE_SURFACE" => interaction::contact(&mut r, &mut deck, true)?,
             "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE" => {
                 interaction::contact(&mut r, &mut deck, false)?
+            }
+            "*CONTACT_FORCE_TRANSDUCER_PENALTY" => {
+                deck.warnings.push(format!(
+                    "{}:{}: {kw}: force transducer output is not written, ignored",
+                    block.file, block.line
+                ));
+                r.ignore_rest();
             }
             k if k.starts_with("*CONTROL_") || k.starts_with("*DATABASE_") => {
                 control::control_or_database(&mut r, &mut deck)?
@@ -174,7 +191,7 @@ impl<'a> Reader<'a> {
     }
 
     /// The next line as a card (a blank line is a card of defaults); `None` at the end.
-    pub fn next(&mut self, widths: &[usize]) -> Result<Option<Card<'a>>, DeckError> {
+    pub fn next(&mut self, widths: &'static [usize]) -> Result<Option<Card<'a>>, DeckError> {
         match self.lines.get(self.pos) {
             None => Ok(None),
             Some(&l) => {
@@ -187,13 +204,20 @@ impl<'a> Reader<'a> {
     }
 
     /// The next non-blank line as a card; `None` at the end (for repeated cards).
-    pub fn next_nonblank(&mut self, widths: &[usize]) -> Result<Option<Card<'a>>, DeckError> {
+    pub fn next_nonblank(
+        &mut self,
+        widths: &'static [usize],
+    ) -> Result<Option<Card<'a>>, DeckError> {
         self.skip_blank();
         self.next(widths)
     }
 
     /// The next line as a card, which must exist; `what` names its fields for the message.
-    pub fn required(&mut self, widths: &[usize], what: &str) -> Result<Card<'a>, DeckError> {
+    pub fn required(
+        &mut self,
+        widths: &'static [usize],
+        what: &str,
+    ) -> Result<Card<'a>, DeckError> {
         let line = self.lines.last().map_or(self.block_line, |l| l.no);
         self.next(widths)?.ok_or_else(|| {
             DeckError::at(
@@ -207,7 +231,7 @@ impl<'a> Reader<'a> {
 
     /// The next line as a card, or a card of defaults (at the keyword's line) if there is
     /// none: for keywords whose only card may be omitted.
-    pub fn card_or_defaults(&mut self, widths: &[usize]) -> Result<Card<'a>, DeckError> {
+    pub fn card_or_defaults(&mut self, widths: &'static [usize]) -> Result<Card<'a>, DeckError> {
         match self.next(widths)? {
             Some(c) => Ok(c),
             None => Ok(Card::new(

@@ -48,7 +48,7 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
                     (Shape::Wedge, _) => "degenerate one-point hexahedron",
                     _ => "one-point hexahedron",
                 };
-                format!("{k} {}{} ({how})", s.name(), if k == 1 { "" } else { "s" })
+                format!("{k} {} ({how})", if k == 1 { s.name() } else { s.plural() })
             })
             .collect();
         let kind = match mat.kind {

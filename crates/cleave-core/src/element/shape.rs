@@ -53,6 +53,15 @@ impl Shape {
         }
     }
 
+    /// The plural of [`Self::name`].
+    pub fn plural(self) -> &'static str {
+        match self {
+            Shape::Hex => "hexahedra",
+            Shape::Wedge => "wedges",
+            Shape::Tet => "tetrahedra",
+        }
+    }
+
     /// The corners (indices into the 8) that hold the distinct nodes, in order.
     pub fn corners(self) -> &'static [usize] {
         match self {

@@ -20,6 +20,7 @@ pub mod contact;
 pub mod curve;
 pub mod element;
 pub mod error;
+pub mod loads;
 pub mod material;
 pub mod math;
 pub mod mesh;

@@ -38,6 +38,10 @@ pub struct Model {
     pub spcs: Vec<Spc>,
     pub prescribed: Vec<PrescribedMotion>,
     pub body_loads: Vec<BodyLoad>,
+    /// `*LOAD_NODE_POINT` / `_SET`, one entry per node (sets expanded).
+    pub node_loads: Vec<NodeLoad>,
+    /// `*LOAD_SEGMENT` / `_SET`, one entry per segment.
+    pub pressure_loads: Vec<PressureLoad>,
     pub rigid_walls: Vec<RigidWall>,
     pub contacts: Vec<ContactDef>,
     pub separations: Vec<SeparationDef>,
@@ -211,6 +215,30 @@ impl BodyLoad {
         let c = self.curve.map_or(1.0, |i| curves[i].eval(t));
         -self.sf * c
     }
+}
+
+/// `*LOAD_NODE_POINT` / `*LOAD_NODE_SET` with DOF 1-3: the force `sf * curve(t)` on `node`
+/// along `axis`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeLoad {
+    pub node: u32,
+    pub axis: usize,
+    /// Index into `Model::curves`.
+    pub curve: usize,
+    pub sf: f64,
+}
+
+/// `*LOAD_SEGMENT` / `*LOAD_SEGMENT_SET`: the pressure `p = sf * curve(t)` (zero before the
+/// birth time `at`) on a segment `N1 N2 N3 N4` (a triangle as `N1 N2 N3 N3`), a follower load:
+/// a positive pressure pushes against the segment's normal by the right-hand rule
+/// (LS-DYNA's convention), with the area vector of the current geometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PressureLoad {
+    pub nodes: [u32; 4],
+    /// Index into `Model::curves`.
+    pub curve: usize,
+    pub sf: f64,
+    pub at: f64,
 }
 
 /// `*RIGIDWALL_PLANAR`: a fixed stonewall. The wall normal points from the tail (XT, YT, ZT)

@@ -53,6 +53,7 @@ use crate::element::kernel::KernelControls;
 use crate::element::nodal_pressure::NodalPressure;
 use crate::element::{element_corner_forces, element_step, Shape};
 use crate::error::SolverError;
+use crate::loads::Loads;
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::model::{Model, MotionTarget, Vad};
 use crate::node_values::NodeValues;
@@ -192,6 +193,8 @@ pub struct Solver<'m> {
     dt_contact: f64,
     /// The nodal averaging of the ELFORM 13 tetrahedra, if any.
     nodal_pressure: Option<NodalPressure>,
+    /// Concentrated and pressure loads, with their forces of the last step.
+    loads: Loads,
     /// Time spent in each phase.
     pub times: PhaseTimes,
 }
@@ -278,6 +281,7 @@ impl<'m> Solver<'m> {
             new_cracks: Vec::new(),
             dt_contact: f64::INFINITY,
             nodal_pressure,
+            loads: Loads::default(),
             times: PhaseTimes::default(),
         })
     }
@@ -473,6 +477,7 @@ impl<'m> Solver<'m> {
         let t0 = Instant::now();
         let (dt_crit, dt_elem) = self.compute_element_forces()?;
         self.average_nodal_pressure();
+        self.add_loads();
         let t1 = Instant::now();
         self.check_interfaces();
         let t2 = Instant::now();
@@ -483,7 +488,9 @@ impl<'m> Solver<'m> {
         let dt_new = self.next_time_step(dt_crit, dt_elem)?;
         let dt_mid = 0.5 * (self.state.dt_prev + dt_new);
         self.state.dt = dt_new;
+        let load_now = self.load_work(dt_mid);
         self.update_velocities(dt_mid);
+        let load_later = self.load_work(dt_mid);
         let mut work = self.update_rigid_bodies(dt_mid, dt_new);
         work += self.apply_constraints(dt_new);
         work += self.apply_rigid_walls(dt_mid, dt_new);
@@ -491,8 +498,8 @@ impl<'m> Solver<'m> {
         // NOTE: an impulse J of this step changes v^(n+1/2), which the kinetic energy at t^n
         // (1/2 m v^(n-1/2).v^(n+1/2)) and at t^(n+1) both contain: its work is booked as
         // 1/2 J.v^(n-1/2) now and 1/2 J.v^(n+1/2) at the next step.
-        self.state.energy.external_work += self.pending_work + work.now + body_work;
-        self.pending_work = work.later;
+        self.state.energy.external_work += self.pending_work + work.now + body_work + load_now;
+        self.pending_work = work.later + load_later;
         if self.state.step == 0 {
             // E0 + W = the total at t = 0 (W holds the first half of the first impulses)
             self.state.initial_energy = self.state.energy.total() - self.state.energy.external_work;
@@ -665,6 +672,47 @@ impl<'m> Solver<'m> {
                 f[n as usize] = add(f[n as usize], df);
             },
         );
+    }
+
+    /// The concentrated and pressure loads at t^n into the forces (a node's into its set's
+    /// slot, [`Loads::apply`]).
+    fn add_loads(&mut self) {
+        if !Loads::any(self.model) {
+            return;
+        }
+        let Self {
+            model,
+            state,
+            separation,
+            per_slot,
+            set_mass,
+            setup,
+            f,
+            loads,
+            ..
+        } = self;
+        let (slots, _) = sets_view(separation.as_ref(), set_mass, &setup.mass);
+        let kin = slots.filter(|_| *per_slot);
+        let x = NodeValues::new(&state.x, kin);
+        loads.apply(
+            model,
+            state.t,
+            |n| x[n as usize],
+            |n, fv| {
+                let k = slots.map_or(n as usize, |s| s[n as usize] as usize);
+                f[k] = add(f[k], fv);
+            },
+        );
+    }
+
+    /// Half the work of the loads' impulse on the half-step velocities as they stand
+    /// ([`Loads::work`]); 0 without loads.
+    fn load_work(&self, dt_mid: f64) -> f64 {
+        if !Loads::any(self.model) {
+            return 0.0;
+        }
+        let v = self.half_step_velocities();
+        self.loads.work(|n| v[n as usize], dt_mid)
     }
 
     /// Check every intact interface on the stresses at t^n; release the failed ones. The sets

@@ -1218,6 +1218,18 @@ fn round_trip_model() -> Model {
                 sf: 0.5,
             },
         ],
+        node_loads: vec![NodeLoad {
+            node: 3,
+            axis: 1,
+            curve: 0,
+            sf: -250.0,
+        }],
+        pressure_loads: vec![PressureLoad {
+            nodes: [0, 1, 5, 4],
+            curve: 0,
+            sf: 2.5e6,
+            at: 1e-5,
+        }],
         rigid_walls: vec![
             RigidWall {
                 id: 1,
@@ -1957,4 +1969,37 @@ fn a_value_across_a_field_edge_is_explained() {
             .contains("runs across the edge of this field (columns 1-10)"),
         "{e}"
     );
+}
+
+/// `*LOAD_NODE_POINT`, `*LOAD_NODE_SET` (expanded per node), `*LOAD_SEGMENT` (a triangle as
+/// N1 N2 N3 N3) and `*LOAD_SEGMENT_SET`; written and read back the same; a moment (DOF 5), a
+/// quadratic segment and repeated nodes are errors naming the field or the segment.
+#[test]
+fn nodal_and_pressure_loads_are_read() {
+    let loads = "*LOAD_NODE_POINT\n12, 3, 2, 2.5\n*LOAD_NODE_SET\n1, 1, 2\n*LOAD_SEGMENT\n2, 5.0e6, 1.0e-4, 1, 2, 5, 4\n2, 1.0e6, 0., 3, 6, 9, 9\n*LOAD_SEGMENT_SET\n3, 2, 2.0, 0.\n*END\n";
+    let t = BASE.replacen("*END\n", loads, 1);
+    let m = parse(&t);
+    // node 12 along z, then the 4 nodes of set 1 along x
+    assert_eq!(m.node_loads.len(), 5);
+    assert_eq!(m.node_loads[0].axis, 2);
+    assert_eq!(m.node_ids[m.node_loads[0].node as usize], 12);
+    assert!(close(m.node_loads[0].sf, 2.5));
+    assert!(m.node_loads[1..].iter().all(|l| l.axis == 0 && l.sf == 1.0));
+    // two segments, then the 2 of segment set 3
+    assert_eq!(m.pressure_loads.len(), 4);
+    let p0 = &m.pressure_loads[0];
+    assert_eq!(p0.nodes.map(|n| m.node_ids[n as usize]), [1, 2, 5, 4]);
+    assert!(close(p0.sf, 5e6) && close(p0.at, 1e-4));
+    assert_eq!(m.pressure_loads[1].nodes[2], m.pressure_loads[1].nodes[3]);
+    assert_eq!(m.pressure_loads[2].nodes, m.segment_sets[0].segments[0]);
+    let again = parse(&write_deck(&m));
+    assert_eq!(again.node_loads, m.node_loads);
+    assert_eq!(again.pressure_loads, m.pressure_loads);
+    // errors
+    let e = err(&t.replacen("12, 3, 2, 2.5", "12, 5, 2, 2.5", 1));
+    assert_eq!(e.field.as_deref(), Some("DOF"), "{e}");
+    let e = err(&t.replacen("1, 2, 5, 4\n", "1, 2, 5, 4, 7\n", 1));
+    assert_eq!(e.field.as_deref(), Some("N5"), "{e}");
+    let e = err(&t.replacen("1, 2, 5, 4\n", "1, 2, 2, 4\n", 1));
+    assert!(e.message.contains("repeated nodes"), "{e}");
 }

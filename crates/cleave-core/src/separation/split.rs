@@ -1,7 +1,7 @@
 //! Splitting the mesh of separation groups and building the interface table.
 //!
 //! Node numbering of the split model: the deck's nodes that some element outside every group
-//! still uses keep a node (in deck order); then each group element, in element order, gets a
+//! still uses, or no element uses, keep a node (in deck order); then each group element, in element order, gets a
 //! new node for each distinct corner, in corner order (8 for a hexahedron, 6 for a wedge, 4 for
 //! a tetrahedron: repeated corners stay one node). Deck nodes used only by group elements have
 //! no node of their own any more (as in the paper: a fully split mesh has 8 nodes per
@@ -75,13 +75,21 @@ pub fn split_model(model: &Model) -> SplitModel {
         .map(|e| mat_group[model.parts[model.elem_part[e] as usize].material])
         .collect();
 
-    // deck nodes still used by an element outside every group keep a node
+    // deck nodes still used by an element outside every group keep a node, and so do the
+    // nodes of no element (free, massless: a history node, a load or wall node may name one)
     let mut keep = vec![NONE; nn];
+    let mut used = vec![false; nn];
     for (e, conn) in model.conn.iter().enumerate() {
-        if elem_group[e] == NONE {
-            for &n in conn {
+        for &n in conn {
+            used[n as usize] = true;
+            if elem_group[e] == NONE {
                 keep[n as usize] = 0;
             }
+        }
+    }
+    for (k, u) in keep.iter_mut().zip(&used) {
+        if !u {
+            *k = 0;
         }
     }
     let group_elems = elem_group.iter().filter(|&&g| g != NONE).count();
@@ -167,6 +175,13 @@ pub fn split_model(model: &Model) -> SplitModel {
         for seg in &mut s.segments {
             *seg = seg.map(|n| copies.of(n)[0]);
         }
+    }
+    for l in &mut m.node_loads {
+        l.node = copies.of(l.node)[0];
+    }
+    // a segment's pressure goes to the first copy of each corner (their sets, while intact)
+    for l in &mut m.pressure_loads {
+        l.nodes = l.nodes.map(|n| copies.of(n)[0]);
     }
     m.output.history_nodes = model
         .output

@@ -155,6 +155,28 @@ pub struct RawBodyLoad {
     pub sf: f64,
 }
 
+/// `*LOAD_NODE_POINT` (a node) or `*LOAD_NODE_SET` (a node set).
+#[derive(Clone, Debug)]
+pub struct RawNodeLoad {
+    pub src: Src,
+    pub id: i64,
+    pub set: bool,
+    pub axis: usize,
+    pub lcid: i64,
+    pub sf: f64,
+}
+
+/// `*LOAD_SEGMENT` (one segment's deck nodes) or `*LOAD_SEGMENT_SET` (a segment set).
+#[derive(Clone, Debug)]
+pub struct RawPressure {
+    pub src: Src,
+    pub segment: Option<[i64; 4]>,
+    pub ssid: Option<i64>,
+    pub lcid: i64,
+    pub sf: f64,
+    pub at: f64,
+}
+
 #[derive(Clone, Debug)]
 pub struct RawWall {
     pub src: Src,
@@ -202,6 +224,8 @@ pub struct RawDeck {
     pub motions: Vec<RawMotion>,
     pub init_vel: Vec<RawInitVel>,
     pub body_loads: Vec<RawBodyLoad>,
+    pub node_loads: Vec<RawNodeLoad>,
+    pub pressures: Vec<RawPressure>,
     pub walls: Vec<RawWall>,
     pub contacts: Vec<RawContact>,
     pub control: Control,

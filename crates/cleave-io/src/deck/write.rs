@@ -668,6 +668,28 @@ fn conditions(o: &mut String, m: &Model) {
         let lcid = b.curve.map_or(0, |c| m.curves[c].id);
         simple(o, kw, &["lcid", "sf"], &[F::I(lcid), F::R(b.sf)]);
     }
+    if !m.node_loads.is_empty() {
+        o.push_str("*LOAD_NODE_POINT\n");
+        names(o, &["nid", "dof", "lcid", "sf"], &W10);
+        for l in &m.node_loads {
+            let f = [
+                F::I(m.node_ids[l.node as usize]),
+                F::I(l.axis as i64 + 1),
+                F::I(m.curves[l.curve].id),
+                F::R(l.sf),
+            ];
+            card(o, &f, &W10);
+        }
+    }
+    if !m.pressure_loads.is_empty() {
+        o.push_str("*LOAD_SEGMENT\n");
+        names(o, &["lcid", "sf", "at", "n1", "n2", "n3", "n4"], &W10);
+        for l in &m.pressure_loads {
+            let mut f = vec![F::I(m.curves[l.curve].id), F::R(l.sf), F::R(l.at)];
+            f.extend(l.nodes.iter().map(|&n| F::I(m.node_ids[n as usize])));
+            card(o, &f, &W10);
+        }
+    }
 }
 
 fn surface(m: &Model, s: Option<&ContactSurface>) -> (F, F) {

@@ -5,8 +5,8 @@ use std::collections::BTreeMap;
 
 use cleave_core::math::{cross, sub, Vec3};
 use cleave_core::model::{
-    BodyLoad, ContactDef, ContactSurface, MaterialKind, Model, MotionTarget, PrescribedMotion,
-    RigidWall, Spc,
+    BodyLoad, ContactDef, ContactSurface, MaterialKind, Model, MotionTarget, NodeLoad,
+    PrescribedMotion, PressureLoad, RigidWall, Spc,
 };
 
 use super::mesh::dedup;
@@ -15,6 +15,69 @@ use crate::deck::error::DeckError;
 use crate::deck::raw::{RawSurface, Src, Target};
 
 impl Builder<'_> {
+    /// `*LOAD_NODE_...` (sets expanded, one load per node) and `*LOAD_SEGMENT...` (one per
+    /// segment); a segment whose nodes repeat other than as a triangle `N1 N2 N3 N3` is an
+    /// error.
+    fn loads(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
+        let raw = self.raw;
+        for l in &raw.node_loads {
+            let curve = self.find(&ids.curves, l.lcid, &l.src, "LCID", "curve")?;
+            let nodes = if l.set {
+                let s = self.find(&ids.node_sets, l.id, &l.src, "NSID", "node set")?;
+                m.node_sets[s].nodes.clone()
+            } else {
+                vec![self.find(&ids.nodes, l.id, &l.src, "NID", "node")?]
+            };
+            for node in nodes {
+                m.node_loads.push(NodeLoad {
+                    node,
+                    axis: l.axis,
+                    curve,
+                    sf: l.sf,
+                });
+            }
+        }
+        for p in &raw.pressures {
+            let curve = self.find(&ids.curves, p.lcid, &p.src, "LCID", "curve")?;
+            let segments = match (p.segment, p.ssid) {
+                (Some(seg), _) => {
+                    let mut nodes = [0u32; 4];
+                    for (k, (n, &id)) in nodes.iter_mut().zip(&seg).enumerate() {
+                        *n = self.find(&ids.nodes, id, &p.src, &format!("N{}", k + 1), "node")?;
+                    }
+                    let distinct = (0..4)
+                        .filter(|&a| (0..a).all(|b| nodes[b] != nodes[a]))
+                        .count();
+                    let triangle = nodes[2] == nodes[3] && distinct == 3;
+                    if distinct != 4 && !triangle {
+                        return Err(self.err(
+                            &p.src,
+                            format!(
+                                "segment {} {} {} {}: repeated nodes (a triangle is N1 N2 N3 N3)",
+                                seg[0], seg[1], seg[2], seg[3]
+                            ),
+                        ));
+                    }
+                    vec![nodes]
+                }
+                (None, Some(ssid)) => {
+                    let s = self.find(&ids.segment_sets, ssid, &p.src, "SSID", "segment set")?;
+                    m.segment_sets[s].segments.clone()
+                }
+                (None, None) => Vec::new(),
+            };
+            for nodes in segments {
+                m.pressure_loads.push(PressureLoad {
+                    nodes,
+                    curve,
+                    sf: p.sf,
+                    at: p.at,
+                });
+            }
+        }
+        Ok(())
+    }
+
     pub fn conditions(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
         let part_nodes = part_nodes(m);
         self.spcs(m, ids, &part_nodes)?;
@@ -32,6 +95,7 @@ impl Builder<'_> {
                 sf: b.sf,
             });
         }
+        self.loads(m, ids)?;
         for (k, w) in raw.walls.iter().enumerate() {
             let nodes = match w.nsid {
                 None => None,

@@ -8,7 +8,9 @@ use super::control::warn_ignored;
 use super::Reader;
 use crate::deck::error::DeckError;
 use crate::deck::fields::{Card, W10};
-use crate::deck::raw::{RawBodyLoad, RawDeck, RawInitVel, RawMotion, RawSpc, Target};
+use crate::deck::raw::{
+    RawBodyLoad, RawDeck, RawInitVel, RawMotion, RawNodeLoad, RawPressure, RawSpc, Target,
+};
 
 /// A coordinate-system field (CID, ICID) must be blank or 0: only global axes are supported.
 fn global_only(c: &Card<'_>, i: usize, name: &str) -> Result<(), DeckError> {
@@ -276,5 +278,91 @@ pub fn body(r: &mut Reader<'_>, deck: &mut RawDeck, axis: usize) -> Result<(), D
         lcid,
         sf,
     });
+    Ok(())
+}
+
+/// `*LOAD_NODE_POINT` / `*LOAD_NODE_SET`: one card each, `NID|NSID DOF LCID SF CID M1 M2 M3`:
+/// the force `SF * curve(t)` along DOF 1, 2 or 3 (x, y, z) on the node, or on each node of the
+/// set. LCID is required; SF blank or 0 means 1. DOF 4 (a follower force) and 5 to 8 (moments)
+/// are errors (solid elements have no rotations), and so is a local CID.
+pub fn node_load(r: &mut Reader<'_>, deck: &mut RawDeck, set: bool) -> Result<(), DeckError> {
+    let what = if set { "NSID" } else { "NID" };
+    while let Some(c) = r.next_nonblank(W10)? {
+        let id = c.id(0, what)?;
+        let dof = c.i64_or(1, "DOF", 0)?;
+        let axis = match dof {
+            1..=3 => dof as usize - 1,
+            v => {
+                return Err(c.field_err(
+                    "DOF",
+                    format!("{v}: only forces along x, y or z (DOF 1, 2, 3) act on solids"),
+                ))
+            }
+        };
+        let lcid = c.id(2, "LCID")?;
+        let sf = c.f64_nz(3, "SF", 1.0)?;
+        global_only(&c, 4, "CID")?;
+        deck.node_loads.push(RawNodeLoad {
+            src: r.src(c.line),
+            id,
+            set,
+            axis,
+            lcid,
+            sf,
+        });
+    }
+    Ok(())
+}
+
+/// `*LOAD_SEGMENT`: one card per segment, `LCID SF AT N1 N2 N3 N4` (N5..N8 of quadratic
+/// segments must be blank; a triangle repeats N3 as N4): the pressure `SF * curve(t)` from the
+/// birth time AT on, pushing against the segment's normal by the right-hand rule N1 N2 N3.
+/// SF blank or 0 means 1.
+pub fn segment_load(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    while let Some(c) = r.next_nonblank(W10)? {
+        let lcid = c.id(0, "LCID")?;
+        let sf = c.f64_nz(1, "SF", 1.0)?;
+        let at = c.f64_or(2, "AT", 0.0)?;
+        let mut seg = [0i64; 4];
+        for (k, n) in seg.iter_mut().enumerate() {
+            *n = c.id(3 + k, &format!("N{}", k + 1))?;
+        }
+        for k in 4..8 {
+            if c.ref_id(3 + k, &format!("N{}", k + 1))?.is_some() {
+                return Err(c.field_err(
+                    &format!("N{}", k + 1),
+                    "quadratic segments are not supported; leave N5..N8 blank",
+                ));
+            }
+        }
+        deck.pressures.push(RawPressure {
+            src: r.src(c.line),
+            segment: Some(seg),
+            ssid: None,
+            lcid,
+            sf,
+            at,
+        });
+    }
+    Ok(())
+}
+
+/// `*LOAD_SEGMENT_SET`: one card per set, `SSID LCID SF AT`: the pressure of `*LOAD_SEGMENT` on
+/// every segment of the set.
+pub fn segment_set_load(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    while let Some(c) = r.next_nonblank(W10)? {
+        let ssid = c.id(0, "SSID")?;
+        let lcid = c.id(1, "LCID")?;
+        let sf = c.f64_nz(2, "SF", 1.0)?;
+        let at = c.f64_or(3, "AT", 0.0)?;
+        deck.pressures.push(RawPressure {
+            src: r.src(c.line),
+            segment: None,
+            ssid: Some(ssid),
+            lcid,
+            sf,
+            at,
+        });
+    }
     Ok(())
 }

@@ -98,6 +98,10 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             "*BOUNDARY_PRESCRIBED_MOTION_NODE"
             | "*BOUNDARY_PRESCRIBED_MOTION_SET"
             | "*BOUNDARY_PRESCRIBED_MOTION_RIGID" => loads::prescribed(&mut r, &mut deck)?,
+            "*LOAD_NODE_POINT" => loads::node_load(&mut r, &mut deck, false)?,
+            "*LOAD_NODE_SET" => loads::node_load(&mut r, &mut deck, true)?,
+            "*LOAD_SEGMENT" => loads::segment_load(&mut r, &mut deck)?,
+            "*LOAD_SEGMENT_SET" => loads::segment_set_load(&mut r, &mut deck)?,
             "*LOAD_BODY_X" => loads::body(&mut r, &mut deck, 0)?,
             "*LOAD_BODY_Y" => loads::body(&mut r, &mut deck, 1)?,
             "*LOAD_BODY_Z" => loads::body(&mut r, &mut deck, 2)?,

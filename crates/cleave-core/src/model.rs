@@ -65,7 +65,8 @@ pub struct Part {
 pub struct Section {
     pub id: i64,
     /// Element formulation: 1 (one-point hexahedron with hourglass control; wedges run it on
-    /// their degenerate corners, tetrahedra run the one-point tetrahedron) or 10 (one-point
+    /// their degenerate corners, tetrahedra run the one-point tetrahedron), 2 (fully integrated
+    /// selectively reduced hexahedron, [`crate::element::sri`]; hexahedra only), 10 (one-point
     /// tetrahedron; tetrahedra only) or 13 (tetrahedron with nodal pressure averaging,
     /// [`crate::element::nodal_pressure`]; tetrahedra only, not in a separation group). See
     /// [`crate::element::Shape`].

@@ -51,6 +51,7 @@ use crate::contact::{ContactSet, Crack};
 use crate::element::colouring::{Colouring, Scatter};
 use crate::element::kernel::KernelControls;
 use crate::element::nodal_pressure::NodalPressure;
+use crate::element::sri::{sri_corner_forces, SriElements};
 use crate::element::{element_corner_forces, element_step, Shape};
 use crate::error::SolverError;
 use crate::loads::Loads;
@@ -195,6 +196,8 @@ pub struct Solver<'m> {
     nodal_pressure: Option<NodalPressure>,
     /// Concentrated and pressure loads, with their forces of the last step.
     loads: Loads,
+    /// The ELFORM 2 hexahedra, if any, with their Gauss points.
+    sri: Option<SriElements>,
     /// Time spent in each phase.
     pub times: PhaseTimes,
 }
@@ -250,6 +253,10 @@ impl<'m> Solver<'m> {
             },
             nn,
         );
+        let sri = SriElements::new(ne, |e| {
+            setup.elem_shape[e] == Shape::Hex
+                && model.sections[model.parts[model.elem_part[e] as usize].section].elform == 2
+        });
         let colouring = Colouring::new(&model.conn, nn);
         // the element pass's parallel writes are race-free only with a proper colouring
         assert!(
@@ -282,6 +289,7 @@ impl<'m> Solver<'m> {
             dt_contact: f64::INFINITY,
             nodal_pressure,
             loads: Loads::default(),
+            sri,
             times: PhaseTimes::default(),
         })
     }
@@ -525,6 +533,7 @@ impl<'m> Solver<'m> {
             let (x, v) = (&self.state.x, &self.state.v);
             np.average_volume_change(|n| x[n as usize], |n| v[n as usize], self.state.dt_prev);
         }
+        self.step_sri_elements();
         let Self {
             model,
             setup,
@@ -556,6 +565,7 @@ impl<'m> Solver<'m> {
         let (size, colour, colours) = (colouring.size(), colouring.colour(), colouring.colours());
         let loose = separation.as_ref().map(|s| s.loose_elements());
         let np = self.nodal_pressure.as_ref();
+        let sri = self.sri.as_ref();
         let sink = Scatter::new(f);
         let process = |c: usize,
                        sc: &mut [crate::math::Sym3],
@@ -583,20 +593,39 @@ impl<'m> Solver<'m> {
                 let xe: [Vec3; 8] = std::array::from_fn(|a| x[at[a] as usize]);
                 let ve: [Vec3; 8] = std::array::from_fn(|a| v[at[a] as usize]);
                 let mut fe = [[0.0; 3]; 8];
-                match element_step(
-                    setup.elem_shape[e],
-                    &xe,
-                    &ve,
-                    np.and_then(|n| n.theta_bar(e)),
-                    dt_prev,
-                    p,
-                    &ctl,
-                    &mut sc[k],
-                    &mut hc[k],
-                    &mut qc[k],
-                    Some(&mut gc[k]),
-                    &mut fe,
-                ) {
+                // ELFORM 2 elements were stepped before the pass (`step_sri_elements`)
+                let step = match sri.and_then(|s| s.position(e)) {
+                    Some(i) => {
+                        let (forces, r, sigma, q, eps_p) = sri.map(|s| s.result(i)).unwrap_or((
+                            &fe,
+                            Err(crate::element::kernel::InvertedElement),
+                            [0.0; 6],
+                            0.0,
+                            0.0,
+                        ));
+                        fe = *forces;
+                        sc[k] = sigma;
+                        qc[k] = q;
+                        // the element's history for output: the points' mean plastic strain
+                        hc[k].eps_p = eps_p;
+                        r
+                    }
+                    None => element_step(
+                        setup.elem_shape[e],
+                        &xe,
+                        &ve,
+                        np.and_then(|n| n.theta_bar(e)),
+                        dt_prev,
+                        p,
+                        &ctl,
+                        &mut sc[k],
+                        &mut hc[k],
+                        &mut qc[k],
+                        Some(&mut gc[k]),
+                        &mut fe,
+                    ),
+                };
+                match step {
                     Ok(r) => {
                         for (&to, fa) in to.iter().zip(fe) {
                             // SAFETY: this runs for the chunks of one colour at a time (the
@@ -655,6 +684,40 @@ impl<'m> Solver<'m> {
             }
         }
         Ok((dt_min, dt_elem))
+    }
+
+    /// ELFORM 2: the step of the selectively reduced hexahedra, in parallel over them, before
+    /// the coloured pass that scatters their forces ([`SriElements::step_all`]).
+    fn step_sri_elements(&mut self) {
+        let Some(sri) = &mut self.sri else {
+            return;
+        };
+        let st = &self.state;
+        let kin = match &self.separation {
+            Some(sep) if self.per_slot => Some(sep.sets().slots()),
+            _ => None,
+        };
+        let x = NodeValues::new(&st.x, kin);
+        let v = NodeValues::new(&st.v, kin);
+        let conn = &self.model.conn;
+        let setup = &self.setup;
+        let loose = self.separation.as_ref().map(|s| s.loose_elements());
+        sri.step_all(
+            |e| {
+                let c = &conn[e];
+                (c.map(|n| x[n as usize]), c.map(|n| v[n as usize]))
+            },
+            |e| {
+                let params = match loose {
+                    Some(l) if l[e] => &setup.loose_params,
+                    _ => &setup.params,
+                };
+                params[setup.elem_mat[e] as usize].as_ref()
+            },
+            |e| st.bulk_q[e],
+            st.dt_prev,
+            &self.ctl,
+        );
     }
 
     /// ELFORM 13: the corner forces of the averaging tetrahedra carry the nodal mean of their
@@ -798,8 +861,22 @@ impl<'m> Solver<'m> {
             let mut fe = [[0.0; 3]; 8];
             // the element pass found every element upright at these positions
             let shape = self.setup.elem_shape[e];
-            element_corner_forces(shape, &xe, &st.stress[e], st.bulk_q[e], &st.hg[e], &mut fe)
-                .expect("an element upright in this step's element pass");
+            match self
+                .sri
+                .as_ref()
+                .and_then(|s| s.position(e).map(|k| (s, k)))
+            {
+                Some((s, k)) => sri_corner_forces(&xe, &s.pts[k], st.bulk_q[e], &mut fe),
+                None => element_corner_forces(
+                    shape,
+                    &xe,
+                    &st.stress[e],
+                    st.bulk_q[e],
+                    &st.hg[e],
+                    &mut fe,
+                ),
+            }
+            .expect("an element upright in this step's element pass");
             for (&n, fa) in conn[e].iter().zip(fe) {
                 if nodes.binary_search(&n).is_ok() {
                     let s = slots[n as usize] as usize;

@@ -776,9 +776,9 @@ fn unsupported_options_are_errors() {
         ),
         (
             "*SECTION_SOLID\n1, 1",
-            "*SECTION_SOLID\n1, 2",
+            "*SECTION_SOLID\n1, 3",
             "ELFORM",
-            "2 not supported",
+            "3 not supported",
         ),
         (
             "0., 0., 0., 0., 0., 2.",

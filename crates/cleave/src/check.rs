@@ -44,7 +44,9 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
             .filter(|(_, k)| *k > 0)
             .map(|(s, k)| {
                 let how = match (s, elform) {
+                    (Shape::Tet, 13) => "tetrahedron with nodal pressure averaging",
                     (Shape::Tet, _) => "one-point tetrahedron",
+                    (Shape::Hex, 2) => "fully integrated selectively reduced hexahedron",
                     (Shape::Wedge, _) => "degenerate one-point hexahedron",
                     _ => "one-point hexahedron",
                 };

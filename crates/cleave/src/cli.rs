@@ -105,9 +105,9 @@ pub struct ExampleArgs {
     /// Write the deck without its separation card.
     #[arg(long = "no-separation")]
     pub no_separation: bool,
-    /// taylor-bar: the element shape, `hex` (default), `wedge`, `tet` or `tet13` (each
-    /// hexahedron of the same mesh cut into 2 wedges or 6 tetrahedra; the tetrahedra with
-    /// ELFORM 10, or 13: nodal pressure averaging).
+    /// taylor-bar: the element shape, `hex` (default), `hex2` (the hexahedra with ELFORM 2),
+    /// `wedge`, `tet` or `tet13` (each hexahedron of the same mesh cut into 2 wedges or 6
+    /// tetrahedra; the tetrahedra with ELFORM 10, or 13: nodal pressure averaging).
     #[arg(long)]
     pub shape: Option<String>,
 }

@@ -9,6 +9,7 @@ pub mod hex8;
 pub mod kernel;
 pub mod nodal_pressure;
 pub mod shape;
+pub mod sri;
 pub mod tet4;
 
 pub use shape::Shape;

@@ -32,7 +32,7 @@ use cleave_core::model::StrengthDist;
 pub const EXAMPLES: &[(&str, &str)] = &[
     (
         "taylor-bar",
-        "copper Taylor bar, 227 m/s onto a rigid wall, bilinear plasticity (4320 elements, 80 us; --shape wedge|tet|tet13 cuts each into 2 wedges or 6 tetrahedra, ELFORM 10 or 13)",
+        "copper Taylor bar, 227 m/s onto a rigid wall, bilinear plasticity (4320 elements, 80 us; --shape hex2 runs ELFORM 2; wedge|tet|tet13 cut each into 2 wedges or 6 tetrahedra, ELFORM 10 or 13)",
     ),
     (
         "ball-impact",
@@ -88,12 +88,13 @@ pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
         (None, _) => (Shape::Hex, 1),
         (Some(s), "taylor-bar") => match s {
             "hex" => (Shape::Hex, 1),
+            "hex2" => (Shape::Hex, 2),
             "wedge" => (Shape::Wedge, 1),
             "tet" => (Shape::Tet, 10),
             "tet13" => (Shape::Tet, 13),
             other => {
                 return Err(Failure::Input(format!(
-                    "--shape {other}: one of hex, wedge, tet, tet13"
+                    "--shape {other}: one of hex, hex2, wedge, tet, tet13"
                 )))
             }
         },

@@ -55,13 +55,15 @@ pub fn taylor_bar_of(shape: Shape, elform: i32) -> Model {
     let mut m = single_part_model(mesh, copper, 80e-6);
     m.title = "Taylor bar: copper cylinder R 3.2 mm L 32.4 mm at 227 m/s onto a rigid wall".into();
     m.sections[0].elform = elform;
-    if shape != Shape::Hex {
-        let on = if shape == Shape::Tet {
-            "tetrahedra"
-        } else {
-            "wedges"
-        };
-        m.title = format!("Taylor bar on {on}: copper R 3.2 L 32.4 mm, 227 m/s onto a rigid wall");
+    let on = match (shape, elform) {
+        (Shape::Hex, 1) => None,
+        (Shape::Hex, _) => Some("hexahedra ELFORM 2"),
+        (Shape::Wedge, _) => Some("wedges"),
+        (Shape::Tet, 13) => Some("tetrahedra ELFORM 13"),
+        (Shape::Tet, _) => Some("tetrahedra ELFORM 10"),
+    };
+    if let Some(on) = on {
+        m.title = format!("Taylor bar, {on}: copper R 3.2 L 32.4 mm at 227 m/s, rigid wall");
     }
     m.parts[0].title = "copper bar".into();
     m.v0.iter_mut().for_each(|v| *v = [0.0, 0.0, -227.0]);

@@ -139,6 +139,17 @@ impl Builder<'_> {
             let (conn, shape) = canonical(conn)
                 .map_err(|msg| self.err(&nsrc, format!("element {}: {msg}", e.id)))?;
             let elform = m.sections[m.parts[part].section].elform;
+            if elform == 2 && shape != Shape::Hex {
+                return Err(self.err(
+                    &nsrc,
+                    format!(
+                        "element {} is a {} in part {}, whose section has ELFORM 2 (hexahedra only; give wedges and tetrahedra a section of ELFORM 1, 10 or 13)",
+                        e.id,
+                        shape.name(),
+                        m.parts[part].id
+                    ),
+                ));
+            }
             if (elform == 10 || elform == 13) && shape != Shape::Tet {
                 return Err(self.err(
                     &nsrc,

@@ -134,13 +134,14 @@ pub fn section_solid(
         let id = c.id(0, "SECID")?;
         let elform = match c.i64_or(1, "ELFORM", 1)? {
             0 | 1 => 1,
+            2 => 2,
             10 => 10,
             13 => 13,
             e => {
                 return Err(c.field_err(
                     "ELFORM",
                     format!(
-                        "{e} not supported: 1 (one-point hexahedron with hourglass control; wedges as degenerate hexahedra, tetrahedra as ELFORM 10), 10 (one-point tetrahedron) or 13 (tetrahedron with nodal pressure averaging)"
+                        "{e} not supported: 1 (one-point hexahedron with hourglass control; wedges as degenerate hexahedra, tetrahedra as ELFORM 10), 2 (fully integrated selectively reduced hexahedron), 10 (one-point tetrahedron) or 13 (tetrahedron with nodal pressure averaging)"
                     ),
                 ))
             }

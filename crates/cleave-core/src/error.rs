@@ -18,6 +18,14 @@ pub enum SolverError {
         time: f64,
         step: u64,
     },
+    /// The time step fell below the floor DTMIN x the first step (exit code 3).
+    TimeStepTooSmall {
+        dt: f64,
+        floor: f64,
+        element: i64,
+        time: f64,
+        step: u64,
+    },
 }
 
 impl SolverError {
@@ -43,6 +51,16 @@ impl fmt::Display for SolverError {
             SolverError::BadTimeStep { dt, element, time, step } => write!(
                 f,
                 "the time step {dt:e} controlled by element {element} is not usable at time {time:e} (step {step})"
+            ),
+            SolverError::TimeStepTooSmall {
+                dt,
+                floor,
+                element,
+                time,
+                step,
+            } => write!(
+                f,
+                "the time step {dt:e} controlled by element {element} fell below the floor {floor:e} (DTMIN of *CONTROL_TERMINATION times the first step) at time {time:e} (step {step}): the element is collapsing"
             ),
         }
     }

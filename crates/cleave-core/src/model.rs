@@ -364,7 +364,15 @@ pub struct Control {
     pub slsfac: f64,
     /// PENOPT: the stiffness of a contact pair.
     pub penalty: PenaltyRule,
+    /// DTMIN of `*CONTROL_TERMINATION`: the run stops (exit 3) when the time step falls below
+    /// DTMIN times the first one. LS-DYNA's blank means no floor; cleave's default is
+    /// [`DEFAULT_DTMIN`], so that a collapsing step ends the run instead of running for ever.
+    pub dt_min: f64,
 }
+
+/// The time step floor, as a fraction of the first step, when a deck gives no DTMIN: a step a
+/// million times shorter than at the start means a run that would not end.
+pub const DEFAULT_DTMIN: f64 = 1e-6;
 
 /// `*CONTROL_CONTACT` PENOPT: which stiffness a node-to-face contact pair takes
 /// ([`crate::contact::surface::FaceTable::pair_stiffness`]).
@@ -389,6 +397,7 @@ impl Default for Control {
             q2: 0.06,
             slsfac: 0.1,
             penalty: PenaltyRule::Smaller,
+            dt_min: DEFAULT_DTMIN,
         }
     }
 }

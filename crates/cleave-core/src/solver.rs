@@ -192,6 +192,8 @@ pub struct Solver<'m> {
     new_cracks: Vec<Crack>,
     /// Stable time step of the contact penalty springs (infinite without contact).
     dt_contact: f64,
+    /// The time step floor, DTMIN times the first step.
+    dt_floor: f64,
     /// The nodal averaging of the ELFORM 13 tetrahedra, if any.
     nodal_pressure: Option<NodalPressure>,
     /// Concentrated and pressure loads, with their forces of the last step.
@@ -287,6 +289,7 @@ impl<'m> Solver<'m> {
             contact: None,
             new_cracks: Vec::new(),
             dt_contact: f64::INFINITY,
+            dt_floor: 0.0,
             nodal_pressure,
             loads: Loads::default(),
             sri,
@@ -967,6 +970,18 @@ impl<'m> Solver<'m> {
         if c.dt_init > 0.0 && (self.state.step == 0 || !dt_crit.is_finite()) {
             // DTINIT caps the first step, and is the step of a model with no deformable element
             dt = dt.min(c.dt_init);
+        }
+        let element_id = |e: u32| self.model.elem_ids.get(e as usize).copied().unwrap_or(0);
+        if self.state.step == 0 {
+            self.dt_floor = c.dt_min * dt;
+        } else if dt < self.dt_floor {
+            return Err(SolverError::TimeStepTooSmall {
+                dt,
+                floor: self.dt_floor,
+                element: element_id(dt_elem),
+                time: self.state.t,
+                step: self.state.step,
+            });
         }
         if !dt.is_finite() || dt <= 0.0 {
             return Err(SolverError::BadTimeStep {

@@ -1306,6 +1306,7 @@ fn round_trip_model() -> Model {
             q2: 0.1,
             slsfac: 0.15,
             penalty: PenaltyRule::Face,
+            dt_min: 0.05,
         },
         output: OutputRequests {
             glstat_dt: 1.0e-6,

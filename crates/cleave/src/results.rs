@@ -39,12 +39,21 @@ impl Schedule {
         Self { dt, next: 0.0 }
     }
     /// Due at t = 0, then at every multiple of dt (the first step at or after it), and last.
+    /// At most once a step: a DT shorter than the time step writes every step. The next time
+    /// is found in one go (a DT of 1e-30 once counted its multiples up to t one by one, for
+    /// ever).
     fn due(&mut self, t: f64, last: bool) -> bool {
         let hit = last || t >= self.next * (1.0 - 1e-12);
         if hit {
-            if self.dt > 0.0 {
-                while self.next <= t * (1.0 + 1e-12) {
-                    self.next += self.dt;
+            if self.dt > 0.0 && self.dt.is_finite() {
+                let beyond = t * (1.0 + 1e-12);
+                if self.next <= beyond {
+                    // the first multiple of dt past `beyond`
+                    let k = (beyond / self.dt).floor() + 1.0;
+                    self.next = (k * self.dt).max(self.next + self.dt);
+                    if self.next <= beyond {
+                        self.next = beyond + self.dt.max(beyond * 1e-12);
+                    }
                 }
             } else {
                 self.next = f64::INFINITY;
@@ -456,6 +465,16 @@ impl Observer for RunOutput<'_> {
 #[cfg(test)]
 mod tests {
     use super::Schedule;
+
+    #[test]
+    fn a_tiny_interval_writes_every_step_and_does_not_hang() {
+        let mut s = Schedule::new(1e-30);
+        let mut hits = 0;
+        for k in 0..1000 {
+            hits += usize::from(s.due(k as f64 * 1e-7, false));
+        }
+        assert_eq!(hits, 1000);
+    }
 
     #[test]
     fn schedule_hits_first_multiples_and_last() {

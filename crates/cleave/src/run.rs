@@ -43,8 +43,19 @@ pub fn load_model(
     if no_separation {
         model.separations.clear();
     }
+    let (dt, end) = (model.output.d3plot_dt, model.control.end_time);
+    if dt > 0.0 && end / dt > MAX_STATES {
+        return Err(Failure::Input(format!(
+            "*DATABASE_BINARY_D3PLOT: DT {dt:e} asks for {:.3e} ParaView states over ENDTIM {end:e}; cleave writes at most {MAX_STATES} (a file each): give a larger DT",
+            end / dt
+        )));
+    }
     Ok(model)
 }
+
+/// The most ParaView states a run may ask for (each is a file of the whole mesh). The CSV
+/// histories need no cap: they write at most one row a step.
+pub const MAX_STATES: f64 = 10_000.0;
 
 /// The interface table of a split model: its shared faces and how many of them are
 /// interfaces (they come first).

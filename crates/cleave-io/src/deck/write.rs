@@ -187,7 +187,17 @@ pub fn write_deck(model: &Model) -> String {
 
 fn controls(o: &mut String, m: &Model) {
     let c = &m.control;
-    simple(o, "*CONTROL_TERMINATION", &["endtim"], &[F::R(c.end_time)]);
+    // DTMIN only when it is not cleave's default floor (which a blank field means)
+    if c.dt_min == cleave_core::model::DEFAULT_DTMIN {
+        simple(o, "*CONTROL_TERMINATION", &["endtim"], &[F::R(c.end_time)]);
+    } else {
+        simple(
+            o,
+            "*CONTROL_TERMINATION",
+            &["endtim", "endcyc", "dtmin"],
+            &[F::R(c.end_time), F::B, F::R(c.dt_min)],
+        );
+    }
     simple(
         o,
         "*CONTROL_TIMESTEP",
@@ -415,15 +425,19 @@ fn properties(o: &mut String, m: &Model) {
         for p in &m.parts {
             o.push_str("$# title\n");
             let _ = writeln!(o, "{}", title_line(&p.title));
-            names(o, &["pid", "secid", "mid", "eosid"], &W10);
             let material = &m.materials[p.material];
             let (s, mat) = (m.sections[p.section].id, material.id);
             // an equation of state is written with its material's id
-            let eos = match material.kind {
-                MaterialKind::JohnsonCook(JohnsonCook { eos: Some(_), .. }) => F::I(mat),
-                _ => F::B,
-            };
-            card(o, &[F::I(p.id), F::I(s), F::I(mat), eos], &W10);
+            match material.kind {
+                MaterialKind::JohnsonCook(JohnsonCook { eos: Some(_), .. }) => {
+                    names(o, &["pid", "secid", "mid", "eosid"], &W10);
+                    card(o, &[F::I(p.id), F::I(s), F::I(mat), F::I(mat)], &W10);
+                }
+                _ => {
+                    names(o, &["pid", "secid", "mid"], &W10);
+                    card(o, &[F::I(p.id), F::I(s), F::I(mat)], &W10);
+                }
+            }
         }
     }
     if !m.sections.is_empty() {

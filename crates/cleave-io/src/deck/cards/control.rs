@@ -136,13 +136,21 @@ fn implicit_general(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
     }
 }
 
-/// `*CONTROL_TERMINATION`: ENDTIM ENDCYC DTMIN ENDENG ENDMAS NOSOL. ENDTIM must be positive.
+/// `*CONTROL_TERMINATION`: ENDTIM ENDCYC DTMIN ENDENG ENDMAS NOSOL. ENDTIM must be positive;
+/// DTMIN in [0, 1) (blank or 0: cleave's default floor, `cleave_core::model::DEFAULT_DTMIN`).
 fn termination(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.card_or_defaults(W10)?;
     deck.control.end_time = c.positive(0, "ENDTIM")?;
     deck.termination = Some(r.src(c.line));
-    for (i, name) in [(1, "ENDCYC"), (2, "DTMIN"), (3, "ENDENG"), (4, "ENDMAS")] {
-        warn_ignored(&c, i, name, "only ENDTIM ends a run", deck);
+    let dtmin = c.f64_or(2, "DTMIN", 0.0)?;
+    if !(0.0..1.0).contains(&dtmin) {
+        return Err(c.field_err("DTMIN", format!("{dtmin} must lie in [0, 1)")));
+    }
+    if dtmin > 0.0 {
+        deck.control.dt_min = dtmin;
+    }
+    for (i, name) in [(1, "ENDCYC"), (3, "ENDENG"), (4, "ENDMAS")] {
+        warn_ignored(&c, i, name, "only ENDTIM and DTMIN end a run", deck);
     }
     Ok(())
 }

@@ -18,6 +18,29 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
         eprintln!("warning: {w}");
     }
     println!("deck        {}", a.deck.display());
+    if d.files.len() > 1 {
+        println!("files       {}", d.files.join(", "));
+    }
+    let kw: Vec<String> = d
+        .keywords
+        .iter()
+        .map(|(k, n)| {
+            if *n == 1 {
+                k.clone()
+            } else {
+                format!("{k} x{n}")
+            }
+        })
+        .collect();
+    println!("keywords    {}", kw.join(", "));
+    println!(
+        "warnings    {}",
+        if d.warnings.is_empty() {
+            "none".to_string()
+        } else {
+            format!("{} (above)", d.warnings.len())
+        }
+    );
     if !m.title.is_empty() {
         println!("title       {}", m.title);
     }

@@ -521,3 +521,29 @@ fn bad_meshes_exit_2_naming_file_and_line() {
     assert!(err.contains("bad.msh: byte "), "{err}");
     assert!(!err.contains("panicked"), "{err}");
 }
+
+/// `cleave check` lists what it read: the files (the Gmsh mesh the deck includes), every
+/// keyword with its count, the warnings, and each part's shapes and formulation.
+#[test]
+fn check_lists_files_keywords_and_the_shapes_of_each_part() {
+    let deck = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/brazilian-disc/brazilian-disc.k");
+    let out = cleave(&["check", deck.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("disc.msh (converted)"), "{text}");
+    assert!(text.contains("*ELEMENT_SOLID x2"), "{text}");
+    assert!(text.contains("warnings    none"), "{text}");
+    assert!(
+        text.contains("ELFORM 10: 4552 tetrahedra (one-point tetrahedron)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("1 hexahedron (one-point hexahedron)"),
+        "{text}"
+    );
+}

@@ -32,6 +32,10 @@ pub struct Deck {
     pub model: Model,
     /// Things read but not used (ignored options, unsupported output requests), one per line.
     pub warnings: Vec<String>,
+    /// Every keyword read (as written, upper case), with how many times, in order of first
+    /// appearance; the files read (the deck and what it includes).
+    pub keywords: Vec<(String, usize)>,
+    pub files: Vec<String>,
 }
 
 /// Reads and validates the deck at `path`. Bytes that are not UTF-8 are replaced (they then
@@ -55,8 +59,26 @@ pub fn parse_deck(text: &str, file: &str) -> Result<Deck, DeckError> {
     if blocks.is_empty() {
         return Err(DeckError::deck(file, "the deck has no keywords"));
     }
+    let mut keywords: Vec<(String, usize)> = Vec::new();
+    for b in &blocks {
+        match keywords.iter_mut().find(|(k, _)| *k == b.keyword) {
+            Some((_, n)) => *n += 1,
+            None => keywords.push((b.keyword.clone(), 1)),
+        }
+    }
+    let mut files: Vec<String> = Vec::new();
+    for b in &blocks {
+        if !files.iter().any(|f| **f == *b.file) {
+            files.push(b.file.to_string());
+        }
+    }
     let mut raw = cards::read_blocks(&blocks)?;
     let warnings = std::mem::take(&mut raw.warnings);
     let model = build::build(raw, file)?;
-    Ok(Deck { model, warnings })
+    Ok(Deck {
+        model,
+        warnings,
+        keywords,
+        files,
+    })
 }

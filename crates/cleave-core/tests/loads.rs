@@ -4,7 +4,7 @@
 
 use cleave_core::curve::Curve;
 use cleave_core::mesh::{single_part_model, BoxMesh};
-use cleave_core::model::{Material, MaterialKind, Model, NodeLoad, PressureLoad};
+use cleave_core::model::{Material, Model, NodeLoad, PressureLoad};
 use cleave_core::separation::interfaces::Separation;
 use cleave_core::separation::split::split_model;
 use cleave_core::solver::Solver;
@@ -12,13 +12,7 @@ mod common;
 use common::{run, Obs};
 
 fn steel() -> Material {
-    Material {
-        id: 1,
-        density: 7800.0,
-        young: 200e9,
-        poisson: 0.3,
-        kind: MaterialKind::Elastic,
-    }
+    common::elastic_steel(0.3)
 }
 
 /// A curve rising linearly from 0 to 1 over `ramp`, then constant (`ramp` 0: 1 from the

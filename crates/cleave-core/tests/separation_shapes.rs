@@ -8,7 +8,7 @@ use cleave_core::curve::Curve;
 use cleave_core::element::shape::face_points;
 use cleave_core::mesh::{single_part_model, BoxMesh};
 use cleave_core::model::{
-    Material, MaterialKind, Model, MotionTarget, Part, PrescribedMotion, SeparationDef, Spc, Vad,
+    Material, Model, MotionTarget, Part, PrescribedMotion, SeparationDef, Spc, Vad,
 };
 use cleave_core::separation::interfaces::{face_centroid, Separation, Status};
 use cleave_core::separation::split::split_model;
@@ -23,13 +23,7 @@ const BAR_N: usize = 40;
 const PULL: f64 = 10.0;
 
 fn elastic(poisson: f64) -> Material {
-    Material {
-        id: 1,
-        density: RHO,
-        young: YOUNG,
-        poisson,
-        kind: MaterialKind::Elastic,
-    }
+    common::elastic_steel(poisson)
 }
 
 fn separation(model: i32, sigmax: f64, gc: f64) -> SeparationDef {

@@ -12,9 +12,7 @@ use cleave_core::element::{element_step, volume, Shape};
 use cleave_core::material::{History, SolidParams};
 use cleave_core::math::{inverse, mat_mul, mat_vec, Vec3};
 use cleave_core::mesh::{single_part_model, BoxMesh};
-use cleave_core::model::{
-    Hourglass, Material, MaterialKind, MotionTarget, PrescribedMotion, Spc, Vad,
-};
+use cleave_core::model::{Hourglass, Material, MotionTarget, PrescribedMotion, Spc, Vad};
 mod common;
 use common::run;
 
@@ -22,13 +20,7 @@ const RHO: f64 = 7800.0;
 const YOUNG: f64 = 200e9;
 
 fn elastic(poisson: f64) -> Material {
-    Material {
-        id: 1,
-        density: RHO,
-        young: YOUNG,
-        poisson,
-        kind: MaterialKind::Elastic,
-    }
+    common::elastic_steel(poisson)
 }
 
 fn rel(a: f64, b: f64) -> f64 {

@@ -105,3 +105,14 @@ pub fn uniaxial_cube(
     let face = m.nodes_where(0, l0, 1e-9 * l0)[0] as usize;
     (m, face)
 }
+
+/// Linear elastic steel (rho 7800 kg/m^3, E 200 GPa) with Poisson's ratio `poisson`.
+pub fn elastic_steel(poisson: f64) -> cleave_core::model::Material {
+    cleave_core::model::Material {
+        id: 1,
+        density: 7800.0,
+        young: 200e9,
+        poisson,
+        kind: cleave_core::model::MaterialKind::Elastic,
+    }
+}

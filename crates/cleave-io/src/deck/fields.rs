@@ -292,7 +292,7 @@ pub fn parse_i64(s: &str) -> Result<i64, String> {
 }
 
 /// A field's text for a message: control characters escaped, at most 40 characters.
-fn show(s: &str) -> String {
+pub(crate) fn show(s: &str) -> String {
     let mut out: String = s.chars().take(40).flat_map(char::escape_debug).collect();
     if s.chars().count() > 40 {
         out.push_str("...");

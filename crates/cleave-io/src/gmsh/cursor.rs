@@ -345,13 +345,10 @@ impl<'a> Cursor<'a> {
     }
 }
 
-/// At most 40 characters of `s`, for messages.
+/// At most 40 characters of `s`, control characters escaped, for messages (the deck
+/// reader's rule).
 pub fn shorten(s: &str) -> String {
-    let mut out: String = s.chars().take(40).collect();
-    if s.chars().count() > 40 {
-        out.push_str("...");
-    }
-    out
+    crate::deck::fields::show(s)
 }
 
 #[cfg(test)]

@@ -99,7 +99,7 @@ impl Setup {
         for s in &model.spcs {
             if node_rigid[s.node as usize] != NOT_RIGID {
                 warnings.push(format!(
-                    "SPC on node {} ignored: it belongs to a rigid part (use CON1/CON2 of *MAT_RIGID)",
+                    "SPC on node {} ignored: it belongs to a rigid body (use CON1/CON2 of *MAT_RIGID, or the _SPC option of *CONSTRAINED_NODAL_RIGID_BODY)",
                     model.node_ids[s.node as usize]
                 ));
                 continue;
@@ -116,7 +116,7 @@ impl Setup {
                 MotionTarget::Node(n) => {
                     if node_rigid[n as usize] != NOT_RIGID {
                         return Err(format!(
-                            "prescribed motion on node {} which belongs to a rigid part: use *BOUNDARY_PRESCRIBED_MOTION_RIGID",
+                            "prescribed motion on node {} which belongs to a rigid body: use *BOUNDARY_PRESCRIBED_MOTION_RIGID",
                             model.node_ids[n as usize]
                         ));
                     }

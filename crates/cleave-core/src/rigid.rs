@@ -185,7 +185,7 @@ pub fn build_rigid_bodies(
         let m_nodes: f64 = nodes.iter().map(|&n| mass[n as usize]).sum();
         let m_given = def.given.map_or(0.0, |g| g.mass);
         let m = m_nodes + m_given;
-        if !(m > 0.0) || !m.is_finite() {
+        if m <= 0.0 || !m.is_finite() {
             return Err(format!("{} has no mass", name(def.of, def.id)));
         }
         let mut xc = def.given.map_or([0.0; 3], |g| scale(g.centre, g.mass));
@@ -210,9 +210,9 @@ pub fn build_rigid_bodies(
         let mut initial = None;
         if let Some(g) = def.given {
             add_point(sub(g.centre, xc), g.mass);
-            for i in 0..3 {
-                for j in 0..3 {
-                    inertia[i][j] += g.inertia[i][j];
+            for (row, given) in inertia.iter_mut().zip(&g.inertia) {
+                for (a, b) in row.iter_mut().zip(given) {
+                    *a += b;
                 }
             }
             let half_trace = 0.5 * (g.inertia[0][0] + g.inertia[1][1] + g.inertia[2][2]);

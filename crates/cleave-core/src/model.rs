@@ -6,7 +6,7 @@
 //! fields, for output and messages.
 
 use crate::curve::Curve;
-use crate::math::Vec3;
+use crate::math::{Mat3, Vec3};
 pub use crate::per_node::PerNode;
 
 /// A complete model.
@@ -33,6 +33,14 @@ pub struct Model {
     pub node_sets: Vec<NodeSet>,
     pub part_sets: Vec<PartSet>,
     pub segment_sets: Vec<SegmentSet>,
+    /// `*SET_SOLID` and its `_GENERATE` forms: element sets.
+    pub solid_sets: Vec<SolidSet>,
+    /// `*CONSTRAINED_NODAL_RIGID_BODY`: rigid bodies made of nodes.
+    pub nodal_rigid: Vec<NodalRigidBody>,
+    /// `*CONSTRAINED_EXTRA_NODES_NODE` / `_SET`: nodes joined to rigid parts, one entry a card.
+    pub extra_nodes: Vec<ExtraNodes>,
+    /// `*PART_INERTIA`: rigid parts whose mass, centre, inertia and initial velocity are given.
+    pub part_inertia: Vec<PartInertia>,
     /// Single-point constraints, one entry per constrained node (sets expanded, repeated
     /// constraints on a node merged by OR).
     pub spcs: Vec<Spc>,
@@ -147,6 +155,67 @@ pub struct SegmentSet {
     pub segments: Vec<[u32; 4]>,
 }
 
+/// An element set (`*SET_SOLID`); members are element indices.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidSet {
+    pub id: i64,
+    pub elems: Vec<u32>,
+}
+
+/// Mass properties and initial motion given on a card (`*PART_INERTIA`, the `_INERTIA` option
+/// of `*CONSTRAINED_NODAL_RIGID_BODY`) instead of computed from the body's nodal masses.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GivenInertia {
+    /// Centre of mass (XC, YC, ZC, or the coordinates of NODEID).
+    pub centre: Vec3,
+    /// Translational mass TM (> 0).
+    pub mass: f64,
+    /// Inertia tensor about `centre`, global axes (symmetric positive definite; IXY is the
+    /// tensor's xy component).
+    pub inertia: Mat3,
+    /// Initial velocity of the centre (VTX, VTY, VTZ) and angular velocity (VRX, VRY, VRZ).
+    pub velocity: Vec3,
+    pub omega: Vec3,
+}
+
+/// `*CONSTRAINED_NODAL_RIGID_BODY`: the nodes of a node set move as one rigid body, with the
+/// mass and inertia of their lumped masses (or the given ones, `_INERTIA`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodalRigidBody {
+    /// PID, the body's id (0: none); `*BOUNDARY_PRESCRIBED_MOTION_RIGID` may name it.
+    pub id: i64,
+    /// Index into `Model::node_sets` (NSID).
+    pub set: usize,
+    /// `_SPC`: CMO, CON1, CON2 as on `*MAT_RIGID` (0, 0, 0 without it).
+    pub cmo: i32,
+    pub con1: i32,
+    pub con2: i32,
+    /// `_INERTIA`: the body's mass properties and initial motion.
+    pub inertia: Option<GivenInertia>,
+}
+
+/// `*CONSTRAINED_EXTRA_NODES_NODE` (one node) or `_SET` (a node set): nodes that move with
+/// rigid part `part`, their lumped mass added to it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExtraNodes {
+    /// Part index (a rigid part).
+    pub part: usize,
+    /// The node set (`_SET`), by index, or `None` (`_NODE`).
+    pub set: Option<usize>,
+    /// The nodes (the set's members for `_SET`).
+    pub nodes: Vec<u32>,
+    /// IFLAG 1: with `*PART_INERTIA` on the part, the extra nodes' masses are added to the
+    /// given ones; 0 (LS-DYNA's default): the given properties are taken to hold them.
+    pub iflag: bool,
+}
+
+/// `*PART_INERTIA` on a rigid part (index `part`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartInertia {
+    pub part: usize,
+    pub given: GivenInertia,
+}
+
 /// The translations (or rotations) x, y, z that an LS-DYNA constraint code fixes:
 /// 0 none, 1 x, 2 y, 3 z, 4 x+y, 5 y+z, 6 z+x, 7 all (`*NODE` TC/RC, `*MAT_RIGID` CON1/CON2).
 pub fn dof_code(code: i32) -> [bool; 3] {
@@ -176,6 +245,8 @@ pub enum MotionTarget {
     Node(u32),
     /// A rigid part, by part index.
     Rigid(usize),
+    /// A nodal rigid body, by index into `Model::nodal_rigid`.
+    NodalRigid(usize),
 }
 
 /// Whether a prescribed motion curve gives velocity or displacement.

@@ -5,13 +5,14 @@ use crate::element::{self, shape::shape_of, Shape};
 use crate::material::{free_element_speed, SolidParams};
 use crate::math::Vec3;
 use crate::model::{Model, MotionTarget, PrescribedMotion};
-use crate::rigid::{build_rigid_bodies, RigidBody, NOT_RIGID};
+use crate::rigid::{build_rigid_bodies, BodyOf, RigidBody, NOT_RIGID};
 
 /// Everything derived from the model that the step loop reads.
 #[derive(Clone, Debug)]
 pub struct Setup {
     /// Lumped nodal mass: each element gives rho V / n to each of its n distinct nodes (V
-    /// exact; n = 8, 6, 4 for a hexahedron, a wedge, a tetrahedron).
+    /// exact; n = 8, 6, 4 for a hexahedron, a wedge, a tetrahedron); zero at the nodes of a
+    /// body with a given inertia (`*PART_INERTIA`: [`build_rigid_bodies`]).
     pub mass: Vec<f64>,
     /// Shape of each element (which kernel runs it).
     pub elem_shape: Vec<Shape>,
@@ -83,7 +84,7 @@ impl Setup {
         let elem_mat: Vec<u32> = (0..ne)
             .map(|e| model.parts[model.elem_part[e] as usize].material as u32)
             .collect();
-        let (rigid, node_rigid) = build_rigid_bodies(model, &mass)?;
+        let (rigid, node_rigid) = build_rigid_bodies(model, &mut mass)?;
         if params
             .iter()
             .enumerate()
@@ -98,7 +99,7 @@ impl Setup {
         for s in &model.spcs {
             if node_rigid[s.node as usize] != NOT_RIGID {
                 warnings.push(format!(
-                    "SPC on node {} ignored: it belongs to a rigid part (use CON1/CON2 of *MAT_RIGID)",
+                    "SPC on node {} ignored: it belongs to a rigid body (use CON1/CON2 of *MAT_RIGID, or the _SPC option of *CONSTRAINED_NODAL_RIGID_BODY)",
                     model.node_ids[s.node as usize]
                 ));
                 continue;
@@ -115,16 +116,31 @@ impl Setup {
                 MotionTarget::Node(n) => {
                     if node_rigid[n as usize] != NOT_RIGID {
                         return Err(format!(
-                            "prescribed motion on node {} which belongs to a rigid part: use *BOUNDARY_PRESCRIBED_MOTION_RIGID",
+                            "prescribed motion on node {} which belongs to a rigid body: use *BOUNDARY_PRESCRIBED_MOTION_RIGID",
                             model.node_ids[n as usize]
                         ));
                     }
                     node_motion.push(pm.clone());
                 }
                 MotionTarget::Rigid(p) => {
-                    let b = rigid.iter().position(|b| b.part == p).ok_or_else(|| {
-                        format!("prescribed rigid motion on part {} which is not a rigid part with elements", model.parts[p].id)
-                    })?;
+                    let b = rigid
+                        .iter()
+                        .position(|b| b.of == BodyOf::Part(p))
+                        .ok_or_else(|| {
+                            format!("prescribed rigid motion on part {} which is not a rigid part with nodes", model.parts[p].id)
+                        })?;
+                    rigid_motion.push((b, pm.clone()));
+                }
+                MotionTarget::NodalRigid(k) => {
+                    let b = rigid
+                        .iter()
+                        .position(|b| b.of == BodyOf::Nodal(k))
+                        .ok_or_else(|| {
+                            format!(
+                                "prescribed rigid motion on nodal rigid body {} which has no nodes",
+                                model.nodal_rigid[k].id
+                            )
+                        })?;
                     rigid_motion.push((b, pm.clone()));
                 }
             }

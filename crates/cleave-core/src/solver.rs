@@ -1086,11 +1086,17 @@ impl<'m> Solver<'m> {
     /// the work of the constraint reactions (split as in [`Self::constrain_velocity`]).
     fn update_rigid_bodies(&mut self, dt_mid: f64, dt_new: f64) -> Work {
         let mut work = Work::default();
+        // the body loads on the mass no node carries (a given inertia), at its centre
+        let g = self.body_acceleration(self.state.t);
         for b in 0..self.setup.rigid.len() {
             let body = &self.setup.rigid[b];
             let x_cm = self.state.rigid[b].x_cm;
             let mut force = [0.0; 3];
             let mut moment = [0.0; 3];
+            if let Some((c, m)) = body.unlumped_centre(x_cm, &self.state.rigid[b].rot) {
+                force = scale(g, m);
+                moment = cross(sub(c, x_cm), force);
+            }
             for &n in &body.nodes {
                 let fi = self.node_force(n as usize);
                 force = add(force, fi);
@@ -1288,6 +1294,18 @@ impl<'m> Solver<'m> {
                 step: self.state.step,
             });
         }
+        // the mass of the bodies with a given inertia, which no node carries
+        let first = self.state.step == 0;
+        for (body, st) in self.setup.rigid.iter().zip(&self.state.rigid) {
+            if body.unlumped.is_some() {
+                let (ke, p_old, _) =
+                    body.unlumped_motion(st, self.state.dt_prev, self.state.dt, first);
+                s[0] += ke;
+                for d in 0..3 {
+                    s[1 + d] += p_old[d];
+                }
+            }
+        }
         self.state.energy.kinetic = s[0];
         let dt = self.state.dt_prev;
         if self.model.body_loads.is_empty() || dt == 0.0 {
@@ -1311,6 +1329,8 @@ impl<'m> Solver<'m> {
         for (b, body) in self.setup.rigid.iter().enumerate() {
             let st = &mut self.state.rigid[b];
             let (x_cm, rot) = body.next_placement(st, dt);
+            st.prev_x_cm = st.x_cm;
+            st.prev_rot = st.rot;
             st.x_cm = x_cm;
             st.rot = rot;
         }
@@ -1326,6 +1346,15 @@ impl<'m> Solver<'m> {
         let mut p = [0.0; 3];
         for (m, v) in self.entry_masses().iter().zip(&self.state.v_n) {
             p = add(p, scale(*v, *m));
+        }
+        // the mass of the bodies with a given inertia: the same mean of the half steps
+        let w = self.half_step_weight();
+        let s = &self.state;
+        for (body, st) in self.setup.rigid.iter().zip(&s.rigid) {
+            if body.unlumped.is_some() {
+                let (_, p_old, p_new) = body.unlumped_motion(st, s.dt_prev, s.dt, s.step == 0);
+                p = add(p, add(scale(p_old, 1.0 - w), scale(p_new, w)));
+            }
         }
         p
     }

@@ -42,6 +42,12 @@ pub struct RigidState {
     pub ang_mom: Vec3,
     /// Angular velocity at the half step.
     pub omega: Vec3,
+    /// Centre of mass and rotation at t^(n-1) (at t^0 before the first step).
+    pub prev_x_cm: Vec3,
+    pub prev_rot: Mat3,
+    /// Initial velocity of the centre of mass and angular velocity.
+    pub v0: Vec3,
+    pub omega0: Vec3,
 }
 
 /// The solution state.

@@ -1173,6 +1173,40 @@ fn round_trip_model() -> Model {
             id: 8,
             segments: vec![[0, 1, 5, 4], [1, 2, 6, 6]],
         }],
+        solid_sets: vec![SolidSet {
+            id: 3,
+            elems: vec![2, 0],
+        }],
+        nodal_rigid: vec![NodalRigidBody {
+            id: 40,
+            set: 0,
+            cmo: 1,
+            con1: 3,
+            con2: 0,
+            inertia: Some(GivenInertia {
+                centre: [0.1, -0.25, 2.0],
+                mass: 1.5,
+                inertia: [[2.0, 0.5, 0.0], [0.5, 3.0, -0.25], [0.0, -0.25, 1.0]],
+                velocity: [0.0, 1.0, 0.0],
+                omega: [10.0, 0.0, -2.0],
+            }),
+        }],
+        extra_nodes: vec![ExtraNodes {
+            part: 1,
+            set: None,
+            nodes: vec![11],
+            iflag: true,
+        }],
+        part_inertia: vec![PartInertia {
+            part: 1,
+            given: GivenInertia {
+                centre: [0.05, 0.0, 2.1],
+                mass: 25.0,
+                inertia: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]],
+                velocity: [0.0, 0.0, -3.0],
+                omega: [0.0; 3],
+            },
+        }],
         spcs: vec![
             Spc {
                 node: 0,
@@ -1204,6 +1238,13 @@ fn round_trip_model() -> Model {
                 vad: Vad::Velocity,
                 curve: 0,
                 sf: 1.0,
+            },
+            PrescribedMotion {
+                target: MotionTarget::NodalRigid(0),
+                axis: 1,
+                vad: Vad::Velocity,
+                curve: 0,
+                sf: 2.0,
             },
         ],
         body_loads: vec![
@@ -2003,4 +2044,219 @@ fn nodal_and_pressure_loads_are_read() {
     assert_eq!(e.field.as_deref(), Some("N5"), "{e}");
     let e = err(&t.replacen("1, 2, 5, 4\n", "1, 2, 2, 4\n", 1));
     assert!(e.message.contains("repeated nodes"), "{e}");
+}
+
+/// `*CONSTRAINED_NODAL_RIGID_BODY` (plain and `_SPC_INERTIA`), `*CONSTRAINED_EXTRA_NODES_NODE`
+/// / `_SET`, `*PART_INERTIA`, `*CONTROL_SOLID`, `*SET_SOLID` / `_GENERATE` and
+/// `*DATABASE_HISTORY_SOLID_SET`: read into the model, written back and read to the same, and
+/// an error naming keyword, line and field for each card cleave does not model.
+#[test]
+fn rigid_bodies_of_nodes_inertia_and_solid_sets_are_read() {
+    let part_inertia = "*PART_INERTIA\nplate\n2, 1, 2\n1.5, 0.5, 0.5, 10.0, 0, 0\n2.0, -0.5, 0.0, 3.0, 0.0, 4.0\n1.0, 0.0, 0.0, 0.0, 0.0, 5.0";
+    let extra = "\
+*NODE
+13, 5., 5., 5.
+14, 6., 5., 5.
+*SET_NODE_LIST
+9
+1, 4
+*SET_NODE_LIST
+10
+7, 10
+*SET_NODE_LIST
+11
+13
+*CONSTRAINED_NODAL_RIGID_BODY
+50, , 9
+*CONSTRAINED_NODAL_RIGID_BODY_SPC_INERTIA
+51, , 10
+1, 7, 0
+0.0, 0.5, 1.0, 2.5, 0
+1.0, 0.0, 0.0, 1.0, 0.0, 1.0
+0.0, 0.0, -1.0, 0.0, 3.0, 0.0
+*CONSTRAINED_EXTRA_NODES_NODE
+2, 14, 1
+*CONSTRAINED_EXTRA_NODES_SET
+2, 11
+*BOUNDARY_PRESCRIBED_MOTION_RIGID
+50, 1, 0, 1, 2.0
+*CONTROL_SOLID
+1, 0, 0, 0, 0, 0.5
+*SET_SOLID
+20
+2, 1
+*SET_SOLID_GENERATE_TITLE
+all
+21
+1, 2
+*DATABASE_HISTORY_SOLID_SET
+20
+*END
+";
+    let t = with("*PART\nplate\n2, 1, 2", part_inertia).replacen("*END\n", extra, 1);
+    let d = parse_deck(&t, "t.k").unwrap_or_else(|e| panic!("{e}"));
+    let m = d.model;
+    let solid_warning = d
+        .warnings
+        .iter()
+        .find(|w| w.contains("*CONTROL_SOLID"))
+        .expect("a warning");
+    assert!(solid_warning.contains("T10JTOL = 0.5"), "{solid_warning}");
+    // the nodal rigid bodies: PID, node set, constraints, given inertia
+    assert_eq!(m.nodal_rigid.len(), 2);
+    let (b0, b1) = (&m.nodal_rigid[0], &m.nodal_rigid[1]);
+    assert_eq!((b0.id, m.node_sets[b0.set].id, b0.cmo), (50, 9, 0));
+    assert!(b0.inertia.is_none());
+    assert_eq!((b1.id, m.node_sets[b1.set].id), (51, 10));
+    assert_eq!((b1.cmo, b1.con1, b1.con2), (1, 7, 0));
+    let g = b1.inertia.as_ref().unwrap();
+    assert_eq!((g.centre, g.mass), ([0.0, 0.5, 1.0], 2.5));
+    assert_eq!(
+        g.inertia,
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    );
+    assert_eq!((g.velocity, g.omega), ([0.0, 0.0, -1.0], [0.0, 3.0, 0.0]));
+    // extra nodes: node 14 with IFLAG 1, set 11 (node 13)
+    assert_eq!(m.extra_nodes.len(), 2);
+    assert_eq!(m.extra_nodes[0].part, 1);
+    assert_eq!(m.node_ids[m.extra_nodes[0].nodes[0] as usize], 14);
+    assert!(m.extra_nodes[0].iflag && m.extra_nodes[0].set.is_none());
+    assert_eq!(m.extra_nodes[1].set.map(|s| m.node_sets[s].id), Some(11));
+    assert!(!m.extra_nodes[1].iflag);
+    // the part inertia, the tensor symmetric from its 6 components
+    assert_eq!(m.part_inertia.len(), 1);
+    let pi = &m.part_inertia[0];
+    assert_eq!(
+        (pi.part, pi.given.mass, pi.given.centre),
+        (1, 10.0, [1.5, 0.5, 0.5])
+    );
+    assert_eq!(
+        pi.given.inertia,
+        [[2.0, -0.5, 0.0], [-0.5, 3.0, 0.0], [0.0, 0.0, 4.0]]
+    );
+    assert_eq!(
+        (pi.given.velocity, pi.given.omega),
+        ([1.0, 0.0, 0.0], [0.0, 0.0, 5.0])
+    );
+    // motion on the nodal rigid body by its PID
+    assert_eq!(
+        m.prescribed.last().unwrap().target,
+        MotionTarget::NodalRigid(0)
+    );
+    // solid sets in their order, and the history set expanded after element 2
+    assert_eq!(m.solid_sets.len(), 2);
+    assert_eq!(m.solid_sets[0].elems, vec![1, 0]);
+    assert_eq!(m.solid_sets[1].elems, vec![0, 1]);
+    assert_eq!(m.output.history_solids, vec![1, 0]);
+    // the bodies the solver builds: part 2 (given mass 10 plus node 14's; node 13's is not
+    // added, IFLAG 0), the nodal bodies of nodes 1, 4 and 7, 10
+    // (BASE prescribes the motion of node set 1, now in nodal rigid bodies: an error there)
+    let e = cleave_core::setup::Setup::new(&m).unwrap_err();
+    assert!(e.contains("prescribed motion on node 1"), "{e}");
+    let mut free = m.clone();
+    free.prescribed
+        .retain(|p| !matches!(p.target, MotionTarget::Node(_)));
+    let setup = cleave_core::setup::Setup::new(&free).unwrap();
+    assert_eq!(setup.rigid.len(), 3);
+    assert_eq!(setup.rigid[0].mass, 10.0); // nodes 13, 14 are of no element: massless
+    assert_eq!(setup.rigid[0].nodes.len(), 8 + 2);
+    assert_eq!(setup.rigid[2].mass, 2.5);
+    // written and read back: the same
+    let back = parse(&write_deck(&m));
+    assert_eq!(back.nodal_rigid, m.nodal_rigid);
+    assert_eq!(back.extra_nodes, m.extra_nodes);
+    assert_eq!(back.part_inertia, m.part_inertia);
+    assert_eq!(back.solid_sets, m.solid_sets);
+    assert_eq!(back.prescribed, m.prescribed);
+    assert_eq!(back.output.history_solids, m.output.history_solids);
+    assert_eq!(back.node_sets, m.node_sets);
+
+    // errors, each naming keyword, line and field
+    let e = err(&t.replacen("50, , 9\n", "50, , 9, 0, 0, 1\n", 1));
+    let kw = "*CONSTRAINED_NODAL_RIGID_BODY";
+    check(
+        &e,
+        Some(line_of(&t, "50, , 9")),
+        Some(kw),
+        Some("DRFLAG"),
+        "releasing",
+    );
+    let e = err(&t.replacen("50, , 9\n", "50, , 9, 4\n", 1));
+    check(
+        &e,
+        Some(line_of(&t, "50, , 9")),
+        Some(kw),
+        Some("PNODE"),
+        "centre of mass",
+    );
+    let e = err(&t.replacen("51, , 10\n", "51, 3, 10\n", 1));
+    assert_eq!(e.field.as_deref(), Some("CID"), "{e}");
+    let e = err(&t.replacen("50, , 9\n", "2, , 9\n", 1));
+    check(
+        &e,
+        Some(line_of(&t, "50, , 9")),
+        Some(kw),
+        Some("PID"),
+        "*PART's id",
+    );
+    let e = err(&t.replacen("0.0, 0.5, 1.0, 2.5, 0", "0.0, 0.5, 1.0, , 0", 1));
+    assert_eq!(e.field.as_deref(), Some("TM"), "{e}");
+    let e = err(&t.replacen(
+        "1.0, 0.0, 0.0, 1.0, 0.0, 1.0",
+        "1.0, 2.0, 0.0, 1.0, 0.0, 1.0",
+        1,
+    ));
+    assert!(e.message.contains("positive definite"), "{e}");
+    let e = err(&t.replacen(
+        "*PART\nblock\n1, 1, 1",
+        "*PART_INERTIA\nblock\n1, 1, 1\n0., 0., 0., 1.\n1., 0., 0., 1., 0., 1.\n0., 0., 0.\n",
+        1,
+    ));
+    check(
+        &e,
+        Some(line_of(&t, "1, 1, 1")),
+        Some("*PART_INERTIA"),
+        Some("MID"),
+        "rigid parts only",
+    );
+    let e = err(&t.replacen("2, 14, 1", "1, 14, 1", 1));
+    check(
+        &e,
+        Some(line_of(&t, "2, 14, 1")),
+        Some("*CONSTRAINED_EXTRA_NODES_NODE"),
+        Some("PID"),
+        "not rigid",
+    );
+    let e = err(&t.replacen("1, 0, 0, 0, 0, 0.5", "1, 0, 0, 0, 1", 1));
+    check(
+        &e,
+        Some(line_of(&t, "1, 0, 0, 0, 0, 0.5")),
+        Some("*CONTROL_SOLID"),
+        Some("PSFAIL"),
+        "erosion",
+    );
+    let e = err(&t.replacen("1, 0, 0, 0, 0, 0.5", "1, 0, 0, 0, 0, 0, 0, 1", 1));
+    assert_eq!(e.field.as_deref(), Some("TET13K"), "{e}");
+    let e = err(&t.replacen("50, 1, 0, 1, 2.0", "99, 1, 0, 1, 2.0", 1));
+    assert_eq!(e.field.as_deref(), Some("PID"), "{e}");
+    let e = err(&t.replacen("20\n2, 1\n", "20\n2, 7\n", 1));
+    assert_eq!(e.field.as_deref(), Some("K"), "{e}");
+    let e = err(&t.replacen(
+        "*DATABASE_HISTORY_SOLID_SET\n20",
+        "*DATABASE_HISTORY_SOLID_SET\n22",
+        1,
+    ));
+    assert!(e.message.contains("solid set 22"), "{e}");
+    let e = err(&t.replacen(
+        "*CONSTRAINED_EXTRA_NODES_SET",
+        "*CONSTRAINED_JOINT_SPHERICAL",
+        1,
+    ));
+    assert!(e.message.contains("not supported"), "{e}");
+    let e = err(&t.replacen(
+        "*CONSTRAINED_NODAL_RIGID_BODY\n",
+        "*CONSTRAINED_NODAL_RIGID_BODY_TITLE\n",
+        1,
+    ));
+    assert!(e.message.contains("_SPC and _INERTIA"), "{e}");
 }

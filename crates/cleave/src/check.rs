@@ -137,7 +137,33 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
     println!("contacts    {}", m.contacts.len());
     println!("rigid walls {}", m.rigid_walls.len());
     println!("rigid bodies {}", setup.rigid.len());
-    println!("mass        {:e}", setup.mass.iter().sum::<f64>());
+    for b in &setup.rigid {
+        let what = match b.of {
+            cleave_core::rigid::BodyOf::Part(_) => "part",
+            cleave_core::rigid::BodyOf::Nodal(_) => "nodal rigid body",
+        };
+        println!(
+            "  {what} {}: {} nodes, mass {:e}, centre ({:e}, {:e}, {:e}){}",
+            b.id,
+            b.nodes.len(),
+            b.mass,
+            b.x_cm0[0],
+            b.x_cm0[1],
+            b.x_cm0[2],
+            if b.unlumped.is_some() {
+                ", given inertia"
+            } else {
+                ""
+            }
+        );
+    }
+    // the given masses of *PART_INERTIA bodies are carried by no node
+    let given: f64 = setup
+        .rigid
+        .iter()
+        .filter_map(|b| b.unlumped.as_ref().map(|u| u.mass))
+        .sum();
+    println!("mass        {:e}", setup.mass.iter().sum::<f64>() + given);
     println!("end time    {:e}", m.control.end_time);
     match estimate_time_step(m) {
         Some((dt, e)) => {

@@ -152,6 +152,7 @@ pub fn split_model(model: &Model) -> SplitModel {
             let targets: Vec<MotionTarget> = match p.target {
                 MotionTarget::Node(n) => expand(n).map(MotionTarget::Node).collect(),
                 MotionTarget::Rigid(r) => vec![MotionTarget::Rigid(r)],
+                MotionTarget::NodalRigid(r) => vec![MotionTarget::NodalRigid(r)],
             };
             targets
                 .into_iter()
@@ -163,6 +164,11 @@ pub fn split_model(model: &Model) -> SplitModel {
         .collect();
     for s in &mut m.node_sets {
         s.nodes = s.nodes.iter().flat_map(|&n| expand(n)).collect();
+    }
+    // every copy of a node joined to a rigid part moves with it (nodal rigid bodies take
+    // their node sets, expanded above)
+    for x in &mut m.extra_nodes {
+        x.nodes = x.nodes.iter().flat_map(|&n| expand(n)).collect();
     }
     for w in &mut m.rigid_walls {
         if let Some(nodes) = &mut w.nodes {

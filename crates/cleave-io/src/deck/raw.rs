@@ -46,6 +46,45 @@ pub struct RawPart {
     pub mid: i64,
     /// EOSID, if given.
     pub eosid: Option<i64>,
+    /// `*PART_INERTIA`: the given mass properties and initial motion.
+    pub inertia: Option<RawInertia>,
+}
+
+/// The inertia cards of `*PART_INERTIA` and `*CONSTRAINED_NODAL_RIGID_BODY_INERTIA`.
+#[derive(Clone, Debug)]
+pub struct RawInertia {
+    /// XC, YC, ZC.
+    pub centre: Vec3,
+    /// TM.
+    pub mass: f64,
+    /// NODEID (NID): its coordinates are the centre instead.
+    pub node: Option<i64>,
+    /// The inertia tensor in global axes (turned from the local ones with IRCS 1).
+    pub inertia: [[f64; 3]; 3],
+    pub velocity: Vec3,
+    pub omega: Vec3,
+}
+
+/// `*CONSTRAINED_NODAL_RIGID_BODY[_SPC][_INERTIA]`.
+#[derive(Clone, Debug)]
+pub struct RawNodalRigid {
+    pub src: Src,
+    pub id: i64,
+    pub nsid: i64,
+    pub cmo: i32,
+    pub con1: i32,
+    pub con2: i32,
+    pub inertia: Option<RawInertia>,
+}
+
+/// `*CONSTRAINED_EXTRA_NODES_NODE` (`set` false) / `_SET`.
+#[derive(Clone, Debug)]
+pub struct RawExtraNodes {
+    pub src: Src,
+    pub pid: i64,
+    pub id: i64,
+    pub set: bool,
+    pub iflag: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -220,6 +259,9 @@ pub struct RawDeck {
     pub node_sets: Vec<RawSet<i64>>,
     pub part_sets: Vec<RawSet<i64>>,
     pub segment_sets: Vec<RawSet<[i64; 4]>>,
+    pub solid_sets: Vec<RawSet<i64>>,
+    pub nodal_rigid: Vec<RawNodalRigid>,
+    pub extra_nodes: Vec<RawExtraNodes>,
     pub spcs: Vec<RawSpc>,
     pub motions: Vec<RawMotion>,
     pub init_vel: Vec<RawInitVel>,
@@ -234,5 +276,7 @@ pub struct RawDeck {
     pub output: OutputRequests,
     pub history_nodes: Vec<(i64, Src)>,
     pub history_solids: Vec<(i64, Src)>,
+    /// `*DATABASE_HISTORY_SOLID_SET`: solid set ids.
+    pub history_solid_sets: Vec<(i64, Src)>,
     pub warnings: Vec<String>,
 }

@@ -178,6 +178,7 @@ pub fn write_deck(model: &Model) -> String {
     properties(&mut o, model);
     mesh(&mut o, model);
     let wall_sets = sets(&mut o, model);
+    rigid_bodies(&mut o, model);
     curves(&mut o, model);
     conditions(&mut o, model);
     interactions(&mut o, model, &wall_sets);
@@ -420,24 +421,36 @@ fn piecewise(o: &mut String, mat: &Material, p: &PiecewiseLinear) {
 }
 
 fn properties(o: &mut String, m: &Model) {
-    if !m.parts.is_empty() {
-        o.push_str("*PART\n");
-        for p in &m.parts {
-            o.push_str("$# title\n");
-            let _ = writeln!(o, "{}", title_line(&p.title));
-            let material = &m.materials[p.material];
-            let (s, mat) = (m.sections[p.section].id, material.id);
-            // an equation of state is written with its material's id
-            match material.kind {
-                MaterialKind::JohnsonCook(JohnsonCook { eos: Some(_), .. }) => {
-                    names(o, &["pid", "secid", "mid", "eosid"], &W10);
-                    card(o, &[F::I(p.id), F::I(s), F::I(mat), F::I(mat)], &W10);
-                }
-                _ => {
-                    names(o, &["pid", "secid", "mid"], &W10);
-                    card(o, &[F::I(p.id), F::I(s), F::I(mat)], &W10);
-                }
+    let given = |k: usize| m.part_inertia.iter().find(|pi| pi.part == k);
+    let mut last_kw = "";
+    for (k, p) in m.parts.iter().enumerate() {
+        let kw = if given(k).is_some() {
+            "*PART_INERTIA\n"
+        } else {
+            "*PART\n"
+        };
+        if kw != last_kw {
+            o.push_str(kw);
+            last_kw = kw;
+        }
+        o.push_str("$# title\n");
+        let _ = writeln!(o, "{}", title_line(&p.title));
+        let material = &m.materials[p.material];
+        let (s, mat) = (m.sections[p.section].id, material.id);
+        // an equation of state is written with its material's id (EOSID only then, so that
+        // decks without one keep the three-field card)
+        match material.kind {
+            MaterialKind::JohnsonCook(JohnsonCook { eos: Some(_), .. }) => {
+                names(o, &["pid", "secid", "mid", "eosid"], &W10);
+                card(o, &[F::I(p.id), F::I(s), F::I(mat), F::I(mat)], &W10);
             }
+            _ => {
+                names(o, &["pid", "secid", "mid"], &W10);
+                card(o, &[F::I(p.id), F::I(s), F::I(mat)], &W10);
+            }
+        }
+        if let Some(pi) = given(k) {
+            inertia_cards(o, &pi.given, true);
         }
     }
     if !m.sections.is_empty() {
@@ -552,6 +565,80 @@ fn mesh(o: &mut String, m: &Model) {
     }
 }
 
+/// The inertia cards of `*PART_INERTIA` (`part`: with IRCS 0) or of
+/// `*CONSTRAINED_NODAL_RIGID_BODY_INERTIA`.
+fn inertia_cards(o: &mut String, g: &cleave_core::model::GivenInertia, part: bool) {
+    let c = g.centre;
+    if part {
+        names(o, &["xc", "yc", "zc", "tm", "ircs", "nodeid"], &W10);
+        card(
+            o,
+            &[F::R(c[0]), F::R(c[1]), F::R(c[2]), F::R(g.mass), F::I(0)],
+            &W10,
+        );
+    } else {
+        names(o, &["xc", "yc", "zc", "tm", "nid"], &W10);
+        card(o, &[F::R(c[0]), F::R(c[1]), F::R(c[2]), F::R(g.mass)], &W10);
+    }
+    let t = g.inertia;
+    names(o, &["ixx", "ixy", "ixz", "iyy", "iyz", "izz"], &W10);
+    card(
+        o,
+        &[t[0][0], t[0][1], t[0][2], t[1][1], t[1][2], t[2][2]].map(F::R),
+        &W10,
+    );
+    let (v, w) = (g.velocity, g.omega);
+    names(o, &["vtx", "vty", "vtz", "vrx", "vry", "vrz"], &W10);
+    card(o, &[v[0], v[1], v[2], w[0], w[1], w[2]].map(F::R), &W10);
+}
+
+/// `*CONSTRAINED_NODAL_RIGID_BODY[_SPC][_INERTIA]` and `*CONSTRAINED_EXTRA_NODES_...`.
+fn rigid_bodies(o: &mut String, m: &Model) {
+    for b in &m.nodal_rigid {
+        let spc = b.cmo != 0 || b.con1 != 0 || b.con2 != 0;
+        let _ = writeln!(
+            o,
+            "*CONSTRAINED_NODAL_RIGID_BODY{}{}",
+            if spc { "_SPC" } else { "" },
+            if b.inertia.is_some() { "_INERTIA" } else { "" }
+        );
+        names(o, &["pid", "cid", "nsid"], &W10);
+        card(o, &[F::I(b.id), F::B, F::I(m.node_sets[b.set].id)], &W10);
+        if spc {
+            names(o, &["cmo", "con1", "con2"], &W10);
+            card(
+                o,
+                &[F::I(b.cmo as i64), F::I(b.con1 as i64), F::I(b.con2 as i64)],
+                &W10,
+            );
+        }
+        if let Some(g) = &b.inertia {
+            inertia_cards(o, g, false);
+        }
+    }
+    for x in &m.extra_nodes {
+        let pid = m.parts[x.part].id;
+        let iflag = F::I(x.iflag as i64);
+        match x.set {
+            Some(s) => {
+                simple(
+                    o,
+                    "*CONSTRAINED_EXTRA_NODES_SET",
+                    &["pid", "nsid", "iflag"],
+                    &[F::I(pid), F::I(m.node_sets[s].id), iflag],
+                );
+            }
+            None => {
+                o.push_str("*CONSTRAINED_EXTRA_NODES_NODE\n");
+                names(o, &["pid", "nid", "iflag"], &W10);
+                for &n in &x.nodes {
+                    card(o, &[F::I(pid), F::I(m.node_ids[n as usize]), iflag], &W10);
+                }
+            }
+        }
+    }
+}
+
 /// Writes the sets; returns the node set id of each rigid wall (0: all nodes).
 fn sets(o: &mut String, m: &Model) -> Vec<i64> {
     let nid = |n: &u32| m.node_ids[*n as usize];
@@ -594,6 +681,12 @@ fn sets(o: &mut String, m: &Model) -> Vec<i64> {
         names(o, &["sid"], &W10);
         card(o, &[F::I(s.id)], &W10);
         id_cards(o, s.parts.iter().map(|&p| m.parts[p].id));
+    }
+    for s in &m.solid_sets {
+        o.push_str("*SET_SOLID\n");
+        names(o, &["sid"], &W10);
+        card(o, &[F::I(s.id)], &W10);
+        id_cards(o, s.elems.iter().map(|&e| m.elem_ids[e as usize]));
     }
     for s in &m.segment_sets {
         o.push_str("*SET_SEGMENT\n");
@@ -644,6 +737,9 @@ fn conditions(o: &mut String, m: &Model) {
         let (kw, id) = match p.target {
             MotionTarget::Node(n) => ("*BOUNDARY_PRESCRIBED_MOTION_NODE", nid(n)),
             MotionTarget::Rigid(part) => ("*BOUNDARY_PRESCRIBED_MOTION_RIGID", m.parts[part].id),
+            MotionTarget::NodalRigid(k) => {
+                ("*BOUNDARY_PRESCRIBED_MOTION_RIGID", m.nodal_rigid[k].id)
+            }
         };
         if kw != last_kw {
             o.push_str(kw);

@@ -5,8 +5,8 @@ use std::collections::BTreeMap;
 
 use cleave_core::math::{cross, sub, Vec3};
 use cleave_core::model::{
-    BodyLoad, ContactDef, ContactSurface, MaterialKind, Model, MotionTarget, NodeLoad,
-    PrescribedMotion, PressureLoad, RigidWall, Spc,
+    BodyLoad, ContactDef, ContactSurface, ExtraNodes, MaterialKind, Model, MotionTarget,
+    NodalRigidBody, NodeLoad, PrescribedMotion, PressureLoad, RigidWall, Spc,
 };
 
 use super::mesh::dedup;
@@ -78,7 +78,81 @@ impl Builder<'_> {
         Ok(())
     }
 
+    /// `*CONSTRAINED_NODAL_RIGID_BODY` and `*CONSTRAINED_EXTRA_NODES_...`. A nodal rigid
+    /// body's PID may not be a `*PART`'s or another nodal rigid body's; extra nodes join
+    /// rigid parts only.
+    fn rigid_bodies(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
+        for b in &self.raw.nodal_rigid {
+            if b.id != 0 {
+                if ids.parts.contains_key(&b.id) {
+                    return Err(self
+                        .err(
+                            &b.src,
+                            format!(
+                                "PID {} is a *PART's id: a nodal rigid body's PID must be its own",
+                                b.id
+                            ),
+                        )
+                        .with_field("PID"));
+                }
+                if m.nodal_rigid.iter().any(|o| o.id == b.id) {
+                    return Err(self
+                        .err(
+                            &b.src,
+                            format!("nodal rigid body {} is defined twice", b.id),
+                        )
+                        .with_field("PID"));
+                }
+            }
+            let set = self.find(&ids.node_sets, b.nsid, &b.src, "NSID", "node set")?;
+            let inertia = match &b.inertia {
+                None => None,
+                Some(g) => Some(self.given_inertia(g, &b.src, "NID", m, ids)?),
+            };
+            m.nodal_rigid.push(NodalRigidBody {
+                id: b.id,
+                set,
+                cmo: b.cmo,
+                con1: b.con1,
+                con2: b.con2,
+                inertia,
+            });
+        }
+        for x in &self.raw.extra_nodes {
+            let part = self.find(&ids.parts, x.pid, &x.src, "PID", "part")?;
+            let mat = &m.materials[m.parts[part].material];
+            if !matches!(mat.kind, MaterialKind::Rigid { .. }) {
+                return Err(self
+                    .err(
+                        &x.src,
+                        format!(
+                            "part {} is not rigid (its material {} is not *MAT_RIGID): extra nodes join rigid parts",
+                            x.pid, mat.id
+                        ),
+                    )
+                    .with_field("PID"));
+            }
+            let (set, nodes) = if x.set {
+                let s = self.find(&ids.node_sets, x.id, &x.src, "NSID", "node set")?;
+                (Some(s), m.node_sets[s].nodes.clone())
+            } else {
+                (
+                    None,
+                    vec![self.find(&ids.nodes, x.id, &x.src, "NID", "node")?],
+                )
+            };
+            m.extra_nodes.push(ExtraNodes {
+                part,
+                set,
+                nodes,
+                iflag: x.iflag,
+            });
+        }
+        Ok(())
+    }
+
     pub fn conditions(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
+        self.rigid_bodies(m, ids)?;
         let part_nodes = part_nodes(m);
         self.spcs(m, ids, &part_nodes)?;
         self.motions(m, ids, &part_nodes)?;
@@ -135,6 +209,10 @@ impl Builder<'_> {
         let mut he = Vec::with_capacity(raw.history_solids.len());
         for (id, src) in &raw.history_solids {
             he.push(self.find(&ids.elems, *id, src, "ID", "element")?);
+        }
+        for (id, src) in &raw.history_solid_sets {
+            let s = self.find(&ids.solid_sets, *id, src, "ID", "solid set")?;
+            he.extend_from_slice(&m.solid_sets[s].elems);
         }
         m.output = raw.output.clone();
         m.output.history_nodes = dedup(hn);
@@ -222,6 +300,20 @@ impl Builder<'_> {
                 sf: p.sf,
             };
             match p.target {
+                Target::Part(id) if !ids.parts.contains_key(&id) => {
+                    // LS-DYNA lets the PID of a nodal rigid body be named here
+                    match m.nodal_rigid.iter().position(|b| b.id == id) {
+                        Some(k) => m.prescribed.push(mk(MotionTarget::NodalRigid(k))),
+                        None => {
+                            return Err(self
+                                .err(
+                                    &p.src,
+                                    format!("part {id} is not defined (nor a nodal rigid body)"),
+                                )
+                                .with_field("PID"))
+                        }
+                    }
+                }
                 Target::Part(id) => {
                     let part = self.find(&ids.parts, id, &p.src, "PID", "part")?;
                     let mat = &m.materials[m.parts[part].material];

@@ -6,7 +6,8 @@ use cleave_core::element::{first_bad_corner, Shape};
 use cleave_core::material::PiecewiseLinear;
 use cleave_core::math::Vec3;
 use cleave_core::model::{
-    Material, MaterialKind, Model, NodeSet, Part, PartSet, Section, SegmentSet, SeparationDef,
+    GivenInertia, Material, MaterialKind, Model, NodeSet, Part, PartInertia, PartSet, Section,
+    SegmentSet, SeparationDef, SolidSet,
 };
 
 use super::{Builder, Ids};
@@ -60,7 +61,55 @@ impl Builder<'_> {
         self.equations_of_state(m)?;
         self.elements(m, &ids)?;
         self.sets(m, &mut ids)?;
+        self.part_inertia(m, &ids)?;
         Ok(ids)
+    }
+
+    /// `*PART_INERTIA`: for rigid parts only (the given properties replace those of its
+    /// elements); NODEID's coordinates are the centre.
+    fn part_inertia(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
+        for (k, p) in self.raw.parts.iter().enumerate() {
+            let Some(g) = &p.inertia else {
+                continue;
+            };
+            let mat = &m.materials[m.parts[k].material];
+            if !matches!(mat.kind, MaterialKind::Rigid { .. }) {
+                return Err(self
+                    .err(
+                        &p.src,
+                        format!(
+                            "*PART_INERTIA on part {}, whose material {} is not *MAT_RIGID: given inertia is for rigid parts only",
+                            p.id, mat.id
+                        ),
+                    )
+                    .with_field("MID"));
+            }
+            let given = self.given_inertia(g, &p.src, "NODEID", m, ids)?;
+            m.part_inertia.push(PartInertia { part: k, given });
+        }
+        Ok(())
+    }
+
+    /// The inertia cards resolved: the centre at the node they name, if any.
+    pub fn given_inertia(
+        &self,
+        g: &crate::deck::raw::RawInertia,
+        src: &crate::deck::raw::Src,
+        node_field: &str,
+        m: &Model,
+        ids: &Ids,
+    ) -> Result<GivenInertia, DeckError> {
+        let centre = match g.node {
+            Some(id) => m.x0[self.find(&ids.nodes, id, src, node_field, "node")? as usize],
+            None => g.centre,
+        };
+        Ok(GivenInertia {
+            centre,
+            mass: g.mass,
+            inertia: g.inertia,
+            velocity: g.velocity,
+            omega: g.omega,
+        })
     }
 
     fn separations(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
@@ -231,6 +280,24 @@ impl Builder<'_> {
         ids.node_sets = self.index(&raw.node_sets, "node set", |s| (s.id, &s.src))?;
         ids.part_sets = self.index(&raw.part_sets, "part set", |s| (s.id, &s.src))?;
         ids.segment_sets = self.index(&raw.segment_sets, "segment set", |s| (s.id, &s.src))?;
+        ids.solid_sets = self.index(&raw.solid_sets, "solid set", |s| (s.id, &s.src))?;
+        for s in &raw.solid_sets {
+            let mut elems = Vec::with_capacity(s.members.len());
+            for &(eid, line) in &s.members {
+                let src = crate::deck::raw::Src {
+                    file: s.src.file.clone(),
+                    keyword: s.src.keyword.clone(),
+                    line,
+                };
+                elems.push(self.find(&ids.elems, eid, &src, "K", "element")?);
+            }
+            let elem_ids = raw.elems.iter().map(|e| e.id);
+            elems.extend(self.in_ranges(s, elem_ids, "element")?);
+            m.solid_sets.push(SolidSet {
+                id: s.id,
+                elems: dedup(elems),
+            });
+        }
         for s in &raw.node_sets {
             let mut nodes = Vec::with_capacity(s.members.len());
             for &(nid, line) in &s.members {

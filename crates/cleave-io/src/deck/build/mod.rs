@@ -52,6 +52,7 @@ pub struct Ids {
     pub node_sets: HashMap<i64, usize>,
     pub part_sets: HashMap<i64, usize>,
     pub segment_sets: HashMap<i64, usize>,
+    pub solid_sets: HashMap<i64, usize>,
 }
 
 pub struct Builder<'a> {

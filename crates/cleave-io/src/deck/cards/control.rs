@@ -68,7 +68,10 @@ pub fn control_or_database(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(),
         | "*DATABASE_RWFORC"
         | "*DATABASE_RCFORC"
         | "*DATABASE_BINARY_D3PLOT" => interval(r, deck),
-        "*DATABASE_HISTORY_NODE" | "*DATABASE_HISTORY_SOLID" => history(r, deck),
+        "*DATABASE_HISTORY_NODE" | "*DATABASE_HISTORY_SOLID" | "*DATABASE_HISTORY_SOLID_SET" => {
+            history(r, deck)
+        }
+        "*CONTROL_SOLID" => solid(r, deck),
         "*CONTROL_ACCURACY" => {
             deck.warnings.push(format!(
                 "{}:{}: *CONTROL_ACCURACY: cleave's stress update is always objective and second order (OSU 1); invariant node numbering (INN) is not applied, ignored",
@@ -257,21 +260,75 @@ fn interval(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     Ok(())
 }
 
-/// `*DATABASE_HISTORY_NODE` / `_SOLID`: ids, 8 per card in 10-character fields (0 skipped).
+/// `*DATABASE_HISTORY_NODE` / `_SOLID` / `_SOLID_SET`: ids (of nodes, elements, solid sets),
+/// 8 per card in 10-character fields (0 skipped).
 fn history(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let solid = r.keyword == "*DATABASE_HISTORY_SOLID";
+    let solid_set = r.keyword == "*DATABASE_HISTORY_SOLID_SET";
     while let Some(c) = r.next_nonblank(W10)? {
         for i in 0..8 {
             let name = format!("ID{}", i + 1);
             if let Some(id) = c.ref_id(i, &name)? {
                 let src = r.src(c.line);
-                if solid {
+                if solid_set {
+                    deck.history_solid_sets.push((id, src));
+                } else if solid {
                     deck.history_solids.push((id, src));
                 } else {
                     deck.history_nodes.push((id, src));
                 }
             }
         }
+    }
+    Ok(())
+}
+
+/// `*CONTROL_SOLID`: `ESORT FMATRX NIPTETS SWLOCL PSFAIL T10JTOL ICOH TET13K`, then optional
+/// cards (the ELFORM 16/17 node permutation `PM1..PM10`, ...). cleave always treats degenerate
+/// hexahedra as tetrahedra and wedges (what ESORT 1 asks for), so ESORT and the fields that
+/// only concern elements or output cleave does not have (FMATRX, NIPTETS, SWLOCL, T10JTOL,
+/// ICOH) are ignored with one warning naming those that are set; PSFAIL (erosion of solids
+/// by a failure criterion) and TET13K (another ELFORM 13 formulation) would change what cleave
+/// computes and are errors when non-zero. Further cards warn.
+fn solid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.card_or_defaults(W10)?;
+    let esort = c.code(0, "ESORT", 0, 0, 2)?;
+    unsupported(
+        &c,
+        4,
+        "PSFAIL",
+        "erosion of solid elements (a part set to fail)",
+    )?;
+    unsupported(&c, 7, "TET13K", "the alternative ELFORM 13 formulation")?;
+    let mut set = Vec::new();
+    for (i, name) in [
+        (1, "FMATRX"),
+        (2, "NIPTETS"),
+        (3, "SWLOCL"),
+        (5, "T10JTOL"),
+        (6, "ICOH"),
+    ] {
+        let s = c.raw(i);
+        if !s.is_empty() && !crate::deck::fields::parse_f64(s).is_ok_and(|v| v == 0.0) {
+            set.push(format!("{name} = {s}"));
+        }
+    }
+    let set = if set.is_empty() {
+        String::new()
+    } else {
+        format!("; ignored: {}", set.join(", "))
+    };
+    deck.warnings.push(format!(
+        "{}:{}: *CONTROL_SOLID: ESORT {esort}: cleave always treats degenerate hexahedra as tetrahedra and wedges (ESORT 1){set}",
+        c.file, c.line
+    ));
+    r.skip_blank();
+    if !r.at_end() {
+        deck.warnings.push(format!(
+            "{}:{}: *CONTROL_SOLID: the cards after the first (node permutations of ELFORM 16/17, ...) concern no element cleave has, ignored",
+            c.file, c.line
+        ));
+        r.ignore_rest();
     }
     Ok(())
 }

@@ -83,8 +83,10 @@ pub fn element_solid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
 /// `*PART`: for each part, a title line (80 characters) then
 /// `PID SECID MID EOSID HGID GRAV ADPOPT TMID`. SECID and MID are required; EOSID names an
 /// `*EOS_...` (for `*MAT_JOHNSON_COOK` only); HGID and TMID must be blank (those keywords are
-/// not supported).
-pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+/// not supported). `*PART_INERTIA` (`inertia`): the inertia cards follow each part's card
+/// ([`super::constrained::inertia_cards`]: `XC YC ZC TM IRCS NODEID`, the tensor, the
+/// velocities and, with IRCS 1, the local axes).
+pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck, inertia: bool) -> Result<(), DeckError> {
     while !r.at_end() {
         let title = r.title()?;
         let c = r.required(W10, "PID SECID MID")?;
@@ -104,6 +106,11 @@ pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
                 return Err(c.field_err(name, format!("{what} not supported; leave it blank")));
             }
         }
+        let given = if inertia {
+            Some(super::constrained::inertia_cards(r, true)?)
+        } else {
+            None
+        };
         deck.parts.push(RawPart {
             src: r.src(c.line),
             id,
@@ -111,6 +118,7 @@ pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
             secid,
             mid,
             eosid,
+            inertia: given,
         });
     }
     Ok(())

@@ -4,6 +4,7 @@
 //! Card layouts follow the LS-DYNA Keyword User's Manual (Vol. I); each decoder's doc comment
 //! gives its layout.
 
+mod constrained;
 mod control;
 mod curve;
 mod eos;
@@ -67,7 +68,9 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             "*TITLE" => deck.title = r.title()?,
             "*NODE" => mesh::node(&mut r, &mut deck)?,
             "*ELEMENT_SOLID" => mesh::element_solid(&mut r, &mut deck)?,
-            "*PART" => mesh::part(&mut r, &mut deck)?,
+            "*PART" => mesh::part(&mut r, &mut deck, false)?,
+            "*PART_INERTIA" => mesh::part(&mut r, &mut deck, true)?,
+            k if k.starts_with("*CONSTRAINED_") => constrained::constrained(&mut r, &mut deck)?,
             "*SECTION_SOLID" => mesh::section_solid(&mut r, &mut deck, titled)?,
             "*MAT_ELASTIC" | "*MAT_001" => material::elastic(&mut r, &mut deck, titled)?,
             "*MAT_PLASTIC_KINEMATIC" | "*MAT_003" => {
@@ -88,6 +91,10 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             "*SET_PART_LIST" | "*SET_PART" => sets::part_list(&mut r, &mut deck)?,
             "*SET_SEGMENT" => sets::segment(&mut r, &mut deck)?,
             "*SET_NODE_LIST_GENERATE" => sets::node_generate(&mut r, &mut deck)?,
+            "*SET_SOLID" | "*SET_SOLID_LIST" => sets::solid_list(&mut r, &mut deck)?,
+            "*SET_SOLID_GENERATE" | "*SET_SOLID_LIST_GENERATE" => {
+                sets::solid_generate(&mut r, &mut deck)?
+            }
             "*SET_PART_LIST_GENERATE" => sets::part_generate(&mut r, &mut deck)?,
             "*DEFINE_CURVE" => curve::define_curve(&mut r, &mut deck)?,
             "*INITIAL_VELOCITY_GENERATION" => loads::velocity_generation(&mut r, &mut deck)?,

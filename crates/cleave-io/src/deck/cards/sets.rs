@@ -1,5 +1,5 @@
-//! `*SET_NODE_LIST`, `*SET_PART_LIST`, `*SET_SEGMENT` and the `*SET_NODE_LIST_GENERATE` and
-//! `*SET_PART_LIST_GENERATE` forms (LS-DYNA Keyword Manual, Vol. I). Card 1 is
+//! `*SET_NODE_LIST`, `*SET_PART_LIST`, `*SET_SEGMENT`, `*SET_SOLID` and the
+//! `*SET_NODE_LIST_GENERATE`, `*SET_PART_LIST_GENERATE` and `*SET_SOLID_GENERATE` forms (LS-DYNA Keyword Manual, Vol. I). Card 1 is
 //! `SID DA1 DA2 DA3 DA4 SOLVER` (only SID is used); `_TITLE` puts a title line first.
 
 use super::Reader;
@@ -114,6 +114,33 @@ pub fn part_generate(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
     let (id, line) = sid(r)?;
     let ranges = ranges(r)?;
     deck.part_sets.push(RawSet {
+        src: r.src(line),
+        id,
+        members: Vec::new(),
+        ranges,
+    });
+    Ok(())
+}
+
+/// `*SET_SOLID` (also `*SET_SOLID_LIST`): card 1 `SID SOLVER`, then element ids K1..K8 per
+/// card.
+pub fn solid_list(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let (id, line) = sid(r)?;
+    let members = members(r, "K")?;
+    deck.solid_sets.push(RawSet {
+        src: r.src(line),
+        id,
+        members,
+        ranges: Vec::new(),
+    });
+    Ok(())
+}
+
+/// `*SET_SOLID_GENERATE` (also `*SET_SOLID_LIST_GENERATE`): card 1, then element id ranges.
+pub fn solid_generate(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let (id, line) = sid(r)?;
+    let ranges = ranges(r)?;
+    deck.solid_sets.push(RawSet {
         src: r.src(line),
         id,
         members: Vec::new(),

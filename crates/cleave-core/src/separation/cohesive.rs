@@ -216,6 +216,33 @@ impl CohesiveLaw {
         scale(add(ts, scale(n, tn)), self.sigmax / eff)
     }
 
+    /// The stiffest slope (Pa/m) a point whose largest opening past the peak is `softened`
+    /// takes in any direction under [`Self::traction`] with the slope limit `k_max`: its secant
+    /// c = t_env(softened) / (delta_e + softened) <= k_max in the normal direction, BETA^2 c in
+    /// the sliding ones (T = c (BETA^2 ds + <dn> n)), so max(1, BETA^2) c. On the envelope the
+    /// tangent is below the secant, so this bounds every slope of the law at that point until it
+    /// softens further (c only falls as `softened` grows). Zero for an open point; infinite
+    /// with `k_max` infinite at onset (the extrinsic law's slope is unbounded there).
+    ///
+    /// [`stable_slope`] bounds c by k_max, but BETA^2 c exceeds it for BETA > 1: at BETA 8 a
+    /// sliding point is 64 times stiffer than the step was built for, and its spring rings
+    /// unstably (see [`super::interfaces::Separation::cohesive_time_step`]).
+    pub fn stiffest_slope(&self, softened: f64, k_max: f64) -> f64 {
+        if self.is_open(softened) {
+            return 0.0;
+        }
+        let delta_e = if k_max.is_finite() {
+            self.sigmax / k_max
+        } else {
+            0.0
+        };
+        let delta_max = delta_e + softened;
+        if delta_max <= 0.0 {
+            return f64::INFINITY;
+        }
+        self.beta.powi(2).max(1.0) * self.envelope(softened) / delta_max
+    }
+
     /// Whether a point whose largest opening past the peak is `softened` carries no more
     /// traction.
     pub fn is_open(&self, softened: f64) -> bool {

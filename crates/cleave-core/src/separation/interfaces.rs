@@ -363,8 +363,10 @@ impl Separation {
     /// the opening alternated in sign and grew by tens each step until the point opened
     /// fully, and the last trapezoid 1/2 f_prev . (d - d_prev), over a jump of the alternating
     /// opening against the force that had held it, booked a negative work that the node
-    /// kept as kinetic energy. The Brazilian disc (BETA 8) so booked -44 J of fracture energy
-    /// by 150 us, against GC x area 0.7 J.
+    /// kept as kinetic energy. A thrown BETA 8 block so booked a negative fracture energy
+    /// (`tests/separation.rs`); with the sliding tractions that had no potential
+    /// ([`face_tractions`]) the Brazilian disc (BETA 8) booked -44 J by 150 us, against GC x
+    /// area 0.7 J.
     pub fn cohesive_time_step(&self) -> f64 {
         self.cohesive_dt
     }

@@ -78,6 +78,8 @@ pub struct Separation {
     /// The step the softening interfaces' springs allow ([`Self::cohesive_time_step`]).
     cohesive_dt: f64,
     // scratch
+    /// Per slot, the sum of the stiffest cohesive springs on it (zero between calls).
+    slot_stiffness: Vec<f64>,
     /// Failure index of each interface that reached 1 this step (0 otherwise; single precision
     /// is plenty to order the releases).
     fails: Vec<f32>,
@@ -137,6 +139,7 @@ impl Separation {
             sets,
             cohesive: Vec::new(),
             cohesive_dt: f64::INFINITY,
+            slot_stiffness: Vec::new(),
             fails: vec![0.0f32; n],
             touched: vec![false; m.num_elements()],
             candidates: Vec::new(),
@@ -347,10 +350,13 @@ impl Separation {
     }
 
     /// The longest time step the cohesive springs of the softening interfaces take, after their
-    /// last [`Self::add_cohesive_forces`] (infinite when none softens): the least over their
-    /// points of `sqrt(2 / omega^2)`, `omega^2 = k (1/m_a + 1/m_b)` for the point's stiffest
-    /// spring `k = max(1, BETA^2) c w` ([`CohesiveLaw::stiffest_slope`] times the point's
-    /// area) between the masses of its two nodes' coincident sets. That is the budget
+    /// last [`Self::add_cohesive_forces`] (infinite when none softens): `sqrt(2 / omega^2)`
+    /// with `omega^2 = max 2 K / m` over the coincident sets their points join (Gershgorin's
+    /// bound for springs between masses), K the sum of the stiffest springs on a set,
+    /// `k = max(1, BETA^2) c w` for each point of a face (c the face's largest secant,
+    /// [`CohesiveLaw::stiffest_slope`], w the point's area), m the set's mass. A single spring
+    /// between equal masses m so has `omega^2 = 2 k / m`, its own; a node copy held by
+    /// several faces (a tetrahedron's corner by 3) adds theirs. That is the budget
     /// [`stable_slope`] gives a normal spring, `omega dt <= sqrt(2)` (half of the central
     /// difference limit `omega^2 dt^2 <= 4`, the other half left to the elements): for
     /// BETA <= 1 it is longer than the elements' step on hexahedra, and binds only where the
@@ -365,8 +371,9 @@ impl Separation {
     /// opening against the force that had held it, booked a negative work that the node
     /// kept as kinetic energy. A thrown BETA 8 block so booked a negative fracture energy
     /// (`tests/separation.rs`); with the sliding tractions that had no potential
-    /// ([`face_tractions`]) the Brazilian disc (BETA 8) booked -44 J by 150 us, against GC x
-    /// area 0.7 J.
+    /// ([`face_tractions`]) the Brazilian disc (BETA 8) booked -46 J by 150 us, against GC x
+    /// area 1.0 J; counting one spring per point instead of their sum on a node copy, it
+    /// still dipped to -0.055 J.
     pub fn cohesive_time_step(&self) -> f64 {
         self.cohesive_dt
     }
@@ -390,8 +397,13 @@ impl Separation {
             status,
             cohesive,
             sets,
+            slot_stiffness,
             ..
         } = self;
+        if slot_stiffness.len() < mass.len() {
+            // grows only in the steps that split sets
+            slot_stiffness.resize(mass.len(), 0.0);
+        }
         let slot = sets.slots();
         let x = NodeValues::new(x, per_slot.then_some(slot));
         for c in cohesive.iter_mut() {
@@ -406,6 +418,10 @@ impl Separation {
                 sub(x[face.nodes[4 + k] as usize], x[face.nodes[k] as usize])
             });
             let t = face_tractions(&law, &d[..points], n, c.t0, c.k_max, &mut c.softened);
+            // the face's stiffest slope (its points share the mean sliding)
+            let slope = (0..points)
+                .map(|k| law.stiffest_slope(c.softened[k], c.k_max))
+                .fold(0.0, f64::max);
             for k in 0..points {
                 let (a, b) = (face.nodes[k] as usize, face.nodes[4 + k] as usize);
                 let fa = scale(t[k], w);
@@ -419,14 +435,25 @@ impl Separation {
                 c.f_prev[k] = fa;
                 open &= law.is_open(c.softened[k]);
                 // the point's stiffest spring between its two sets (none within one set)
-                let (ma, mb) = (mass[ra], mass[rb]);
-                if ra != rb && ma > 0.0 && mb > 0.0 {
-                    let k = law.stiffest_slope(c.softened[k], c.k_max) * w;
-                    omega2_max = omega2_max.max(k * (1.0 / ma + 1.0 / mb));
+                if ra != rb {
+                    slot_stiffness[ra] += slope * w;
+                    slot_stiffness[rb] += slope * w;
                 }
             }
             if open {
                 status[c.interface as usize] = Status::Free;
+            }
+        }
+        for c in cohesive.iter() {
+            let face = &faces[c.interface as usize];
+            for k in 0..face_points(&std::array::from_fn(|k| face.nodes[k])) {
+                for node in [face.nodes[k], face.nodes[4 + k]] {
+                    let r = slot[node as usize] as usize;
+                    if slot_stiffness[r] > 0.0 && mass[r] > 0.0 {
+                        omega2_max = omega2_max.max(2.0 * slot_stiffness[r] / mass[r]);
+                    }
+                    slot_stiffness[r] = 0.0;
+                }
             }
         }
         cohesive.retain(|c| status[c.interface as usize] == Status::Softening);

@@ -359,9 +359,11 @@ impl Separation {
     /// several faces (a tetrahedron's corner by 3) adds theirs. That is the budget
     /// [`stable_slope`] gives a normal spring, `omega dt <= sqrt(2)` (half of the central
     /// difference limit `omega^2 dt^2 <= 4`, the other half left to the elements): for
-    /// BETA <= 1 it is longer than the elements' step on hexahedra, and binds only where the
-    /// law's shear stiffness BETA^2 c makes it (at BETA 8 right after release, 8 times
-    /// shorter than the spring of a normal point on the same face). The solver's step is the
+    /// BETA <= 1 and one softening face on a node copy it is longer than the elements' step on
+    /// hexahedra (the fragmenting bar and the notched beam take the same steps with it); it
+    /// binds where the law's sliding stiffness BETA^2 c makes it (at BETA 8 right after
+    /// release, 8 times shorter than for a normal spring) or where several softening faces
+    /// hold one node copy. The solver's step is the
     /// least of this and TSSFAC times the element and contact steps (this one already holds
     /// the budget, so TSSFAC does not scale it).
     ///

@@ -893,7 +893,9 @@ impl<'m> Solver<'m> {
     fn add_cohesive_forces(&mut self) {
         if let Some(sep) = &mut self.separation {
             let x = (&self.state.x[..], self.per_slot);
-            self.state.energy.fracture += sep.add_cohesive_forces(x, &mut self.f);
+            // the masses of the sets, per slot (sets_view)
+            let mass = &self.set_mass;
+            self.state.energy.fracture += sep.add_cohesive_forces(x, mass, &mut self.f);
         }
     }
 
@@ -962,11 +964,16 @@ impl<'m> Solver<'m> {
         g
     }
 
-    /// dt^(n+1/2) = TSSFAC * min(element time step, contact time step) (DTINIT caps the
-    /// first), clamped so the run ends exactly at ENDTIM.
+    /// dt^(n+1/2) = TSSFAC * min(element time step, contact time step), or the step the
+    /// softening cohesive springs take if shorter ([`Separation::cohesive_time_step`], which
+    /// holds its own margin); DTINIT caps the first, and the step is clamped so the run ends
+    /// exactly at ENDTIM.
     fn next_time_step(&mut self, dt_crit: f64, dt_elem: u32) -> Result<f64, SolverError> {
         let c = &self.model.control;
         let mut dt = c.tssfac * dt_crit.min(self.dt_contact);
+        if let Some(sep) = &self.separation {
+            dt = dt.min(sep.cohesive_time_step());
+        }
         if c.dt_init > 0.0 && (self.state.step == 0 || !dt_crit.is_finite()) {
             // DTINIT caps the first step, and is the step of a model with no deformable element
             dt = dt.min(c.dt_init);

@@ -36,6 +36,18 @@
 //! [`CohesiveLaw::traction`]): openings below are measured past that stretch, so "rigid until
 //! onset" becomes "as stiff as the step allows", and the law tends to the one above as the
 //! step shrinks.
+//!
+//! That slope bounds the normal secant c = t / delta. Sliding is BETA^2 times stiffer
+//! (`T = c (BETA^2 ds + <dn> n)`): at BETA 8, 64 k_max, far past what the step takes, and such a
+//! spring rings unstably, its opening alternating in sign and growing until the point opens
+//! fully, the last step's work handing energy out. So the solver's step also keeps each
+//! softening point's stiffest slope, max(1, BETA^2) c ([`CohesiveLaw::stiffest_slope`]),
+//! within the same budget between its nodes' masses
+//! ([`super::interfaces::Separation::cohesive_time_step`]): for BETA <= 1 on hexahedra that
+//! never binds; at BETA > 1 the step shortens while a face near release slides. On a face,
+//! each point opens normally by its own opening and all slide by the face's mean sliding, so
+//! the sliding traction that acts at every point is the mean of the points' (the forces are
+//! then the gradient of the face's energy: `interfaces.rs`, `face_tractions`).
 
 use crate::math::{add, dot, scale, sub, Vec3};
 
@@ -150,8 +162,9 @@ impl CohesiveLaw {
     /// ```
     ///
     /// On the envelope (delta = delta_max) |T| follows t_env; below it the face unloads along
-    /// the secant to the shifted origin, a linear spring of stiffness t_env / delta_max <=
-    /// SIGMAX / delta_e = k_max, which is the gradient of a potential (no energy is gained or
+    /// the secant to the shifted origin, a linear spring of stiffness c = t_env / delta_max <=
+    /// SIGMAX / delta_e = k_max normally and BETA^2 c in sliding (64 k_max at BETA 8, which the
+    /// step is shortened for: [`Self::stiffest_slope`]), which is the gradient of a potential (no energy is gained or
     /// lost around a closed path) and goes to zero traction continuously as the face closes:
     /// at the shifted origin, an overlap of up to delta_e, after which contact takes the
     /// compression. (Known limit: at TSSFAC 0.9 a bar whose interfaces break within a few
@@ -214,6 +227,33 @@ impl CohesiveLaw {
             return [0.0; 3];
         }
         scale(add(ts, scale(n, tn)), self.sigmax / eff)
+    }
+
+    /// The stiffest slope (Pa/m) a point whose largest opening past the peak is `softened`
+    /// takes in any direction under [`Self::traction`] with the slope limit `k_max`: its secant
+    /// c = t_env(softened) / (delta_e + softened) <= k_max in the normal direction, BETA^2 c in
+    /// the sliding ones (`T = c (BETA^2 ds + <dn> n)`), so max(1, BETA^2) c. On the envelope the
+    /// tangent is below the secant, so this bounds every slope of the law at that point until it
+    /// softens further (c only falls as `softened` grows). Zero for an open point; infinite
+    /// with `k_max` infinite at onset (the extrinsic law's slope is unbounded there).
+    ///
+    /// [`stable_slope`] bounds c by k_max, but BETA^2 c exceeds it for BETA > 1: at BETA 8 a
+    /// sliding point is 64 times stiffer than the step was built for, and its spring rings
+    /// unstably (see [`super::interfaces::Separation::cohesive_time_step`]).
+    pub fn stiffest_slope(&self, softened: f64, k_max: f64) -> f64 {
+        if self.is_open(softened) {
+            return 0.0;
+        }
+        let delta_e = if k_max.is_finite() {
+            self.sigmax / k_max
+        } else {
+            0.0
+        };
+        let delta_max = delta_e + softened;
+        if delta_max <= 0.0 {
+            return f64::INFINITY;
+        }
+        self.beta.powi(2).max(1.0) * self.envelope(softened) / delta_max
     }
 
     /// Whether a point whose largest opening past the peak is `softened` carries no more

@@ -75,7 +75,11 @@ pub struct Separation {
     elem_slope: Vec<f64>,
     sets: CoincidentSets,
     cohesive: Vec<CohesiveFace>,
+    /// The step the softening interfaces' springs allow ([`Self::cohesive_time_step`]).
+    cohesive_dt: f64,
     // scratch
+    /// Per slot, the sum of the stiffest cohesive springs on it (zero between calls).
+    slot_stiffness: Vec<f64>,
     /// Failure index of each interface that reached 1 this step (0 otherwise; single precision
     /// is plenty to order the releases).
     fails: Vec<f32>,
@@ -134,6 +138,8 @@ impl Separation {
             loose: vec![false; m.num_elements()],
             sets,
             cohesive: Vec::new(),
+            cohesive_dt: f64::INFINITY,
+            slot_stiffness: Vec::new(),
             fails: vec![0.0f32; n],
             touched: vec![false; m.num_elements()],
             candidates: Vec::new(),
@@ -343,20 +349,63 @@ impl Separation {
         }
     }
 
+    /// The longest time step the cohesive springs of the softening interfaces take, after their
+    /// last [`Self::add_cohesive_forces`] (infinite when none softens): `sqrt(2 / omega^2)`
+    /// with `omega^2 = max 2 K / m` over the coincident sets their points join (Gershgorin's
+    /// bound for springs between masses), K the sum of the stiffest springs on a set,
+    /// `k = max(1, BETA^2) c w` for each point of a face (c the face's largest secant,
+    /// [`CohesiveLaw::stiffest_slope`], w the point's area), m the set's mass. A single spring
+    /// between equal masses m so has `omega^2 = 2 k / m`, its own; a node copy held by
+    /// several faces (a tetrahedron's corner by 3) adds theirs. That is the budget
+    /// [`stable_slope`] gives a normal spring, `omega dt <= sqrt(2)` (half of the central
+    /// difference limit `omega^2 dt^2 <= 4`, the other half left to the elements): for
+    /// BETA <= 1 and one softening face on a node copy it is longer than the elements' step on
+    /// hexahedra (the fragmenting bar and the notched beam take the same steps with it); it
+    /// binds where the law's sliding stiffness BETA^2 c makes it (at BETA 8 right after
+    /// release, 8 times shorter than for a normal spring) or where several softening faces
+    /// hold one node copy. The solver's step is the
+    /// least of this and TSSFAC times the element and contact steps (this one already holds
+    /// the budget, so TSSFAC does not scale it).
+    ///
+    /// Without it, a sliding spring of BETA^2 k_max rang unstably (omega dt up to 8 sqrt(2)):
+    /// the opening alternated in sign and grew by tens each step until the point opened
+    /// fully, and the last trapezoid 1/2 f_prev . (d - d_prev), over a jump of the alternating
+    /// opening against the force that had held it, booked a negative work that the node
+    /// kept as kinetic energy. A thrown BETA 8 block so booked a negative fracture energy
+    /// (`tests/separation.rs`); with the sliding tractions that had no potential
+    /// ([`face_tractions`]) the Brazilian disc (BETA 8) booked -46 J by 150 us, against GC x
+    /// area 1.0 J; counting one spring per point instead of their sum on a node copy, it
+    /// still dipped to -0.055 J.
+    pub fn cohesive_time_step(&self) -> f64 {
+        self.cohesive_dt
+    }
+
     /// Add the cohesive forces of the softening interfaces to `f` (positions x^n), each node's
     /// into its coincident set's slot ([`CoincidentSets::slots`]), and return the
     /// work they absorbed since the last call, the trapezoid 1/2 (f_prev + f) . (d - d_prev)
     /// over the openings (the same rule as the element energies). An interface whose four
-    /// points are fully open becomes free. `x` as in [`Self::check_failure`].
-    pub fn add_cohesive_forces(&mut self, (x, per_slot): (&[Vec3], bool), f: &mut [Vec3]) -> f64 {
+    /// points are fully open becomes free. `x` as in [`Self::check_failure`]; `mass`: the
+    /// mass of each slot's set, for [`Self::cohesive_time_step`], which this updates.
+    pub fn add_cohesive_forces(
+        &mut self,
+        (x, per_slot): (&[Vec3], bool),
+        mass: &[f64],
+        f: &mut [Vec3],
+    ) -> f64 {
         let mut work = 0.0;
+        let mut omega2_max = 0.0f64;
         let Self {
             faces,
             status,
             cohesive,
             sets,
+            slot_stiffness,
             ..
         } = self;
+        if slot_stiffness.len() < mass.len() {
+            // grows only in the steps that split sets
+            slot_stiffness.resize(mass.len(), 0.0);
+        }
         let slot = sets.slots();
         let x = NodeValues::new(x, per_slot.then_some(slot));
         for c in cohesive.iter_mut() {
@@ -370,17 +419,14 @@ impl Separation {
             let d: [Vec3; 4] = std::array::from_fn(|k| {
                 sub(x[face.nodes[4 + k] as usize], x[face.nodes[k] as usize])
             });
-            // sliding: the tangential part of the mean opening (the faces' relative translation)
-            let d_mean = if points == 4 {
-                scale(add(add(d[0], d[1]), add(d[2], d[3])), 0.25)
-            } else {
-                scale(add(add(d[0], d[1]), d[2]), 1.0 / 3.0)
-            };
-            let ds = sub(d_mean, scale(n, dot(d_mean, n)));
+            let t = face_tractions(&law, &d[..points], n, c.t0, c.k_max, &mut c.softened);
+            // the face's stiffest slope (its points share the mean sliding)
+            let slope = (0..points)
+                .map(|k| law.stiffest_slope(c.softened[k], c.k_max))
+                .fold(0.0, f64::max);
             for k in 0..points {
                 let (a, b) = (face.nodes[k] as usize, face.nodes[4 + k] as usize);
-                let d_law = add(scale(n, dot(d[k], n)), ds);
-                let fa = scale(law.traction(d_law, n, c.t0, c.k_max, &mut c.softened[k]), w);
+                let fa = scale(t[k], w);
                 let d = d[k];
                 let (ra, rb) = (slot[a] as usize, slot[b] as usize);
                 f[ra] = add(f[ra], fa);
@@ -390,12 +436,34 @@ impl Separation {
                 c.d_prev[k] = d;
                 c.f_prev[k] = fa;
                 open &= law.is_open(c.softened[k]);
+                // the point's stiffest spring between its two sets (none within one set)
+                if ra != rb {
+                    slot_stiffness[ra] += slope * w;
+                    slot_stiffness[rb] += slope * w;
+                }
             }
             if open {
                 status[c.interface as usize] = Status::Free;
             }
         }
+        for c in cohesive.iter() {
+            let face = &faces[c.interface as usize];
+            for k in 0..face_points(&std::array::from_fn(|k| face.nodes[k])) {
+                for node in [face.nodes[k], face.nodes[4 + k]] {
+                    let r = slot[node as usize] as usize;
+                    if slot_stiffness[r] > 0.0 && mass[r] > 0.0 {
+                        omega2_max = omega2_max.max(2.0 * slot_stiffness[r] / mass[r]);
+                    }
+                    slot_stiffness[r] = 0.0;
+                }
+            }
+        }
         cohesive.retain(|c| status[c.interface as usize] == Status::Softening);
+        self.cohesive_dt = if omega2_max > 0.0 {
+            (2.0 / omega2_max).sqrt()
+        } else {
+            f64::INFINITY
+        };
         work
     }
 
@@ -410,6 +478,49 @@ impl Separation {
         let ties = holding.flat_map(|(_, face)| (0..4).map(|k| (face.nodes[k], face.nodes[4 + k])));
         components(conn, num_nodes, ties)
     }
+}
+
+/// The tractions at the points of a softening face (its first `d.len()` of 4) whose points
+/// open by `d` (x_b - x_a, normal `n`), pulling each point's side b towards side a
+/// ([`CohesiveLaw::traction`]; `softened` updated as there).
+///
+/// Each point opens normally by its own d_k . n and slides by the face's mean sliding ds (the
+/// tangential part of the mean opening: the faces' relative translation). Its traction splits
+/// into a normal part, which acts at the point, and a sliding part, which is the slope of its
+/// energy along ds; and ds moves with every point's opening, by 1/points of it. So the sliding
+/// part that acts at each point is the mean of the points' sliding parts: then the forces are
+/// the gradient of the sum of the points' energies (at fixed n and history), and the law does
+/// no work around a closed path. With each point's own sliding part at that point (the law
+/// before), points of different secants (c_k, one of them softened further than the others)
+/// did work `sum_k c_k BETA^2 ds . de_k` on the differences e_k of their sliding from the mean,
+/// which has no potential: a closed path of sliding and in-plane stretching gained energy each
+/// time round, 64 times more at BETA 8 than at BETA 1 (see the tests), and the Brazilian disc
+/// (BETA 8) booked -14 J of fracture energy by 124 us with the cohesive step limit alone.
+fn face_tractions(
+    law: &CohesiveLaw,
+    d: &[Vec3],
+    n: Vec3,
+    t0: Vec3,
+    k_max: f64,
+    softened: &mut [f64; 4],
+) -> [Vec3; 4] {
+    let points = d.len();
+    let inv = 1.0 / points as f64;
+    let d_mean = scale(d.iter().fold([0.0; 3], |s, &dk| add(s, dk)), inv);
+    let ds = sub(d_mean, scale(n, dot(d_mean, n)));
+    let mut t = [[0.0; 3]; 4];
+    let mut ts_mean = [0.0; 3];
+    for k in 0..points {
+        let d_law = add(scale(n, dot(d[k], n)), ds);
+        let tk = law.traction(d_law, n, t0, k_max, &mut softened[k]);
+        let tn = scale(n, dot(tk, n));
+        ts_mean = add(ts_mean, scale(sub(tk, tn), inv));
+        t[k] = tn;
+    }
+    for tk in t.iter_mut().take(points) {
+        *tk = add(*tk, ts_mean);
+    }
+    t
 }
 
 /// Current unit normal of a shared face, out of its first element: the diagonal cross product
@@ -437,4 +548,104 @@ pub fn face_centroid(face: &SharedFace, x: &(impl Index<usize, Output = Vec3> + 
         );
     }
     scale(c, 0.5 / points as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::separation::cohesive::Envelope;
+
+    /// The tractions of a face whose 4 points have softened unequally (secants c_k from k_max
+    /// down), taken round a closed path in their unloading range at BETA 8: the faces slide
+    /// round a circle (ds) while the points' sliding differs from the mean round another
+    /// circle, a quarter turn behind (in-plane stretching e_k, sum zero), at fixed normal
+    /// openings. The law does no work round the path (trapezoid over 4000 steps a turn, 5
+    /// turns: 2e-18), and no point softens further. With each point's own sliding traction
+    /// at that point (the law before), the same path gives out energy each turn, 5 times the
+    /// energy of the face's springs (`sum_k c_k BETA^2 ds . de_k` has no potential): that work
+    /// is measured here too (-1.008 over the 5 turns).
+    #[test]
+    fn sliding_tractions_do_no_work_round_a_closed_path() {
+        let law = CohesiveLaw::new(Envelope::Linear, 100.0, 8.0, 1.0); // delta_c = 0.02
+        let (k_max, n) = (2e4, [0.0, 0.0, 1.0]); // delta_e = 0.005
+        let t0 = [0.0, 0.0, 100.0];
+        let soft0 = [0.0, 0.004, 0.008, 0.012];
+        // the points' secants, unequal
+        let c: Vec<f64> = soft0
+            .iter()
+            .map(|&s| law.stiffest_slope(s, k_max) / 64.0)
+            .collect();
+        assert!(c[0] > 1.5 * c[3], "{c:?}");
+        // normal openings: the shifted dn* = dn + 0.005 stays in [0.002, 0.003]
+        let dn = [-0.003, -0.0025, -0.002, -0.0028];
+        let (r, r2) = (2.5e-4, 1.5e-4);
+        // in-plane stretching: points 0 and 2 one way, 1 and 3 the other (sum zero)
+        let sign = [-1.0, 1.0, -1.0, 1.0];
+        let path = |th: f64| -> [Vec3; 4] {
+            let ds = [r * th.cos(), r * th.sin(), 0.0];
+            std::array::from_fn(|k| {
+                let e = [
+                    sign[k] * r2 * (th - 0.5 * std::f64::consts::PI).cos(),
+                    sign[k] * r2 * (th - 0.5 * std::f64::consts::PI).sin(),
+                    0.0,
+                ];
+                add(add(ds, e), [0.0, 0.0, dn[k]])
+            })
+        };
+        let (turns, steps) = (5, 4000);
+        let work = |own: bool| -> (f64, [f64; 4]) {
+            let mut soft = soft0;
+            let mut w = 0.0;
+            let mut d_prev = path(0.0);
+            let mut t_prev = [[0.0; 3]; 4];
+            for i in 0..=turns * steps {
+                let th = 2.0 * std::f64::consts::PI * i as f64 / steps as f64;
+                let d = path(th);
+                let t = if own {
+                    // the law before: each point's own traction, sliding by the mean
+                    let dm = scale(d.iter().fold([0.0; 3], |s, &x| add(s, x)), 0.25);
+                    let ds = sub(dm, scale(n, dot(dm, n)));
+                    std::array::from_fn(|k| {
+                        let dl = add(scale(n, dot(d[k], n)), ds);
+                        law.traction(dl, n, t0, k_max, &mut soft[k])
+                    })
+                } else {
+                    face_tractions(&law, &d, n, t0, k_max, &mut soft)
+                };
+                if i > 0 {
+                    for k in 0..4 {
+                        w += 0.5 * dot(add(t_prev[k], t[k]), sub(d[k], d_prev[k]));
+                    }
+                }
+                d_prev = d;
+                t_prev = t;
+            }
+            (w, soft)
+        };
+        let (w_new, soft_new) = work(false);
+        let (w_old, soft_old) = work(true);
+        eprintln!(
+            "work round {turns} turns: {w_new:.3e} (mean sliding traction), {w_old:.3e} (each point's own); per turn, against the energy of the face's springs {:.3e}",
+            0.5 * 64.0 * c[0] * r * r
+        );
+        assert_eq!(soft_new, soft0, "unloading only");
+        assert_eq!(soft_old, soft0, "unloading only");
+        // measured: -1.008 over the 5 turns, 5 times the springs' energy 0.04 each turn
+        assert!(w_old < -0.5 * 64.0 * c[0] * r * r * turns as f64, "{w_old}");
+        assert!(w_new.abs() < 1e-9 * w_old.abs(), "{w_new} vs {w_old}");
+    }
+
+    /// The stiffest slope: BETA^2 k_max at release (the sliding secant), falling as the point
+    /// softens; zero once open; BETA below 1 leaves the normal secant.
+    #[test]
+    fn stiffest_slope_is_the_sliding_secant() {
+        let k_max = 2e4;
+        let law = CohesiveLaw::new(Envelope::Linear, 100.0, 8.0, 1.0);
+        assert!((law.stiffest_slope(0.0, k_max) - 64.0 * k_max).abs() < 1e-9 * k_max);
+        // softened 0.005: 75 / 0.01
+        assert!((law.stiffest_slope(0.005, k_max) - 64.0 * 7500.0).abs() < 1e-6);
+        assert_eq!(law.stiffest_slope(0.02, k_max), 0.0);
+        let soft = CohesiveLaw::new(Envelope::Linear, 100.0, 0.5, 1.0);
+        assert!((soft.stiffest_slope(0.0, k_max) - k_max).abs() < 1e-9 * k_max);
+    }
 }

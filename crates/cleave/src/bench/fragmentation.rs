@@ -361,10 +361,10 @@ mod tests {
     ///   estimate.
     /// - At 3 and 10 eps_dot0 the count is within 8% of Akantu's on the same bar (the mean of
     ///   its three seeds, 200.3 and 419.0, whose seeds spread by 3% and 4%:
-    ///   `studies/akantu-fragmentation`; measured 1.013 and 0.981).
+    ///   `studies/akantu-fragmentation`; measured 1.018 and 0.981).
     /// - The fracture energy booked by the cohesive laws lies between GC times the area of the
     ///   fully open interfaces and GC times that of every interface that started to open (2%
-    ///   for the trapezoid of the work over the steps; measured 1.46, 1.53 and 1.52 times the
+    ///   for the trapezoid of the work over the steps; measured 1.46, 1.52 and 1.52 times the
     ///   former: interfaces that opened part way, as on Akantu, 1.6 at 3 eps_dot0). This bound
     ///   caught the law's earlier defect ([`cleave_core::separation::cohesive::CohesiveLaw::traction`]),
     ///   0.72 at 3 eps_dot0.

@@ -51,6 +51,8 @@ pub struct NodalPressure {
     theta: Vec<f64>,
     theta_bar: Vec<f64>,
     p_tilde: Vec<f64>,
+    /// The elements' own pressures of the step (scratch).
+    p: Vec<f64>,
     corr: Vec<[Vec3; 4]>,
     /// Per touched node: the averaged value.
     node_val: Vec<f64>,
@@ -125,6 +127,7 @@ impl NodalPressure {
             theta: vec![0.0; m],
             theta_bar: vec![0.0; m],
             p_tilde: vec![0.0; m],
+            p: vec![0.0; m],
             corr: vec![[[0.0; 3]; 4]; m],
         })
     }
@@ -187,14 +190,14 @@ impl NodalPressure {
         stress: &[Sym3],
         mut add: impl FnMut(u32, Vec3),
     ) {
-        let p: Vec<f64> = self
-            .elems
-            .par_iter()
-            .map(|&e| {
+        // the elements' own pressures, into a buffer kept between steps (no allocation)
+        let mut p = std::mem::take(&mut self.p);
+        p.par_iter_mut()
+            .zip(self.elems.par_iter())
+            .for_each(|(pe, &e)| {
                 let s = &stress[e as usize];
-                -(s[0] + s[1] + s[2]) / 3.0
-            })
-            .collect();
+                *pe = -(s[0] + s[1] + s[2]) / 3.0;
+            });
         self.node_means(&p);
         let mut pt = std::mem::take(&mut self.p_tilde);
         self.element_means(&mut pt);
@@ -223,6 +226,7 @@ impl NodalPressure {
                     None => [[0.0; 3]; 4],
                 };
             });
+        self.p = p;
         for (i, &n) in self.nodes.iter().enumerate() {
             let mut f = [0.0; 3];
             for &(k, a) in &self.around[self.start[i] as usize..self.start[i + 1] as usize] {

@@ -8,10 +8,10 @@ use std::f64::consts::PI;
 
 use cleave_core::curve::Curve;
 use cleave_core::math::{add, cross, dot, mat_vec, norm, scale, sub, Vec3};
-use cleave_core::mesh::{box_model, BoxMesh};
+use cleave_core::mesh::box_model;
 use cleave_core::model::{
-    BodyLoad, ExtraNodes, GivenInertia, Material, MaterialKind, Model, MotionTarget,
-    NodalRigidBody, NodeSet, Part, PartInertia, PrescribedMotion, Section, Spc, Vad,
+    BodyLoad, ExtraNodes, GivenInertia, Material, MaterialKind, MotionTarget, NodalRigidBody,
+    NodeSet, PartInertia, PrescribedMotion, Spc, Vad,
 };
 use cleave_core::setup::Setup;
 mod common;
@@ -39,45 +39,6 @@ fn rigid() -> Material {
             con2: 0,
         },
     }
-}
-
-/// Appends a box as a new part with its own section and material; returns the part index and
-/// its nodes' index range.
-fn append_box(
-    m: &mut Model,
-    n: [usize; 3],
-    l: [f64; 3],
-    origin: Vec3,
-    mat: Material,
-) -> (usize, std::ops::Range<usize>) {
-    let b = BoxMesh::new(n, l);
-    let base = m.x0.len();
-    let part = m.parts.len();
-    m.materials.push(Material {
-        id: m.materials.len() as i64 + 1,
-        ..mat
-    });
-    m.sections.push(Section {
-        id: m.sections.len() as i64 + 1,
-        elform: 1,
-    });
-    m.parts.push(Part {
-        id: part as i64 + 1,
-        title: format!("part {}", part + 1),
-        section: m.sections.len() - 1,
-        material: m.materials.len() - 1,
-    });
-    for x in b.x {
-        m.x0.push(add(x, origin));
-        m.v0.push([0.0; 3]);
-        m.node_ids.push(m.x0.len() as i64);
-    }
-    for c in b.conn {
-        m.conn.push(c.map(|i| i + base as u32));
-        m.elem_part.push(part as u32);
-        m.elem_ids.push(m.conn.len() as i64);
-    }
-    (part, base..m.x0.len())
 }
 
 /// Largest relative change of the distances between the nodes `nodes` from the reference.
@@ -245,7 +206,7 @@ fn extra_nodes_follow_the_rigid_part() {
         *x = add(*x, [0.07, 0.0, 0.0]);
     }
     let cube: Vec<u32> = (0..8).collect();
-    let (rp, block) = append_box(&mut m, [3, 2, 1], [0.06, 0.03, 0.01], [0.0; 3], rigid());
+    let (rp, block) = common::append_box(&mut m, [3, 2, 1], [0.06, 0.03, 0.01], [0.0; 3], rigid());
     m.x0.push([0.03, 0.065, 0.0]);
     m.v0.push([0.0; 3]);
     m.node_ids.push(1000);
@@ -351,7 +312,7 @@ fn part_inertia_tumbles_with_the_given_inertia() {
     for x in &mut m.x0 {
         *x = add(*x, [1.0, 1.0, 1.0]);
     }
-    let (rp, _) = append_box(&mut m, [3, 2, 1], [0.06, 0.03, 0.01], [0.0; 3], rigid());
+    let (rp, _) = common::append_box(&mut m, [3, 2, 1], [0.06, 0.03, 0.01], [0.0; 3], rigid());
     let inertia = [[4e-3, -1e-3, 5e-4], [-1e-3, 6e-3, 2e-4], [5e-4, 2e-4, 9e-3]];
     let (xc, tm, vt, vr) = ([0.01, 0.02, 0.0], 2.5, [1.0, -2.0, 0.5], [3.0, 10.0, 20.0]);
     m.part_inertia.push(PartInertia {

@@ -10,10 +10,10 @@ use std::f64::consts::PI;
 
 use cleave_core::curve::Curve;
 use cleave_core::math::{add, cross, norm, scale, sub, von_mises, Vec3};
-use cleave_core::mesh::{box_model, BoxMesh};
+use cleave_core::mesh::box_model;
 use cleave_core::model::{
-    BodyLoad, Material, MaterialKind, Model, MotionTarget, Part, PrescribedMotion, RigidWall,
-    Section, Spc, Vad,
+    BodyLoad, Material, MaterialKind, Model, MotionTarget, Part, PrescribedMotion, RigidWall, Spc,
+    Vad,
 };
 mod common;
 use cleave_core::solver::Solver;
@@ -43,45 +43,6 @@ fn unit_curve(id: i64) -> Curve {
         t: vec![0.0],
         y: vec![1.0],
     }
-}
-
-/// Append a structured box (n elements, sides l, lowest corner at `origin`) as a new part with
-/// its own section and material; returns the part index and the new nodes' index range.
-fn append_box(
-    m: &mut Model,
-    n: [usize; 3],
-    l: [f64; 3],
-    origin: Vec3,
-    mat: Material,
-) -> (usize, std::ops::Range<usize>) {
-    let b = BoxMesh::new(n, l);
-    let base = m.x0.len();
-    let part = m.parts.len();
-    m.materials.push(Material {
-        id: m.materials.len() as i64 + 1,
-        ..mat
-    });
-    m.sections.push(Section {
-        id: m.sections.len() as i64 + 1,
-        elform: 1,
-    });
-    m.parts.push(Part {
-        id: part as i64 + 1,
-        title: format!("part {}", part + 1),
-        section: m.sections.len() - 1,
-        material: m.materials.len() - 1,
-    });
-    for x in b.x {
-        m.x0.push(add(x, origin));
-        m.v0.push([0.0; 3]);
-        m.node_ids.push(m.x0.len() as i64);
-    }
-    for c in b.conn {
-        m.conn.push(c.map(|i| i + base as u32));
-        m.elem_part.push(part as u32);
-        m.elem_ids.push(m.conn.len() as i64);
-    }
-    (part, base..m.x0.len())
 }
 
 /// Least-squares line y = a + b x; returns (a, b).
@@ -638,7 +599,7 @@ fn rigid_block_model(end_time: f64, helper: Material) -> (Model, std::ops::Range
     for x in &mut m.x0 {
         *x = add(*x, [1.0, 1.0, 1.0]);
     }
-    let (_, nodes) = append_box(
+    let (_, nodes) = common::append_box(
         &mut m,
         [3, 2, 1],
         [0.06, 0.03, 0.01],

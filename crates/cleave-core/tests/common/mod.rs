@@ -116,3 +116,42 @@ pub fn elastic_steel(poisson: f64) -> cleave_core::model::Material {
         kind: cleave_core::model::MaterialKind::Elastic,
     }
 }
+
+/// Append a structured box (n elements, sides l, lowest corner at `origin`) as a new part with
+/// its own section and material; returns the part index and the new nodes' index range.
+pub fn append_box(
+    m: &mut cleave_core::model::Model,
+    n: [usize; 3],
+    l: [f64; 3],
+    origin: cleave_core::math::Vec3,
+    mat: cleave_core::model::Material,
+) -> (usize, std::ops::Range<usize>) {
+    let b = cleave_core::mesh::BoxMesh::new(n, l);
+    let base = m.x0.len();
+    let part = m.parts.len();
+    m.materials.push(cleave_core::model::Material {
+        id: m.materials.len() as i64 + 1,
+        ..mat
+    });
+    m.sections.push(cleave_core::model::Section {
+        id: m.sections.len() as i64 + 1,
+        elform: 1,
+    });
+    m.parts.push(cleave_core::model::Part {
+        id: part as i64 + 1,
+        title: format!("part {}", part + 1),
+        section: m.sections.len() - 1,
+        material: m.materials.len() - 1,
+    });
+    for x in b.x {
+        m.x0.push(cleave_core::math::add(x, origin));
+        m.v0.push([0.0; 3]);
+        m.node_ids.push(m.x0.len() as i64);
+    }
+    for c in b.conn {
+        m.conn.push(c.map(|i| i + base as u32));
+        m.elem_part.push(part as u32);
+        m.elem_ids.push(m.conn.len() as i64);
+    }
+    (part, base..m.x0.len())
+}

@@ -282,43 +282,33 @@ impl RigidBody {
         v0: &PerNode<Vec3>,
         mass: &[f64],
     ) -> RigidState {
+        // the given velocities (`*PART_INERTIA`), else those of the nodes
+        let (v_cm, omega, ang_mom) = match self.initial {
+            Some((v_cm, omega)) => (v_cm, omega, mat_vec(&self.inertia0, omega)),
+            None => {
+                let mut p = [0.0; 3];
+                for &n in &self.nodes {
+                    p = add(p, scale(v0[n as usize], mass[n as usize]));
+                }
+                let v_cm = scale(p, 1.0 / self.mass);
+                let mut l = [0.0; 3];
+                for &n in &self.nodes {
+                    let r = sub(x0[n as usize], self.x_cm0);
+                    l = add(
+                        l,
+                        scale(cross(r, sub(v0[n as usize], v_cm)), mass[n as usize]),
+                    );
+                }
+                let omega = inverse(&self.inertia0).map_or([0.0; 3], |inv| mat_vec(&inv, l));
+                (v_cm, omega, l)
+            }
+        };
         let id = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        if let Some((v_cm, omega)) = self.initial {
-            let mut st = RigidState {
-                x_cm: self.x_cm0,
-                v_cm,
-                rot: id,
-                ang_mom: mat_vec(&self.inertia0, omega),
-                omega,
-                prev_x_cm: self.x_cm0,
-                prev_rot: id,
-                v0: v_cm,
-                omega0: omega,
-            };
-            self.apply_constraints(&mut st);
-            st.v0 = st.v_cm;
-            st.omega0 = st.omega;
-            return st;
-        }
-        let mut p = [0.0; 3];
-        for &n in &self.nodes {
-            p = add(p, scale(v0[n as usize], mass[n as usize]));
-        }
-        let v_cm = scale(p, 1.0 / self.mass);
-        let mut l = [0.0; 3];
-        for &n in &self.nodes {
-            let r = sub(x0[n as usize], self.x_cm0);
-            l = add(
-                l,
-                scale(cross(r, sub(v0[n as usize], v_cm)), mass[n as usize]),
-            );
-        }
-        let omega = inverse(&self.inertia0).map_or([0.0; 3], |inv| mat_vec(&inv, l));
         let mut st = RigidState {
             x_cm: self.x_cm0,
             v_cm,
             rot: id,
-            ang_mom: l,
+            ang_mom,
             omega,
             prev_x_cm: self.x_cm0,
             prev_rot: id,

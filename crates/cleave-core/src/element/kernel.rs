@@ -337,13 +337,14 @@ pub fn rotate_sym(r: &Mat3, s: &mut Sym3) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::element::hex8::CORNERS;
     use crate::math::{mat_vec, rotation_from_vector, sub};
     use crate::model::{Material, MaterialKind};
 
-    fn steel() -> SolidParams {
+    /// Elastic steel (7800 kg/m^3, 200 GPa, Poisson 0.3), for the element tests.
+    pub(crate) fn steel() -> SolidParams {
         SolidParams::from_material(&Material {
             id: 1,
             density: 7800.0,

@@ -215,18 +215,8 @@ pub fn sri_corner_forces(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{Hourglass, Material, MaterialKind};
-
-    fn steel() -> SolidParams {
-        SolidParams::from_material(&Material {
-            id: 1,
-            density: 7800.0,
-            young: 200e9,
-            poisson: 0.3,
-            kind: MaterialKind::Elastic,
-        })
-        .unwrap()
-    }
+    use crate::element::kernel::tests::steel;
+    use crate::model::Hourglass;
 
     /// The mean gradients `sum_g W_g b_a(g)` of a distorted element are dV/dx_a: they sum to
     /// zero and `sum_a x_a (x) B_a = V I` (1e-14), so a uniform stress gives balanced forces.

@@ -139,6 +139,18 @@ impl Default for ElemChunkSum {
 pub trait Observer {
     /// Called once per step with the state at t^n (positions x^n, velocities `v_n`, stresses).
     fn observe(&mut self, solver: &Solver) -> std::io::Result<()>;
+
+    /// The earliest time at which [`Self::observe`] has something to do. A backend that does
+    /// not stop every step (the GPU step of cleave-gpu) shows the observer only the first step
+    /// at or after it (within 1e-12 of it), and the last. The default, 0, asks for every step.
+    fn next_due(&self) -> f64 {
+        0.0
+    }
+
+    /// Told the time and step between the states it is shown, by a backend that does not
+    /// stop every step (`solver.state.t`, `step`, `dt` and the energies are current; the
+    /// nodal and element values are those of the last [`Self::observe`]). For a progress bar.
+    fn tick(&mut self, _solver: &Solver) {}
 }
 
 /// Why a run stopped early.
@@ -1346,6 +1358,24 @@ impl<'m> Solver<'m> {
         self.state.step += 1;
         self.times.nodal += t0.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// Replace the positions x^n and the velocities v^(n+1/2) and v^n of every node (one entry
+    /// per node: a model without separation), and say whether the state is the last: for a
+    /// backend that steps elsewhere (the GPU) and shows its state through this solver.
+    pub fn set_kinematics(&mut self, x: Vec<Vec3>, v: Vec<Vec3>, v_n: Vec<Vec3>) {
+        assert!(
+            self.separation.is_none() && x.len() == self.model.num_nodes(),
+            "set_kinematics takes one entry per node of a model without separation"
+        );
+        self.state.x = x;
+        self.state.v = v;
+        self.state.v_n = v_n;
+    }
+
+    /// Mark the state as the last (or not): see [`Self::set_kinematics`].
+    pub fn set_finished(&mut self, finished: bool) {
+        self.finished = finished;
     }
 
     /// Momentum sum m v^n over all nodes (at t^n).

@@ -418,6 +418,23 @@ impl<'m> RunOutput<'m> {
 }
 
 impl Observer for RunOutput<'_> {
+    /// The earliest of the next times of every output.
+    fn next_due(&self) -> f64 {
+        let mut t = self.glstat.1.next.min(self.states.1.next);
+        for o in [&self.nodout, &self.elout, &self.rwforc, &self.rcforc]
+            .into_iter()
+            .flatten()
+        {
+            t = t.min(o.1.next);
+        }
+        t
+    }
+
+    fn tick(&mut self, s: &Solver) {
+        self.progress
+            .update(s, s.separation().map_or(0, |sep| sep.num_failed()));
+    }
+
     fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
         let t = s.state.t;
         let last = s.is_finished();

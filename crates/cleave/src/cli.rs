@@ -48,6 +48,10 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long, short = 'q')]
     pub quiet: bool,
+    /// Run the step on a GPU (wgpu: Vulkan, Metal or DX12, with 64-bit float shaders). A deck
+    /// that asks for a feature the GPU step does not have yet is refused with its name (exit 2).
+    #[arg(long)]
+    pub gpu: bool,
 }
 
 #[derive(Args, Debug)]
@@ -130,6 +134,9 @@ pub struct BenchArgs {
     /// Worker threads.
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
+    /// Cube: run the step on a GPU (as `cleave run --gpu`).
+    #[arg(long)]
+    pub gpu: bool,
     /// Cube: put every element in a separation group (MODEL 1, a strength nothing reaches), so
     /// the step carries the split nodes, their coincident sets and the failure check of every
     /// interface.

@@ -165,11 +165,28 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     for w in &warnings {
         eprintln!("warning: {w}");
     }
+    // the GPU: found and the deck checked before any output is written
+    let mut gpu = if a.gpu {
+        // what the GPU step lacks is refused before a device is looked for
+        if let Some(what) = cleave_gpu::support::unsupported(model, &solver.setup) {
+            return Err(cleave_gpu::GpuError::Unsupported(what).into());
+        }
+        let stepper = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &solver)?;
+        if !a.quiet {
+            eprintln!("running on the GPU: {}", stepper.gpu().describe());
+        }
+        Some(stepper)
+    } else {
+        None
+    };
     let progress = Progress::new(model.control.end_time, a.quiet);
     let mut out = RunOutput::create(&dir, model, history_nodes, split, progress)
         .map_err(|e| io_failure("cannot create output in", &dir, e))?;
     let loop_start = Instant::now();
-    let result = pool.install(|| solver.run(&mut out));
+    let result = match &mut gpu {
+        Some(g) => g.run(&mut solver, &mut out),
+        None => pool.install(|| solver.run(&mut out)),
+    };
     let loop_seconds = loop_start.elapsed().as_secs_f64();
     out.finish()
         .map_err(|e| io_failure("cannot write output in", &dir, e))?;
@@ -192,6 +209,9 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         us_per_element_step: 1e6 * loop_seconds / (steps.max(1) as f64 * ne.max(1) as f64),
         peak_rss_mb: peak_rss_mb(),
         threads: pool.current_num_threads(),
+        device: gpu
+            .as_ref()
+            .map_or("cpu".into(), |g| format!("gpu: {}", g.gpu().info.name)),
         energy_ratio: last.map_or(1.0, |r| r.ratio),
         version: env!("CARGO_PKG_VERSION").to_string(),
         warnings,
@@ -203,13 +223,16 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     match result {
         Ok(()) => {
             if !a.quiet {
+                let on = match &gpu {
+                    Some(g) => format!("GPU {}", g.gpu().info.name),
+                    None => format!("{} threads", summary.threads),
+                };
                 eprintln!(
-                    "done: {} steps to t = {:e} in {:.2} s ({:.3} us per element step, {} threads), energy ratio {:.5}; output in {}",
+                    "done: {} steps to t = {:e} in {:.2} s ({:.4} us per element step, {on}), energy ratio {:.5}; output in {}",
                     steps,
                     solver.state.t,
                     loop_seconds,
                     summary.us_per_element_step,
-                    summary.threads,
                     summary.energy_ratio,
                     dir.display()
                 );

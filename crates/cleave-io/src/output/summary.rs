@@ -38,8 +38,10 @@ pub struct Summary {
     pub us_per_element_step: f64,
     /// Peak resident memory in MiB (see [`crate::output::mem::peak_rss_mb`]).
     pub peak_rss_mb: f64,
-    /// Worker threads used.
+    /// Worker threads used (of the host, for a run on a GPU).
     pub threads: usize,
+    /// Where the step ran: "cpu", or "gpu: " and the adapter's name (`cleave run --gpu`).
+    pub device: String,
     /// Total energy over initial energy plus external work, at the end.
     pub energy_ratio: f64,
     /// Version of cleave that wrote the file.

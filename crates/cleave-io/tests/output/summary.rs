@@ -16,6 +16,7 @@ fn sample() -> Summary {
         wall_seconds: 12.5,
         us_per_element_step: 0.0375,
         peak_rss_mb: 81.25,
+        device: "cpu".into(),
         threads: 2,
         energy_ratio: 0.9987,
         version: "0.1.0".into(),
@@ -24,7 +25,7 @@ fn sample() -> Summary {
 }
 
 /// The keys the interface page lists for `summary.json`, and the crack's and `warnings`.
-const KEYS: [&str; 17] = [
+const KEYS: [&str; 18] = [
     "elements",
     "nodes",
     "nodes_solved",
@@ -39,6 +40,7 @@ const KEYS: [&str; 17] = [
     "us_per_element_step",
     "peak_rss_mb",
     "threads",
+    "device",
     "energy_ratio",
     "version",
     "warnings",

@@ -44,14 +44,21 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
     }
     let prepared = crate::run::prepare(model);
     let (mut solver, _) = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
-    let timing = super::run_quiet(&pool, &mut solver)?;
+    let mut device = String::new();
+    let timing = if a.gpu {
+        let mut g = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &solver)?;
+        device = format!(", GPU {}", g.gpu().describe());
+        super::run_quiet_gpu(&mut g, &mut solver)?
+    } else {
+        super::run_quiet(&pool, &mut solver)?
+    };
     let secs = timing.secs;
     let result = solver.state.step;
     let ne = n * n * n;
     let us = 1e6 * secs / (result as f64 * ne as f64);
     let rss = peak_rss_mb();
     println!(
-        "bench cube: {ne} elements, {} nodes solved, {result} steps, {} thread(s){}",
+        "bench cube: {ne} elements, {} nodes solved, {result} steps, {} thread(s){device}{}",
         solver.positions().len(),
         a.threads,
         if a.separation {

@@ -51,6 +51,34 @@ fn run_quiet(pool: &rayon::ThreadPool, solver: &mut Solver) -> Result<Timing, Fa
     Ok(Timing { secs, steal })
 }
 
+/// Run `solver` to its end time on the GPU of `stepper`, writing nothing (the state is read
+/// back only at the end).
+fn run_quiet_gpu(
+    stepper: &mut cleave_gpu::GpuStepper,
+    solver: &mut Solver,
+) -> Result<Timing, Failure> {
+    let steal0 = steal_seconds();
+    let start = std::time::Instant::now();
+    stepper
+        .run(solver, &mut QuietUntilEnd)
+        .map_err(run_failure)?;
+    let secs = start.elapsed().as_secs_f64();
+    let steal = steal_seconds().zip(steal0).map(|(b, a)| b - a);
+    Ok(Timing { secs, steal })
+}
+
+/// An observer that writes nothing and asks for no state before the end.
+struct QuietUntilEnd;
+
+impl Observer for QuietUntilEnd {
+    fn observe(&mut self, _: &Solver) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn next_due(&self) -> f64 {
+        f64::INFINITY
+    }
+}
+
 /// The steal time of all CPUs so far: the time a virtual machine's CPUs were ready to run
 /// but the host ran something else (`/proc/stat`, the 8th number of the `cpu` line, in
 /// USER_HZ ticks of 1/100 s on Linux). A benchmark on a shared host that was stolen from is

@@ -72,3 +72,54 @@ pub fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     }
     (header, rows)
 }
+
+/// A valid 2x1x1 elastic bar deck, free format, pulled at x = 2 by a prescribed velocity.
+/// Line numbers below refer to this text.
+pub const BASE: &str = "*KEYWORD
+*CONTROL_TERMINATION
+1.0e-5
+*DATABASE_GLSTAT
+1.0e-6
+*DATABASE_HISTORY_NODE
+3
+*DATABASE_HISTORY_SOLID
+1
+*MAT_ELASTIC
+1,7800.0,2.0e11,0.3
+*SECTION_SOLID
+1,1
+*PART
+bar
+1,1,1
+*NODE
+1,0.0,0.0,0.0
+2,0.01,0.0,0.0
+3,0.02,0.0,0.0
+4,0.0,0.01,0.0
+5,0.01,0.01,0.0
+6,0.02,0.01,0.0
+7,0.0,0.0,0.01
+8,0.01,0.0,0.01
+9,0.02,0.0,0.01
+10,0.0,0.01,0.01
+11,0.01,0.01,0.01
+12,0.02,0.01,0.01
+*ELEMENT_SOLID
+1,1,1,2,5,4,7,8,11,10
+2,1,2,3,6,5,8,9,12,11
+*DEFINE_CURVE
+7
+0.0,1.0
+1.0,1.0
+*BOUNDARY_SPC_NODE
+1,0,1,1,1
+4,0,1,1,1
+7,0,1,1,1
+10,0,1,1,1
+*BOUNDARY_PRESCRIBED_MOTION_NODE
+3,1,0,7,1.0
+6,1,0,7,1.0
+9,1,0,7,1.0
+12,1,0,7,1.0
+*END
+";

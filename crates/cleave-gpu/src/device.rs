@@ -1,0 +1,90 @@
+//! Finding a GPU that computes in f64.
+
+use std::fmt;
+
+/// Why the GPU step cannot run a deck.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GpuError {
+    /// No adapter with 64-bit float shaders (`SHADER_F64`) was found.
+    NoDevice(String),
+    /// The deck asks for a feature that is not on the GPU yet (bad input for `--gpu`).
+    Unsupported(String),
+    /// An array of the model is larger than the device binds at once.
+    TooLarge(String),
+}
+
+impl fmt::Display for GpuError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GpuError::NoDevice(m) => write!(f, "--gpu: {m}"),
+            GpuError::Unsupported(m) => {
+                write!(f, "--gpu does not run {m} yet; run this deck without --gpu")
+            }
+            GpuError::TooLarge(m) => write!(f, "--gpu: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for GpuError {}
+
+/// A device and queue with `SHADER_F64`, and what the adapter is.
+pub struct Gpu {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    pub limits: wgpu::Limits,
+}
+
+impl Gpu {
+    /// The first adapter that has f64 shaders, preferring a discrete, then an integrated GPU,
+    /// then any (lavapipe, Mesa's Vulkan on the CPU, last).
+    pub fn new() -> Result<Self, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        if adapters.is_empty() {
+            return Err(GpuError::NoDevice(
+                "no GPU adapter found (Vulkan, Metal or DX12; on Linux without a GPU, Mesa's software Vulkan: apt-get install mesa-vulkan-drivers)".into(),
+            ));
+        }
+        let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
+            wgpu::DeviceType::DiscreteGpu => 0,
+            wgpu::DeviceType::IntegratedGpu => 1,
+            wgpu::DeviceType::VirtualGpu => 2,
+            wgpu::DeviceType::Other => 3,
+            wgpu::DeviceType::Cpu => 4,
+        };
+        adapters.sort_by_key(rank);
+        let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+        let Some(adapter) = adapters
+            .into_iter()
+            .find(|a| a.features().contains(wgpu::Features::SHADER_F64))
+        else {
+            return Err(GpuError::NoDevice(format!(
+                "no adapter computes in 64-bit floats (SHADER_F64); found: {}",
+                names.join(", ")
+            )));
+        };
+        let limits = adapter.limits();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("cleave"),
+            required_features: wgpu::Features::SHADER_F64,
+            required_limits: limits.clone(),
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoDevice(format!("cannot open {}: {e}", names[0])))?;
+        Ok(Self {
+            device,
+            queue,
+            info: adapter.get_info(),
+            limits,
+        })
+    }
+
+    /// "NAME (backend, driver)".
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, {} {})",
+            self.info.name, self.info.backend, self.info.driver, self.info.driver_info
+        )
+    }
+}

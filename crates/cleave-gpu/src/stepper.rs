@@ -1,0 +1,590 @@
+//! The host side of the GPU step: buffers, pipelines, batches of steps, read-back.
+//!
+//! The GPU holds the state; a [`Solver`] on the host holds the model, the setup and a mirror of
+//! the state that is filled from the GPU whenever the observer is due, so every output of the
+//! CPU run (ParaView states, histories, energies) is written by the same code.
+//!
+//! Steps are recorded in batches, two in flight: while the GPU runs one, the host records the
+//! next. A step that is due for output (or the last, or a failing one) sets a halt flag that
+//! turns every later dispatch into a no-op, so a batch recorded past it changes nothing and the
+//! host reads the state of exactly that step.
+
+use std::time::Instant;
+
+use cleave_core::error::SolverError;
+use cleave_core::math::Vec3;
+use cleave_core::model::Hourglass;
+use cleave_core::solver::{Observer, RunError, Solver};
+use wgpu::util::DeviceExt;
+
+use crate::device::{Gpu, GpuError};
+use crate::layout::Layout;
+
+/// Control floats (`cf` in step.wgsl).
+mod cf {
+    pub const T: usize = 0;
+    pub const DT_PREV: usize = 1;
+    pub const DT: usize = 2;
+    pub const STEP: usize = 3;
+    pub const DT_FLOOR: usize = 4;
+    pub const E_INT: usize = 5;
+    pub const E_HG: usize = 6;
+    pub const E_KIN: usize = 7;
+    pub const E_EXT: usize = 8;
+    pub const E_INIT: usize = 10;
+    pub const T_STOP: usize = 11;
+    pub const TSSFAC: usize = 18;
+    pub const DT_INIT: usize = 19;
+    pub const DT_MIN: usize = 20;
+    pub const END_TIME: usize = 21;
+    pub const Q1: usize = 22;
+    pub const Q2: usize = 23;
+    pub const QH: usize = 24;
+    pub const WALL_FORCE: usize = 32;
+    pub const LEN: usize = 64;
+}
+
+/// Control integers (`cu` in step.wgsl).
+mod cu {
+    pub const HALT: usize = 0;
+    pub const ERROR: usize = 1;
+    pub const INVERTED: usize = 2;
+    pub const NONFINITE: usize = 3;
+    pub const DT_ELEM: usize = 4;
+    pub const LEN: usize = 8;
+}
+
+const CTL_BYTES: u64 = (cf::LEN * 8 + cu::LEN * 4) as u64;
+/// Threads of a group in the per-element and per-node kernels.
+const GROUP: usize = 64;
+/// The most groups one dispatch dimension takes (WebGPU's guaranteed limit).
+const MAX_DIM: usize = 65535;
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    ne: u32,
+    nn: u32,
+    groups_e: u32,
+    groups_n: u32,
+    n_body: u32,
+    body_off: u32,
+    mot_off: u32,
+    hourglass: u32,
+    n_walls: u32,
+    wall_off: u32,
+    n_part: u32,
+    pad: u32,
+}
+
+/// The state arrays read back for output, in their binding order.
+struct StateBuffers {
+    x: wgpu::Buffer,
+    v: wgpu::Buffer,
+    vn: wgpu::Buffer,
+    sig: wgpu::Buffer,
+    hist: wgpu::Buffer,
+    hg: wgpu::Buffer,
+    bq: wgpu::Buffer,
+}
+
+/// A model on the GPU, ready to step.
+pub struct GpuStepper {
+    gpu: Gpu,
+    pipelines: [wgpu::ComputePipeline; 6],
+    bind_group: wgpu::BindGroup,
+    cf: wgpu::Buffer,
+    cu: wgpu::Buffer,
+    state: StateBuffers,
+    ctl_staging: [wgpu::Buffer; 2],
+    groups: [usize; 6],
+    /// Steps recorded in one submission (grown while a batch takes under 20 ms).
+    pub batch: usize,
+}
+
+fn control_block(solver: &Solver) -> [f64; cf::LEN] {
+    let c = &solver.model.control;
+    let mut f = [0.0; cf::LEN];
+    f[cf::TSSFAC] = c.tssfac;
+    f[cf::DT_INIT] = c.dt_init;
+    f[cf::DT_MIN] = c.dt_min;
+    f[cf::END_TIME] = c.end_time;
+    f[cf::Q1] = c.q1;
+    f[cf::Q2] = c.q2;
+    f[cf::QH] = c.qh;
+    f
+}
+
+fn flat(v: &[Vec3]) -> Vec<f64> {
+    v.iter().flatten().copied().collect()
+}
+
+impl GpuStepper {
+    /// Upload `solver`'s model and initial state to `gpu`. Refuses a deck with a feature the
+    /// GPU step lacks ([`crate::support::unsupported`]) or an array larger than the device
+    /// binds.
+    pub fn new(gpu: Gpu, solver: &Solver) -> Result<Self, GpuError> {
+        let model = solver.model;
+        if let Some(what) = crate::support::unsupported(model, &solver.setup) {
+            return Err(GpuError::Unsupported(what));
+        }
+        let (ne, nn) = (model.num_elements(), model.num_nodes());
+        let limit = gpu.limits.max_storage_buffer_binding_size;
+        // the largest arrays: 12 f64 per element (hourglass forces, each half of the corner
+        // forces), 8 u32 per element (connectivity, corners per node)
+        let largest = (96 * ne).max(24 * nn) as u64;
+        if largest > limit {
+            return Err(GpuError::TooLarge(format!(
+                "{ne} elements need arrays of {largest} bytes; {} binds at most {limit} bytes per array (splitting larger arrays is not done yet): at most {} elements on this device",
+                gpu.info.name,
+                limit / 96
+            )));
+        }
+        let lay = Layout::new(model, &solver.setup);
+        let dev = &gpu.device;
+        let groups_e = ne.div_ceil(GROUP);
+        let groups_n = nn.div_ceil(GROUP);
+        let storage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST;
+        // a binding may not be empty: every array holds at least one value
+        let f64s = |label: &str, data: &[f64]| {
+            let mut d = data.to_vec();
+            if d.is_empty() {
+                d.push(0.0);
+            }
+            dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(&d),
+                usage: storage,
+            })
+        };
+        let u32s = |label: &str, data: &[u32]| {
+            let mut d = data.to_vec();
+            d.resize(d.len().max(2), 0);
+            dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(&d),
+                usage: storage,
+            })
+        };
+        let zeros = |label: &str, n: usize| {
+            dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 8 * n.max(1) as u64,
+                usage: storage,
+                mapped_at_creation: false,
+            })
+        };
+        let cf_buf = f64s("control floats", &control_block(solver));
+        let mut cu0 = [0u32; cu::LEN];
+        cu0[cu::INVERTED] = u32::MAX;
+        cu0[cu::NONFINITE] = u32::MAX;
+        let cu_buf = u32s("control integers", &cu0);
+        let v0: Vec<Vec3> = solver.half_step_velocities().iter().copied().collect();
+        let state = StateBuffers {
+            x: f64s("x", &flat(&model.x0.to_vec())),
+            v: f64s("v", &flat(&v0)),
+            vn: f64s("v_n", &flat(&v0)),
+            sig: zeros("stress", 6 * ne),
+            hist: zeros("history", 7 * ne),
+            hg: zeros("hourglass forces", 12 * ne),
+            bq: zeros("bulk viscosity", ne),
+        };
+        let par = f64s("parameters", &lay.par);
+        let conn = u32s("connectivity", &lay.conn);
+        let emat = u32s("element materials", &lay.emat);
+        let mass = f64s("mass", &solver.setup.mass);
+        let fe_lo = zeros("corner forces 1-4", 12 * ne);
+        let fe_hi = zeros("corner forces 5-8", 12 * ne);
+        let epart = zeros("element partial sums", 4 * groups_e);
+        let nptr = u32s("node corners start", &lay.nptr);
+        let ninc = u32s("node corners", &lay.ninc);
+        let nflag = u32s("spc", &lay.nflag);
+        let mptr = u32s("node motions start", &lay.mptr);
+        let n_part = 6 + 4 * model.rigid_walls.len();
+        let npart = zeros("node partial sums", n_part * groups_n);
+        let params = Params {
+            ne: ne as u32,
+            nn: nn as u32,
+            groups_e: groups_e as u32,
+            groups_n: groups_n as u32,
+            n_body: lay.n_body,
+            body_off: lay.body_off,
+            mot_off: lay.mot_off,
+            hourglass: match model.control.hourglass {
+                Hourglass::Viscous => 0,
+                Hourglass::Stiffness => 1,
+            },
+            n_walls: model.rigid_walls.len() as u32,
+            wall_off: lay.wall_off,
+            n_part: n_part as u32,
+            pad: 0,
+        };
+        let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bindings: [(&wgpu::Buffer, bool); 21] = [
+            (&cf_buf, false),
+            (&cu_buf, false),
+            (&par, true),
+            (&conn, true),
+            (&emat, true),
+            (&state.x, false),
+            (&state.v, false),
+            (&state.vn, false),
+            (&mass, true),
+            (&state.sig, false),
+            (&state.hist, false),
+            (&state.hg, false),
+            (&state.bq, false),
+            (&fe_lo, false),
+            (&fe_hi, false),
+            (&epart, false),
+            (&nptr, true),
+            (&ninc, true),
+            (&nflag, true),
+            (&mptr, true),
+            (&npart, false),
+        ];
+        let mut layout_entries: Vec<wgpu::BindGroupLayoutEntry> = (bindings.iter().enumerate())
+            .map(|(i, &(_, read_only))| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        layout_entries.push(wgpu::BindGroupLayoutEntry {
+            binding: 21,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        });
+        let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("step"),
+            entries: &layout_entries,
+        });
+        let mut entries: Vec<wgpu::BindGroupEntry> = (bindings.iter().enumerate())
+            .map(|(i, (b, _))| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: 21,
+            resource: uniform.as_entire_binding(),
+        });
+        let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("step"),
+            layout: &bgl,
+            entries: &entries,
+        });
+        let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("step.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("step.wgsl").into()),
+        });
+        let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("step"),
+            bind_group_layouts: &[Some(&bgl)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry: &str| {
+            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let pipelines = [
+            pipeline("positions"),
+            pipeline("commit"),
+            pipeline("elements"),
+            pipeline("control"),
+            pipeline("nodes"),
+            pipeline("finish"),
+        ];
+        let staging = || {
+            dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("control read-back"),
+                size: CTL_BYTES,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let ctl_staging = [staging(), staging()];
+        Ok(Self {
+            pipelines,
+            bind_group,
+            cf: cf_buf,
+            cu: cu_buf,
+            state,
+            ctl_staging,
+            groups: [groups_n, 1, groups_e, 1, groups_n, 1],
+            batch: 4,
+            gpu,
+        })
+    }
+
+    /// The device this stepper runs on.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// Give the device back (for another model).
+    pub fn into_gpu(self) -> Gpu {
+        self.gpu
+    }
+
+    /// Record `steps` steps and the copy of the control block into `staging`.
+    fn record(&self, steps: usize, staging: usize) -> wgpu::CommandBuffer {
+        let mut enc = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("steps"),
+            });
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("steps"),
+                timestamp_writes: None,
+            });
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            for _ in 0..steps {
+                for (p, &g) in self.pipelines.iter().zip(&self.groups) {
+                    pass.set_pipeline(p);
+                    let x = g.clamp(1, MAX_DIM);
+                    pass.dispatch_workgroups(x as u32, g.div_ceil(MAX_DIM).max(1) as u32, 1);
+                }
+            }
+        }
+        let s = &self.ctl_staging[staging];
+        enc.copy_buffer_to_buffer(&self.cf, 0, s, 0, (cf::LEN * 8) as u64);
+        enc.copy_buffer_to_buffer(&self.cu, 0, s, (cf::LEN * 8) as u64, (cu::LEN * 4) as u64);
+        enc.finish()
+    }
+
+    /// Wait for the read-back of `staging` and decode it.
+    fn read_control(&self, staging: usize) -> Control {
+        let s = &self.ctl_staging[staging];
+        s.slice(..).map_async(wgpu::MapMode::Read, |_| {});
+        // a lost device surfaces as a mapping error just below
+        let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        let c = {
+            let view = s.slice(..).get_mapped_range();
+            match view {
+                Ok(bytes) => {
+                    let f: Vec<f64> = bytemuck::pod_collect_to_vec(&bytes[..cf::LEN * 8]);
+                    let u: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[cf::LEN * 8..]);
+                    Control { f, u }
+                }
+                Err(_) => Control::lost(),
+            }
+        };
+        s.unmap();
+        c
+    }
+
+    /// Read one state array back (`n` f64).
+    fn download(&self, buf: &wgpu::Buffer) -> Vec<f64> {
+        let size = buf.size();
+        let staging = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("state read-back"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.gpu.device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(buf, 0, &staging, 0, size);
+        self.gpu.queue.submit([enc.finish()]);
+        staging.slice(..).map_async(wgpu::MapMode::Read, |_| {});
+        let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        let out = match staging.slice(..).get_mapped_range() {
+            Ok(bytes) => bytemuck::pod_collect_to_vec(&bytes),
+            Err(_) => vec![f64::NAN; (size / 8) as usize],
+        };
+        staging.unmap();
+        out
+    }
+
+    /// Fill the host mirror of the state from the GPU.
+    fn mirror(&self, solver: &mut Solver, c: &Control) {
+        let vec3s =
+            |d: Vec<f64>| -> Vec<Vec3> { d.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect() };
+        let nn = solver.model.num_nodes();
+        let ne = solver.model.num_elements();
+        let mut x = vec3s(self.download(&self.state.x));
+        let mut v = vec3s(self.download(&self.state.v));
+        let mut vn = vec3s(self.download(&self.state.vn));
+        x.truncate(nn);
+        v.truncate(nn);
+        vn.truncate(nn);
+        solver.set_kinematics(x, v, vn);
+        let sig = self.download(&self.state.sig);
+        let hist = self.download(&self.state.hist);
+        let hg = self.download(&self.state.hg);
+        let bq = self.download(&self.state.bq);
+        let st = &mut solver.state;
+        for e in 0..ne {
+            st.stress[e].copy_from_slice(&sig[6 * e..6 * e + 6]);
+            st.hist[e].eps_p = hist[7 * e];
+            st.hist[e].back.copy_from_slice(&hist[7 * e + 1..7 * e + 7]);
+            st.hg[e].copy_from_slice(&hg[12 * e..12 * e + 12]);
+            st.bulk_q[e] = bq[e];
+        }
+        c.apply(solver);
+    }
+
+    /// Run to the end time, showing the state to `obs` at the times it is due
+    /// ([`Observer::next_due`]) and at the end, and the time and step in between
+    /// ([`Observer::tick`]).
+    pub fn run(&mut self, solver: &mut Solver, obs: &mut dyn Observer) -> Result<(), RunError> {
+        let queue = &self.gpu.queue;
+        queue.write_buffer(
+            &self.cf,
+            (cf::T_STOP * 8) as u64,
+            bytemuck::bytes_of(&obs.next_due()),
+        );
+        let mut in_flight: Vec<(usize, Instant)> = Vec::new();
+        let mut next_staging = 0;
+        loop {
+            while in_flight.len() < 2 {
+                let cmd = self.record(self.batch, next_staging);
+                self.gpu.queue.submit([cmd]);
+                in_flight.push((next_staging, Instant::now()));
+                next_staging = 1 - next_staging;
+            }
+            let (staging, started) = in_flight.remove(0);
+            let c = self.read_control(staging);
+            let secs = started.elapsed().as_secs_f64();
+            if c.halt() == 0 {
+                if secs < 0.02 && self.batch < 4096 {
+                    self.batch *= 2;
+                }
+                c.apply(solver);
+                obs.tick(solver);
+                continue;
+            }
+            // the batch still in flight does nothing once halted: let it finish
+            for (s, _) in in_flight.drain(..) {
+                self.read_control(s);
+            }
+            match c.halt() {
+                3 => return Err(RunError::Solver(c.error(solver))),
+                h => {
+                    self.mirror(solver, &c);
+                    solver.set_finished(h == 2);
+                    obs.observe(solver).map_err(RunError::Output)?;
+                    if h == 2 {
+                        return Ok(());
+                    }
+                    let q = &self.gpu.queue;
+                    q.write_buffer(
+                        &self.cf,
+                        (cf::T_STOP * 8) as u64,
+                        bytemuck::bytes_of(&obs.next_due()),
+                    );
+                    q.write_buffer(&self.cu, (cu::HALT * 4) as u64, bytemuck::bytes_of(&0u32));
+                }
+            }
+        }
+    }
+}
+
+/// The control block as read back.
+struct Control {
+    f: Vec<f64>,
+    u: Vec<u32>,
+}
+
+impl Control {
+    /// What a lost device reads as: an error with no element.
+    fn lost() -> Self {
+        let mut u = vec![0; cu::LEN];
+        u[cu::HALT] = 3;
+        Self {
+            f: vec![f64::NAN; cf::LEN],
+            u,
+        }
+    }
+
+    fn halt(&self) -> u32 {
+        self.u[cu::HALT]
+    }
+
+    /// Time, step, time steps and energies into the host's state.
+    fn apply(&self, solver: &mut Solver) {
+        let f = &self.f;
+        let st = &mut solver.state;
+        st.t = f[cf::T];
+        st.step = f[cf::STEP] as u64;
+        st.dt_prev = f[cf::DT_PREV];
+        st.dt = f[cf::DT];
+        st.dt_element = self.u[cu::DT_ELEM];
+        st.energy.kinetic = f[cf::E_KIN];
+        st.energy.internal = f[cf::E_INT];
+        st.energy.hourglass = f[cf::E_HG];
+        st.energy.external_work = f[cf::E_EXT];
+        st.initial_energy = f[cf::E_INIT];
+        for (w, wf) in solver.wall_forces.iter_mut().enumerate() {
+            let o = cf::WALL_FORCE + 4 * w;
+            wf.normal = f[o];
+            wf.force = [f[o + 1], f[o + 2], f[o + 3]];
+        }
+    }
+
+    /// The failure the GPU stopped on, with the element or node, time and step, as the CPU
+    /// step reports it.
+    fn error(&self, solver: &Solver) -> SolverError {
+        let m = solver.model;
+        let (f, u) = (&self.f, &self.u);
+        let time = f[cf::T];
+        let step = f[cf::STEP] as u64;
+        let elem = |e: u32| m.elem_ids.get(e as usize).copied().unwrap_or(0);
+        let dt = f[cf::DT];
+        let element = elem(u[cu::DT_ELEM]);
+        match u[cu::ERROR] {
+            1 => SolverError::InvertedElement {
+                element: elem(u[cu::INVERTED]),
+                time,
+                step,
+            },
+            2 => SolverError::TimeStepTooSmall {
+                dt,
+                floor: f[cf::DT_FLOOR],
+                element,
+                time,
+                step,
+            },
+            4 => SolverError::NonFinite {
+                node: m
+                    .node_ids
+                    .iter()
+                    .nth(u[cu::NONFINITE] as usize)
+                    .copied()
+                    .unwrap_or(0),
+                time,
+                step,
+            },
+            _ => SolverError::BadTimeStep {
+                dt,
+                element,
+                time,
+                step,
+            },
+        }
+    }
+}

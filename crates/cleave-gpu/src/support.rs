@@ -1,0 +1,81 @@
+//! What the GPU step does not run yet: a deck that asks for it is refused by name.
+//!
+//! Runs on the GPU: one-point hexahedra (ELFORM 1) with viscous or stiffness hourglass
+//! control and bulk viscosity, `*MAT_ELASTIC` and `*MAT_PLASTIC_KINEMATIC`, the time step
+//! (TSSFAC, DTINIT, DTMIN, ENDTIM), `*LOAD_BODY`, SPC and `*BOUNDARY_PRESCRIBED_MOTION_NODE`/
+//! `_SET`, up to 8 `*RIGIDWALL_PLANAR`, the energy ledger, and every output (states and histories are read back at their
+//! times).
+
+use cleave_core::element::Shape;
+use cleave_core::model::{MaterialKind, Model, MotionTarget};
+use cleave_core::setup::Setup;
+
+/// The first feature of `model` that the GPU step does not run, as a phrase for the message
+/// "`--gpu` does not run X yet"; `None` when the whole deck runs on the GPU.
+pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
+    if model.num_elements() == 0 {
+        return Some("a model without solid elements".into());
+    }
+    if !model.separations.is_empty() {
+        return Some(
+            "element separation (*MAT_ADD_SEPARATION; --no-separation runs the mesh unsplit)"
+                .into(),
+        );
+    }
+    if !model.contacts.is_empty() {
+        return Some("contact (*CONTACT_...)".into());
+    }
+    if model.rigid_walls.len() > crate::layout::MAX_WALLS {
+        return Some(format!(
+            "more than {} rigid walls (*RIGIDWALL_PLANAR)",
+            crate::layout::MAX_WALLS
+        ));
+    }
+    if !setup.rigid.is_empty() {
+        return Some("rigid bodies (*MAT_RIGID, *CONSTRAINED_NODAL_RIGID_BODY)".into());
+    }
+    if !model.node_loads.is_empty() {
+        return Some("concentrated loads (*LOAD_NODE_...)".into());
+    }
+    if !model.pressure_loads.is_empty() {
+        return Some("pressure loads (*LOAD_SEGMENT...)".into());
+    }
+    if setup
+        .node_motion
+        .iter()
+        .any(|m| !matches!(m.target, MotionTarget::Node(_)))
+    {
+        return Some("prescribed motion of a rigid body".into());
+    }
+    for (e, shape) in setup.elem_shape.iter().enumerate() {
+        let part = &model.parts[model.elem_part[e] as usize];
+        if *shape != Shape::Hex {
+            return Some(format!(
+                "tetrahedra and wedges (element {}, part {})",
+                model.elem_ids[e], part.id
+            ));
+        }
+        let elform = model.sections[part.section].elform;
+        if elform != 1 {
+            return Some(format!(
+                "ELFORM {elform} (part {}; ELFORM 1 runs on the GPU)",
+                part.id
+            ));
+        }
+        let m = &model.materials[part.material];
+        match m.kind {
+            MaterialKind::Elastic | MaterialKind::PlasticKinematic { .. } => {}
+            MaterialKind::JohnsonCook(_) => {
+                return Some(format!("*MAT_JOHNSON_COOK (material {})", m.id))
+            }
+            MaterialKind::PiecewiseLinear(_) => {
+                return Some(format!(
+                    "*MAT_PIECEWISE_LINEAR_PLASTICITY (material {})",
+                    m.id
+                ))
+            }
+            MaterialKind::Rigid { .. } => return Some(format!("*MAT_RIGID (material {})", m.id)),
+        }
+    }
+    None
+}

@@ -1,0 +1,216 @@
+//! The GPU step against the CPU step on the same decks: the same physics to round-off, and the
+//! same bits on every GPU run.
+//!
+//! Needs a device with f64 shaders; on a machine without a GPU, Mesa's software Vulkan
+//! (lavapipe, `apt-get install mesa-vulkan-drivers`, which `.ci/run` installs). Without any,
+//! each test says SKIPPED and passes.
+//!
+//! Tolerance: the two steps do the same operations in the same order, but the GPU compiler
+//! may fuse a multiply and an add (one rounding instead of two) and the sums of the energy
+//! ledger are taken in another order, so results differ by round-off, 1e-16 relative per
+//! operation. Over 150 steps of a wave problem the differences grow linearly at most:
+//! 1e-10 of the field's largest value bounds them with room (measured: see the test output).
+
+use cleave_core::curve::Curve;
+use cleave_core::math::Vec3;
+use cleave_core::mesh::box_model;
+use cleave_core::model::{
+    BodyLoad, Hourglass, Material, MaterialKind, Model, MotionTarget, PrescribedMotion, Spc, Vad,
+};
+use cleave_core::solver::{Observer, Solver};
+use cleave_gpu::{Gpu, GpuStepper};
+
+/// What a run showed its observer at each state: time, step, energies, positions, velocities,
+/// stresses and plastic strains.
+#[derive(Default)]
+struct Record {
+    every: f64,
+    next: f64,
+    rows: Vec<Row>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+struct Row {
+    t: f64,
+    step: u64,
+    energy: [f64; 5],
+    x: Vec<Vec3>,
+    v: Vec<Vec3>,
+    stress: Vec<[f64; 6]>,
+    eps_p: Vec<f64>,
+}
+
+impl Observer for Record {
+    fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
+        let t = s.state.t;
+        if t < self.next * (1.0 - 1e-12) && !s.is_finished() {
+            return Ok(());
+        }
+        self.next = t + self.every;
+        let e = s.state.energy;
+        self.rows.push(Row {
+            t,
+            step: s.state.step,
+            energy: [
+                e.kinetic,
+                e.internal,
+                e.hourglass,
+                e.external_work,
+                s.state.initial_energy,
+            ],
+            x: s.positions().iter().copied().collect(),
+            v: s.velocities().iter().copied().collect(),
+            stress: s.state.stress.clone(),
+            eps_p: s.state.hist.iter().map(|h| h.eps_p).collect(),
+        });
+        Ok(())
+    }
+    fn next_due(&self) -> f64 {
+        self.next
+    }
+}
+
+fn gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(g) => {
+            eprintln!("GPU: {}", g.describe());
+            Some(g)
+        }
+        Err(e) => {
+            eprintln!("SKIPPED: {e}");
+            None
+        }
+    }
+}
+
+/// A steel block 6 x 3 x 3 elements, bilinear plastic, hit on its top by a velocity that
+/// ramps up (prescribed motion), clamped on its bottom (SPC), under a body load that ramps, with
+/// an initial shear velocity: every part of the GPU step is used.
+fn block(hourglass: Hourglass) -> Model {
+    let steel = Material {
+        id: 1,
+        density: 7850.0,
+        young: 210e9,
+        poisson: 0.3,
+        kind: MaterialKind::PlasticKinematic {
+            sigy: 300e6,
+            etan: 2e9,
+            beta: 0.5,
+        },
+    };
+    let mut m = box_model([3, 3, 6], [0.03, 0.03, 0.06], steel, 1.0);
+    m.control.hourglass = hourglass;
+    if hourglass == Hourglass::Stiffness {
+        m.control.qh = 0.05;
+    }
+    m.curves.push(Curve {
+        id: 1,
+        t: vec![0.0, 5e-6, 1.0],
+        y: vec![0.0, 1.0, 1.0],
+    });
+    for (i, x) in m.x0.to_vec().iter().enumerate() {
+        let n = i as u32;
+        m.v0.as_mut_slice()[i] = [30.0 * x[2] / 0.06, 0.0, 0.0];
+        if x[2] < 1e-9 {
+            m.spcs.push(Spc {
+                node: n,
+                dof: [true, true, true, false, false, false],
+            });
+        } else if (x[2] - 0.06).abs() < 1e-9 {
+            m.prescribed.push(PrescribedMotion {
+                target: MotionTarget::Node(n),
+                axis: 2,
+                vad: Vad::Velocity,
+                curve: 0,
+                sf: -40.0,
+            });
+        }
+    }
+    m.body_loads.push(BodyLoad {
+        axis: 1,
+        curve: Some(0),
+        sf: 5e5,
+    });
+    let (dt, _) = cleave_core::setup::estimate_time_step(&m).unwrap();
+    m.control.end_time = 150.0 * dt * m.control.tssfac;
+    m
+}
+
+fn run_cpu(m: &Model, every: f64) -> Vec<Row> {
+    let mut s = Solver::new(m).unwrap();
+    let mut r = Record {
+        every,
+        ..Default::default()
+    };
+    s.run(&mut r).unwrap();
+    r.rows
+}
+
+fn run_gpu(g: Gpu, m: &Model, every: f64) -> (Vec<Row>, Gpu) {
+    let mut s = Solver::new(m).unwrap();
+    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut r = Record {
+        every,
+        ..Default::default()
+    };
+    st.run(&mut s, &mut r).unwrap();
+    (r.rows, st.into_gpu())
+}
+
+/// Largest |a - b| over the largest |a|, for each field.
+fn compare(a: &Row, b: &Row) -> [f64; 4] {
+    fn rel<const N: usize>(a: &[[f64; N]], b: &[[f64; N]]) -> f64 {
+        let scale = a.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        let d = (a.iter().flatten().zip(b.iter().flatten()))
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        d / scale.max(f64::MIN_POSITIVE)
+    }
+    let e_scale = a.energy.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let de = (a.energy.iter().zip(&b.energy)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    [
+        rel(&a.x, &b.x),
+        rel(&a.v, &b.v),
+        rel(&a.stress, &b.stress),
+        de / e_scale,
+    ]
+}
+
+fn check(hourglass: Hourglass) {
+    let Some(g) = gpu() else { return };
+    let m = block(hourglass);
+    let every = m.control.end_time / 7.0;
+    let cpu = run_cpu(&m, every);
+    let (gpu1, g) = run_gpu(g, &m, every);
+    let (gpu2, _) = run_gpu(g, &m, every);
+    assert_eq!(gpu1, gpu2, "two GPU runs differ");
+    assert_eq!(cpu.len(), gpu1.len(), "the same output times");
+    assert!(cpu.len() >= 8);
+    let mut worst = [0.0f64; 4];
+    for (a, b) in cpu.iter().zip(&gpu1) {
+        assert_eq!(a.step, b.step);
+        assert!((a.t - b.t).abs() <= 1e-12 * a.t, "t {} vs {}", a.t, b.t);
+        let d = compare(a, b);
+        for k in 0..4 {
+            worst[k] = worst[k].max(d[k]);
+        }
+    }
+    eprintln!("{hourglass:?}: largest relative differences GPU - CPU: x {:.1e}, v {:.1e}, stress {:.1e}, energies {:.1e}", worst[0], worst[1], worst[2], worst[3]);
+    assert!(worst.iter().all(|&d| d < 1e-10), "{worst:?}");
+    // the block yields: the plastic branch ran
+    let last = cpu.last().unwrap();
+    assert!(last.eps_p.iter().any(|&e| e > 0.0));
+    let lg = gpu1.last().unwrap();
+    let dp = (last.eps_p.iter().zip(&lg.eps_p)).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let pmax = last.eps_p.iter().fold(0.0f64, |m, &a| m.max(a));
+    assert!(dp <= 1e-8 * pmax, "plastic strain {dp:e} of {pmax:e}");
+}
+
+#[test]
+fn viscous_hourglass_matches_the_cpu() {
+    check(Hourglass::Viscous);
+}
+
+#[test]
+fn stiffness_hourglass_matches_the_cpu() {
+    check(Hourglass::Stiffness);
+}

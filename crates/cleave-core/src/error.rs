@@ -9,8 +9,22 @@ pub enum SolverError {
     Setup(String),
     /// An element's volume became non-positive (exit code 3).
     InvertedElement { element: i64, time: f64, step: u64 },
-    /// A nodal value became non-finite (exit code 3).
-    NonFinite { node: i64, time: f64, step: u64 },
+    /// A nodal value became non-finite (exit code 3); `element`: an element of that node whose
+    /// stress is not finite either (where the failure started), if there is one.
+    NonFinite {
+        node: i64,
+        element: Option<i64>,
+        time: f64,
+        step: u64,
+    },
+    /// An energy of the ledger became non-finite (exit code 3); `at` names where (an element,
+    /// a node, a rigid body) when that can be found.
+    NonFiniteEnergy {
+        energy: &'static str,
+        at: String,
+        time: f64,
+        step: u64,
+    },
     /// The time step collapsed or is not finite (exit code 3).
     BadTimeStep {
         dt: f64,
@@ -44,9 +58,27 @@ impl fmt::Display for SolverError {
                 "element {element} has a negative or zero volume at time {time:e} (step {step}); \
                  the mesh is too distorted: reduce TSSFAC, refine the mesh or raise the hourglass control"
             ),
-            SolverError::NonFinite { node, time, step } => write!(
+            SolverError::NonFinite {
+                node,
+                element,
+                time,
+                step,
+            } => write!(
                 f,
-                "node {node} has a non-finite velocity or position at time {time:e} (step {step})"
+                "node {node} has a non-finite velocity or position at time {time:e} (step {step}){}",
+                element.map_or(String::new(), |e| format!(
+                    "; element {e}, on it, has a non-finite stress"
+                ))
+            ),
+            SolverError::NonFiniteEnergy {
+                energy,
+                at,
+                time,
+                step,
+            } => write!(
+                f,
+                "the {energy} is not finite at time {time:e} (step {step}){}",
+                if at.is_empty() { String::new() } else { format!(": {at}") }
             ),
             SolverError::BadTimeStep { dt, element, time, step } => write!(
                 f,

@@ -18,7 +18,7 @@ use crate::math::{cross, dot, scale, sub, Vec3};
 use crate::model::{Model, NodeLoad, PressureLoad};
 
 /// The loads' forces of the step, in a fixed order (node loads, then each segment's nodes).
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub struct Loads {
     now: Vec<(u32, Vec3)>,
 }

@@ -195,6 +195,10 @@ pub fn build_rigid_bodies(
         xc = scale(xc, 1.0 / m);
         let mut inertia = [[0.0; 3]; 3];
         let mut add_point = |r: Vec3, mi: f64| {
+            // a massless node (an extra node off the mesh) adds nothing, however far it lies
+            if mi == 0.0 {
+                return;
+            }
             let rr = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
             for i in 0..3 {
                 for j in 0..3 {
@@ -228,6 +232,13 @@ pub fn build_rigid_bodies(
             // the card's velocities are those of its centre
             let v_cm = add(g.velocity, cross(g.omega, sub(xc, g.centre)));
             initial = Some((v_cm, g.omega));
+        }
+        // a node or a given centre so far out that the second moments overflow
+        if !(xc.iter().all(|v| v.is_finite()) && inertia.iter().flatten().all(|v| v.is_finite())) {
+            return Err(format!(
+                "{} has a non-finite centre of mass or inertia (centre {xc:?}): its nodes or its given centre of mass lie too far apart",
+                name(def.of, def.id)
+            ));
         }
         let (cmo, con1, con2) = def.codes;
         let (fix_v, fix_w) = if cmo == 1 {

@@ -63,6 +63,8 @@ use crate::separation::interfaces::Separation;
 use crate::setup::Setup;
 use crate::state::{Energies, RigidState, State};
 
+mod restart;
+
 /// Each parallel task of the element pass spans at least this many elements' worth of chunks
 /// before the colour filter (so about `ELEM_CHUNK / colours` elements of work); the chunks of
 /// the sums are the colouring's, fixed by the mesh, for deterministic sums.
@@ -92,7 +94,7 @@ impl PhaseTimes {
 }
 
 /// Resultant force of a rigid wall at t^n (on the model).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct WallForce {
     /// Force along the wall normal (positive pushes the nodes away from the wall).
     pub normal: f64,
@@ -114,7 +116,7 @@ impl std::ops::AddAssign for Work {
 }
 
 /// Partial results of one chunk of the element pass.
-#[derive(Clone, Copy, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug)]
 struct ElemChunkSum {
     dt_min: f64,
     dt_elem: u32,
@@ -151,6 +153,13 @@ pub trait Observer {
     /// stop every step (`solver.state.t`, `step`, `dt` and the energies are current; the
     /// nodal and element values are those of the last [`Self::observe`]). For a progress bar.
     fn tick(&mut self, _solver: &Solver) {}
+
+    /// Called after each step's position update with the state the next step starts from
+    /// (x^(n+1), v^(n+1/2), t^(n+1)): where a restart file is saved ([`Solver::save_state`]).
+    /// `Ok(true)` stops the run there, unfinished ([`Solver::is_finished`] false).
+    fn between_steps(&mut self, _solver: &Solver) -> std::io::Result<bool> {
+        Ok(false)
+    }
 }
 
 /// Why a run stopped early.
@@ -492,6 +501,9 @@ impl<'m> Solver<'m> {
                 return Ok(());
             }
             self.update_positions().map_err(RunError::Solver)?;
+            if obs.between_steps(self).map_err(RunError::Output)? {
+                return Ok(());
+            }
         }
     }
 
@@ -527,6 +539,7 @@ impl<'m> Solver<'m> {
             // E0 + W = the total at t = 0 (W holds the first half of the first impulses)
             self.state.initial_energy = self.state.energy.total() - self.state.energy.external_work;
         }
+        self.check_energies()?;
         let t5 = Instant::now();
         let tm = &mut self.times;
         tm.elements += (t1 - t0).as_secs_f64();
@@ -534,6 +547,86 @@ impl<'m> Solver<'m> {
         tm.contact += (t4 - t3).as_secs_f64();
         tm.nodal += (t3 - t2).as_secs_f64() + (t5 - t4).as_secs_f64();
         Ok(())
+    }
+
+    /// The error for a non-finite velocity: the node where the failure started, that is a node
+    /// of the first element whose stress is not finite (NaN spreads from an element to its
+    /// nodes in the step it appears, and to their other elements only in the next), else the
+    /// first node whose velocity is not finite.
+    fn non_finite_node(&self) -> SolverError {
+        let v = self.half_step_velocities();
+        let bad = |i: usize| !v[i].iter().all(|c| c.is_finite());
+        let elem = (0..self.model.num_elements())
+            .find(|&k| !self.state.stress[k].iter().all(|c| c.is_finite()));
+        let node = elem
+            .and_then(|k| {
+                self.model.conn[k]
+                    .iter()
+                    .map(|&n| n as usize)
+                    .find(|&i| bad(i))
+            })
+            .or_else(|| (0..self.model.num_nodes()).find(|&i| bad(i)))
+            .unwrap_or(0);
+        SolverError::NonFinite {
+            node: self.model.node_ids[node],
+            element: elem.map(|k| self.model.elem_ids[k]),
+            time: self.state.t,
+            step: self.state.step,
+        }
+    }
+
+    /// Every energy of the ledger is finite, or the run stops naming the energy and, where
+    /// it can be found, the element, rigid body or node it came from (a figure that is not a
+    /// number must not end a run with success).
+    fn check_energies(&self) -> Result<(), SolverError> {
+        let e = &self.state.energy;
+        let ledger = [
+            ("initial energy", self.state.initial_energy),
+            ("kinetic energy", e.kinetic),
+            ("internal energy", e.internal),
+            ("hourglass energy", e.hourglass),
+            ("contact energy", e.contact),
+            ("fracture energy", e.fracture),
+            ("external work", e.external_work),
+        ];
+        let Some(&(energy, _)) = ledger.iter().find(|(_, v)| !v.is_finite()) else {
+            return Ok(());
+        };
+        let finite = |a: &[f64]| a.iter().all(|x| x.is_finite());
+        let bad_elem = (0..self.model.num_elements())
+            .find(|&k| !finite(&self.state.stress[k]) || !finite(&self.state.hg[k]));
+        let bad_body = self.state.rigid.iter().position(|r| {
+            !(finite(&r.x_cm) && finite(&r.v_cm) && finite(&r.omega) && finite(&r.ang_mom))
+        });
+        let bad_node = (0..self.model.num_nodes())
+            .find(|&i| !(finite(&self.positions()[i]) && finite(&self.half_step_velocities()[i])));
+        let at = if let Some(k) = bad_elem {
+            format!("element {} has a non-finite stress", self.model.elem_ids[k])
+        } else if let Some(b) = bad_body {
+            let body = &self.setup.rigid[b];
+            match body.of {
+                crate::rigid::BodyOf::Part(p) => format!(
+                    "rigid part {} has a non-finite motion",
+                    self.model.parts[p].id
+                ),
+                crate::rigid::BodyOf::Nodal(_) => {
+                    format!("nodal rigid body {} has a non-finite motion", body.id)
+                }
+            }
+        } else if let Some(i) = bad_node {
+            format!(
+                "node {} has a non-finite position or velocity",
+                self.model.node_ids[i]
+            )
+        } else {
+            String::new()
+        };
+        Err(SolverError::NonFiniteEnergy {
+            energy,
+            at,
+            time: self.state.t,
+            step: self.state.step,
+        })
     }
 
     /// Element pass and assembly: stresses at x^n, and `f_i = m_i g(t) + sum of the corner
@@ -1017,7 +1110,9 @@ impl<'m> Solver<'m> {
         }
         self.state.dt_element = dt_elem;
         let remaining = c.end_time - self.state.t;
-        if remaining <= 1e-9 * dt {
+        // a last step of round-off is not taken; a first step longer than the whole run is
+        // cut to it (not skipped)
+        if remaining <= 1e-9 * dt.min(c.end_time) {
             self.finished = true;
         } else if dt > remaining {
             dt = remaining;
@@ -1302,16 +1397,7 @@ impl<'m> Solver<'m> {
             }
         }
         if !s[0].is_finite() {
-            let bad = self
-                .half_step_velocities()
-                .iter()
-                .position(|v| !v.iter().all(|c| c.is_finite()))
-                .unwrap_or(0);
-            return Err(SolverError::NonFinite {
-                node: self.model.node_ids[bad],
-                time: self.state.t,
-                step: self.state.step,
-            });
+            return Err(self.non_finite_node());
         }
         // the mass of the bodies with a given inertia, which no node carries
         let first = self.state.step == 0;

@@ -6,7 +6,7 @@ use crate::math::{Mat3, Sym3, Vec3};
 /// The energy ledger, each value at the current time t^n.
 ///
 /// Balance: kinetic + internal + hourglass + contact + fracture = initial total + external work.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct Energies {
     /// 1/2 sum m |v^n|^2, with v^n the mean of the half-step velocities on either side.
     pub kinetic: f64,
@@ -30,7 +30,7 @@ impl Energies {
 }
 
 /// Motion of one rigid body.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct RigidState {
     /// Centre of mass at t^n.
     pub x_cm: Vec3,
@@ -51,7 +51,7 @@ pub struct RigidState {
 }
 
 /// The solution state.
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub struct State {
     /// Time t^n.
     pub t: f64,

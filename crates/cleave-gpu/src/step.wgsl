@@ -664,7 +664,7 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
         return;
     }
     let remaining = cf[END_TIME] - cf[T];
-    if (remaining <= 1e-9lf * d) {
+    if (remaining <= 1e-9lf * min(d, cf[END_TIME])) {
         atomicStore(&cu[FINISHED], 1u);
     } else if (d > remaining) {
         d = remaining;

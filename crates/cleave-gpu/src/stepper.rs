@@ -576,6 +576,7 @@ impl Control {
                     .nth(u[cu::NONFINITE] as usize)
                     .copied()
                     .unwrap_or(0),
+                element: None,
                 time,
                 step,
             },

@@ -27,7 +27,7 @@ use super::search::trim;
 const UNITS: usize = Sched::UNITS;
 
 /// Where a node's room lies in its chunk's buffer.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 struct Place {
     start: u32,
     size: u32,
@@ -40,7 +40,7 @@ impl Place {
 }
 
 /// One chunk's rooms.
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 struct Buffer {
     cands: Vec<Cand>,
     /// Candidates of the buffer in no node's room.
@@ -53,7 +53,7 @@ thread_local! {
 }
 
 /// The rooms of all the nodes of a pass (module docs).
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(super) struct CandLists {
     chunk: usize,
     place: Vec<Place>,

@@ -76,14 +76,14 @@ pub const TURN: f64 = 0.866;
 /// A failed interface: its two faces and their node pairs (`nodes[0][k]` and `nodes[1][k]` are
 /// the copies of one deck node, on A and on B), as the separation lists it
 /// (`SharedFace::elems`, `faces`, `nodes`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct Crack {
     pub faces: [FaceId; 2],
     pub nodes: [[u32; 4]; 2],
 }
 
 /// A closed crack: the node pairs of one failed interface with their penalty.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(super) struct Closure {
     pub faces: [FaceId; 2],
     /// `a[k]` in the outward order of face A (so the mid-surface normal points out of A),
@@ -201,7 +201,7 @@ const MASK_BITS: usize = 32;
 /// Which copies of each deck node are held together, by a tie (one coincident set) or through
 /// a chain of closed cracks: the search leaves out a face that holds a node so held with the
 /// node checked (module docs, Chains).
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub(super) struct Chains {
     /// Deck node of each model node (empty when the model is not split): the split model's
     /// own `origin` when it shares it ([`Chains::new`]), not a copy.

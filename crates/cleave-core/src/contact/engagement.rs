@@ -28,7 +28,7 @@
 //! geometry are engaged in full and pushed out.
 
 /// The engaged state of a node on a face after this step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct Engagement {
     /// Engaged penetration e = g - o (<= 0); the force is `-k e n`.
     pub engaged: f64,
@@ -37,7 +37,7 @@ pub struct Engagement {
 }
 
 /// What the node had last step.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub enum Previous {
     /// Not in contact.
     Free,

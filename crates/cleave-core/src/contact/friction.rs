@@ -13,7 +13,7 @@
 use crate::math::{dot, norm, scale, sub, Vec3};
 
 /// Friction coefficients of a contact definition.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct Friction {
     /// Static coefficient FS.
     pub fs: f64,

@@ -243,6 +243,7 @@ pub mod engagement;
 pub mod friction;
 mod node_faces;
 pub mod penalty;
+pub(crate) mod restart;
 pub mod schedule;
 pub mod search;
 pub mod surface;
@@ -307,7 +308,7 @@ const REBASE: f64 = 1.0e4;
 const REORDER: usize = 8;
 
 /// A face of a contact surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct Face {
     pub elem: u32,
     /// Local face number, [`crate::element::hex8::FACES`] order.
@@ -333,7 +334,7 @@ impl Face {
 }
 
 /// Resultants of one definition over the last step (for rcforc.csv).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactForce {
     /// Deck ordinal of the definition.
     pub id: i64,
@@ -350,7 +351,7 @@ pub struct ContactForce {
 }
 
 /// What a call of [`ContactSet::compute`] reports.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactStep {
     /// Contact energy increment of the step (add to `Energies::contact`).
     pub energy: f64,
@@ -361,7 +362,7 @@ pub struct ContactStep {
 }
 
 /// Search statistics.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactStats {
     /// Faces over all sides of all definitions.
     pub faces: usize,
@@ -695,7 +696,7 @@ impl<'m> ContactSet<'m> {
 /// touched, and each node's place in that list (4 bytes a node, instead of a dense force array
 /// of 24; only the surface nodes in contact are touched); and the same lists of the last step,
 /// for the energy's trapezoid.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 struct NodalForces {
     /// Place of each node in `touched` / `f`, or NONE (one array for both steps: the last
     /// step's nodes are only read in sequence).
@@ -774,7 +775,7 @@ struct StepInput<'a> {
 }
 
 /// One side of a definition: its faces and their nodes.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 struct Side {
     faces: Vec<Face>,
     /// The faces in `faces`, with their index.
@@ -1101,7 +1102,7 @@ fn search_sphere(face: &Face, x: Points, margin: f64) -> (Vec3, f64) {
 /// radius grown by the centre's rounding and rounded up, so that it holds the sphere it was
 /// made from. A larger sphere keeps more candidates and makes them due sooner
 /// ([`first_due`]); neither changes what a check finds.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 struct Sphere {
     c: [f32; 3],
     r2: f32,
@@ -1126,7 +1127,7 @@ impl Sphere {
 }
 
 /// The result of one node's check.
-#[derive(Clone, Copy, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug)]
 struct Hit {
     /// Face index in the face side, or NONE.
     face: u32,
@@ -1158,7 +1159,7 @@ impl Default for Hit {
 }
 
 /// The nodes of one side against the faces of one side.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 struct Pass {
     node_side: usize,
     face_side: usize,
@@ -1204,7 +1205,7 @@ thread_local! {
 }
 
 /// A full build or an incremental search ([`Query::run`]).
-#[derive(Clone, Copy, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug)]
 enum SearchKind {
     /// A full build: the motion bound restarts at zero, so `rebase` (the bound before) is
     /// subtracted from the `due` kept; the faces' spheres are of the current positions, made
@@ -1333,7 +1334,7 @@ fn first_due((c, reach2): (Vec3, f64), p: Vec3, margin: f64) -> f32 {
 }
 
 /// One contact definition.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct Contact {
     /// Deck ordinal.
     pub id: i64,
@@ -1384,7 +1385,7 @@ pub struct Contact {
 }
 
 /// The box of some displacements: `diag` bounds the distance between any two of them.
-#[derive(Clone, Copy, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug)]
 struct Spread {
     min: Vec3,
     max: Vec3,
@@ -2229,7 +2230,7 @@ struct NodeCheck<'a> {
 }
 
 /// A node's surface normal, and how fast it can turn (module docs, facing clearance).
-#[derive(Clone, Copy, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug)]
 struct NodeFrame {
     /// Unit normal of the node's surface, n_s = S / |S| with S the sum of its faces'
     /// diagonal cross products (zero when S is).

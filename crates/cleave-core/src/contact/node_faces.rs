@@ -15,7 +15,7 @@ const NONE: u32 = u32::MAX;
 pub const INLINE: usize = 4;
 
 /// The faces of each node (by its place in the side's `nodes`).
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub(super) struct NodeFaces {
     /// The first faces of each node, NONE after the last.
     inline: Vec<[u32; INLINE]>,

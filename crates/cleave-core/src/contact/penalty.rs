@@ -39,7 +39,7 @@ const NEWTON_TOL: f64 = 1e-11;
 pub const WEIGHT_SUM: f64 = 1.0 + 4.0 * INSIDE_TOL;
 
 /// Where a node projects on a face.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct Projection {
     /// Weights of the face's 4 nodes at the contact point (bilinear shape functions, or the
     /// triangle fallback's), summing to 1.
@@ -98,6 +98,7 @@ pub fn project(p: &[Vec3; 4], s: Vec3) -> Option<Projection> {
     }
 }
 
+#[derive(serde::Serialize, serde::Deserialize)]
 enum Newton {
     Converged(f64, f64),
     /// The iterate left the face far behind: no contact.
@@ -232,7 +233,7 @@ pub fn project_triangles(p: &[Vec3; 4], s: Vec3) -> Option<Projection> {
 /// extended corners): `turn` is the positive root of `K2 d^2 + K1 d = min N.n0` (zero when the
 /// face is folded). And as `|N| >= min N.n0`, the direction of N turns by an angle whose sine is
 /// at most `kn1 delta + kn2 delta^2`, `kn = K / min N.n0` (infinite when folded).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct FaceBounds {
     pub c: Vec3,
     pub n0: Vec3,
@@ -352,7 +353,7 @@ impl FaceBounds {
 ///
 /// D is the largest of those that are positive, less `2e-7 (|s - c| + E r + depth)` for the
 /// f32 rounding; 0 when none is.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 #[repr(align(64))]
 pub struct Cull {
     pub c: Vec3,
@@ -373,7 +374,7 @@ pub struct Cull {
 
 /// What the rest of the check reads of a face's bounds: `gap_min` (exact) and, widened
 /// outwards, the cone and the turning rate of its normals ([`FaceBounds`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct CullMore {
     /// Gaps above `-gap_min` are not contact (`GAP_TOL r`).
     pub gap_min: f64,

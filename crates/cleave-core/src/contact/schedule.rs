@@ -19,7 +19,7 @@
 //! caller must not depend on it.
 
 /// A candidate face of a node, and when the pair must be tested next.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct Cand {
     pub face: u32,
     /// Test the pair once the motion bound reaches this (rounded down to f32; -inf: at once).
@@ -48,7 +48,7 @@ const _: () = assert!(HOT == 2);
 /// The node's room is `[heap (cold) | hot candidates beyond the inline ones | n_hot places]`.
 /// It is kept in [`Sched::UNITS`] candidates' space just before the room
 /// ([`super::cand_lists`]), so a node without candidates needs none.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct Sched {
     hot: [Cand; HOT],
     n_hot: u32,

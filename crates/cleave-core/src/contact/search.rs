@@ -19,7 +19,7 @@
 use crate::math::{f32_down, f32_up, Vec3};
 
 /// An axis-aligned box, bounds included.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
     pub min: Vec3,
     pub max: Vec3,
@@ -107,7 +107,7 @@ impl SearchBox for Aabb {
 
 /// A box kept in single precision, rounded outward so that it holds the box it was made from
 /// (24 bytes instead of 48): a search box may be larger than asked, never smaller.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct Aabb32 {
     min: [f32; 3],
     max: [f32; 3],
@@ -154,7 +154,7 @@ impl SearchBox for Aabb32 {
 
 /// Candidate faces of each node, compressed rows: node `i`'s faces are
 /// `list[start[i]..start[i + 1]]`, ascending.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default, PartialEq)]
 pub struct Candidates {
     pub start: Vec<u32>,
     pub list: Vec<u32>,
@@ -218,7 +218,7 @@ const CELLS_PER_BOX: f64 = 2.0;
 /// face). So each box goes to the grid of its size level, whose cells are half as large as
 /// that level's largest box; a query looks at its cell in every level. A box lies in one level and
 /// is listed in every cell of it that it overlaps, so the result is exact.
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub struct BucketGrid {
     levels: Vec<Level>,
     /// Levels `..used` hold this build's boxes.
@@ -230,7 +230,7 @@ pub struct BucketGrid {
 }
 
 /// One uniform grid: the items (box or point indices) of each cell, in ascending order.
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 struct Level {
     bounds: Option<Aabb>,
     h: f64,

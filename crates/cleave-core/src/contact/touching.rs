@@ -19,7 +19,7 @@ use super::Hit;
 use crate::math::Vec3;
 
 /// A node's contact of the last step.
-#[derive(Clone, Copy, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug)]
 pub(super) struct Touch {
     /// Place of the node within its chunk.
     pub k: u32,
@@ -39,7 +39,7 @@ impl Touch {
 }
 
 /// The touching nodes of a pass (module docs).
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(super) struct Touching {
     /// Nodes per chunk.
     chunk: usize,

@@ -39,7 +39,7 @@ pub struct KernelControls {
 }
 
 /// What one element reports back from a step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct ElementStep {
     /// Stable time step of the element (before TSSFAC).
     pub dt_crit: f64,
@@ -52,7 +52,7 @@ pub struct ElementStep {
 }
 
 /// The element has a non-positive or non-finite volume.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct InvertedElement;
 
 /// The element phase for one hexahedron; writes the 8 corner forces (force on each node) to `f`.

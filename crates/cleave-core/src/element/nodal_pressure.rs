@@ -33,7 +33,7 @@ use crate::math::{Sym3, Vec3};
 const NONE: u32 = u32::MAX;
 
 /// The averaging of the ELFORM 13 tetrahedra of a model, with its scratch.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct NodalPressure {
     /// The averaging elements, ascending, and the 4 nodes of each.
     elems: Vec<u32>,

@@ -26,7 +26,7 @@ use crate::material::{History, SolidParams};
 use crate::math::{ddot, det, inverse, mat_mul, Mat3, Sym3, Vec3};
 
 /// The state of an element's 8 Gauss points.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct GaussPoints {
     pub stress: [Sym3; 8],
     pub hist: [History; 8],
@@ -288,7 +288,7 @@ mod tests {
 
 /// The ELFORM 2 elements of a model with their Gauss points, and the results of the step's
 /// pass over them (done before the coloured pass, which scatters their forces).
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct SriElements {
     /// The elements, ascending; `pos[e]` is element e's place in the list (`u32::MAX`: not
     /// ELFORM 2).

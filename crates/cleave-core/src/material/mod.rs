@@ -24,7 +24,7 @@ use crate::model::{Material, MaterialKind};
 /// Per-element history of a material point: effective plastic strain, back stress,
 /// temperature rise, and for a material with an equation of state the log volume ratio and the
 /// internal energy ([`EosState`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct History {
     /// Effective (equivalent) plastic strain.
     pub eps_p: f64,

@@ -67,7 +67,7 @@ pub fn stable_slope(young: f64, h: f64, tssfac: f64) -> f64 {
 pub const EXP_OPEN: f64 = 12.0;
 
 /// The envelope's shape.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Envelope {
     /// MODEL 3: Camacho and Ortiz's linear softening.
     Linear,
@@ -76,7 +76,7 @@ pub enum Envelope {
 }
 
 /// A separation group's cohesive law, all but the strength, which is each interface's own.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct CohesiveParams {
     pub envelope: Envelope,
     /// Shear-to-normal weight BETA.
@@ -104,7 +104,7 @@ impl CohesiveParams {
 }
 
 /// Parameters of a cohesive law.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct CohesiveLaw {
     /// Cohesive strength (Pa): the traction at onset.
     pub sigmax: f64,

@@ -27,7 +27,7 @@ use crate::topology::UnionFind;
 const NONE: u32 = u32::MAX;
 
 /// The coincident node sets of a split model.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct CoincidentSets {
     members: Vec<u32>,
     /// (start, len) of each set in `members`; a set with len < 2 is dead.

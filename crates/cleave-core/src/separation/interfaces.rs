@@ -29,7 +29,7 @@ use crate::node_values::NodeValues;
 const CHUNK: usize = 1024;
 
 /// Status of one interface.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Status {
     Intact,
     Softening,
@@ -42,7 +42,7 @@ pub enum Status {
 /// part of the face's mean opening: the faces' relative translation. (The tangential
 /// differences between the points are the two elements' different in-plane stretching, not
 /// sliding; taken as sliding they would turn the full strength sideways at near-zero opening.)
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 struct CohesiveFace {
     interface: u32,
     /// The law with the interface's own strength.
@@ -59,12 +59,15 @@ struct CohesiveFace {
 }
 
 /// The interfaces of a split model at run time.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub struct Separation {
     faces: Vec<SharedFace>,
     interfaces: usize,
     status: Vec<Status>,
     /// Per face: whether it ties its node pairs (bonds always; interfaces while intact).
     ties: Vec<bool>,
+    /// Failure criteria per separation group: built from the model, not saved in a restart file.
+    #[serde(skip)]
     criteria: Vec<Box<dyn Criterion>>,
     /// Per group: its cohesive law but the strength (MODELs 3 and 4).
     laws: Vec<Option<CohesiveParams>>,
@@ -148,6 +151,24 @@ impl Separation {
             failed: 0,
             crack_area: 0.0,
         })
+    }
+
+    /// Take up the state of a restart file (`saved`, read back without its criteria) in place
+    /// of this one, built from the same model: every face's status, the coincident sets as they
+    /// have split, the cohesive faces and the counts; the criteria stay this one's.
+    pub(crate) fn restore(&mut self, mut saved: Separation) -> Result<(), String> {
+        if saved.faces.len() != self.faces.len() || saved.interfaces != self.interfaces {
+            return Err(format!(
+                "it has {} interfaces and {} shared faces, the deck {} and {}",
+                saved.interfaces,
+                saved.faces.len(),
+                self.interfaces,
+                self.faces.len()
+            ));
+        }
+        saved.criteria = std::mem::take(&mut self.criteria);
+        *self = saved;
+        Ok(())
     }
 
     /// Number of interfaces that may fail.

@@ -21,7 +21,7 @@ use crate::model::{Model, MotionTarget, PerNode};
 const NONE: u32 = u32::MAX;
 
 /// Whether a shared face can fail or stays bonded forever (`BOND = 0`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FaceKind {
     /// May fail: a row of the interface table.
     Interface,
@@ -33,7 +33,7 @@ pub enum FaceKind {
 /// element `elems[0]` (in its outward face order) coinciding with `nodes[4 + k]` of `elems[1]`.
 /// A triangle (between wedges or tetrahedra) has its last node repeated, `N1 N2 N3 N3`
 /// ([`crate::element::shape::face_points`]).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, PartialEq)]
 pub struct SharedFace {
     pub elems: [u32; 2],
     /// Local face number (0..6, [`FACES`]) of the face in each element.
@@ -206,7 +206,7 @@ pub fn split_model(model: &Model) -> SplitModel {
 }
 
 /// Solved nodes of each deck node, ascending (CSR).
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub struct Copies {
     start: Vec<u32>,
     list: Vec<u32>,

@@ -7,107 +7,7 @@ use cleave_io::deck::{parse_deck, write_deck, DeckError};
 
 /// A small deck using every supported keyword, in free format. Two elements along x: element
 /// 1 (part 1, elastic with separation) and element 2 (part 2, rigid).
-const BASE: &str = "\
-$ test deck
-*KEYWORD 100m
-*TITLE
-two bricks
-*CONTROL_TERMINATION
-1.0e-3
-*CONTROL_TIMESTEP
-0.0, 0.8
-*CONTROL_HOURGLASS
-4, 0.05
-*CONTROL_BULK_VISCOSITY
-1.2, 0.05
-*CONTROL_CONTACT
-0.2
-*DATABASE_GLSTAT
-1.0d-5
-*DATABASE_NODOUT
-2.0D-5
-*DATABASE_BINARY_D3PLOT
-1e-4
-*DATABASE_HISTORY_NODE
-1, 12
-*DATABASE_HISTORY_SOLID
-2
-*PART
-block
-1, 1, 1
-*PART
-plate
-2, 1, 2
-*SECTION_SOLID
-1, 1
-*MAT_ELASTIC
-1, 7800., 2.0e11, 0.3
-*MAT_RIGID
-2, 7800., 2.0e11, 0.3
-1, 4, 7
-*MAT_ADD_SEPARATION
-1, 2, 1.0e8, 0.5
-*NODE
-1, 0., 0., 0.
-2, 1., 0., 0.
-3, 2., 0., 0.
-4, 0., 1., 0., 3
-5, 1., 1., 0.
-6, 2., 1., 0.
-7, 0., 0., 1.
-8, 1., 0., 1.
-9, 2., 0., 1.
-10, 0., 1., 1.
-11, 1., 1., 1.
-12, 2., 1., 1., 0, 7
-*ELEMENT_SOLID
-1, 1, 1, 2, 5, 4, 7, 8, 11, 10
-2, 2
-2, 3, 6, 5, 8, 9, 12, 11
-*SET_NODE_LIST
-1
-1, 4, 7, 10, 0, 1
-*SET_PART_LIST
-5
-1, 2
-*SET_SEGMENT
-3
-1, 4, 10, 7
-1, 2, 8
-*DEFINE_CURVE
-1, 0, 0., 2.0
-0., 0.
-1.0e-3, 1.
-*DEFINE_CURVE
-2
-0., 1.
-*BOUNDARY_SPC_SET
-1, 0, 1
-*BOUNDARY_SPC_NODE
-1, 0, 0, 1, 1
-*BOUNDARY_PRESCRIBED_MOTION_RIGID
-2, 1, 0, 1, 0.5
-*BOUNDARY_PRESCRIBED_MOTION_SET
-1, 3, 2, 2
-*INITIAL_VELOCITY_GENERATION
-1, 2, 10., 1.
-0., 0., 0., 0., 0., 2.
-*LOAD_BODY_Z
-0, 9.81
-*RIGIDWALL_PLANAR
-0
-0., 0., -0.1, 0., 0., 1., 0.5
-*RIGIDWALL_PLANAR
-1
--1., 0., 0., 0., 0., 0.
-*CONTACT_AUTOMATIC_SINGLE_SURFACE
-5, 0, 2
-0.3, 0.2
-*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE
-1, 2, 3, 3
-*END
-anything here is ignored
-";
+const BASE: &str = include_str!("all_keywords.k");
 
 /// The same deck in fixed format: every comma-separated card right-aligned in the widths
 /// the LS-DYNA manual gives for it.
@@ -712,6 +612,10 @@ fn material_values_are_checked() {
         ("1, 7800., 2.0e11, 0.3", "1, 7800., 2.0e11, 0.5", "PR"),
         ("1, 7800., 2.0e11, 0.3", "1, 7800., 2.0e11, -1.0", "PR"),
         ("2, 7800., 2.0e11, 0.3", "2, -1., 2.0e11, 0.3", "RO"),
+        // rigid: E and PR checked too (they set the contact stiffness; issue 33)
+        ("2, 7800., 2.0e11, 0.3", "2, 7800., 0., 0.3", "E"),
+        ("2, 7800., 2.0e11, 0.3", "2, 7800., -2.0e11, 0.3", "E"),
+        ("2, 7800., 2.0e11, 0.3", "2, 7800., 2.0e11, 0.7", "PR"),
     ];
     for &(old, new, field) in cases {
         let t = with(old, new);
@@ -724,8 +628,6 @@ fn material_values_are_checked() {
             "",
         );
     }
-    // rigid: E and PR not checked
-    parse(&with("2, 7800., 2.0e11, 0.3", "2, 7800., 0., 0.7"));
     // plastic kinematic
     let pk = |card: &str| {
         BASE.replacen(

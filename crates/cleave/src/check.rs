@@ -1,4 +1,10 @@
 //! `cleave check DECK.k`: validate a deck and print a model summary without running it.
+//!
+//! It validates what `cleave run` does before its first step, with the same functions and so
+//! the same messages (a deck `check` accepts is not refused by `run`): the deck reader, the
+//! ParaView state cap, the split of the separation groups and the solver with its interfaces
+//! and contact definitions ([`crate::run::prepare`], [`crate::run::start_solver`]; a segment
+//! set whose segment is no element face is refused there).
 
 use cleave_core::element::Shape;
 use cleave_core::model::MaterialKind;
@@ -13,9 +19,18 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
         eprintln!("warning: {w}");
     }
     let m = &d.model;
+    crate::run::state_cap(m)?;
     let setup = Setup::new(m).map_err(Failure::Input)?;
     for w in &setup.warnings {
         eprintln!("warning: {w}");
+    }
+    // what `run` builds before its first step, refused as `run` refuses it
+    {
+        let prepared = crate::run::prepare(m.clone());
+        let (_, warnings) = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
+        for w in warnings.iter().filter(|w| !setup.warnings.contains(w)) {
+            eprintln!("warning: {w}");
+        }
     }
     println!("deck        {}", a.deck.display());
     if d.files.len() > 1 {

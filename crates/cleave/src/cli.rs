@@ -52,6 +52,14 @@ pub struct RunArgs {
     /// that asks for a feature the GPU step does not have yet is refused with its name (exit 2).
     #[arg(long)]
     pub gpu: bool,
+    /// Write a restart file (OUTDIR/restart.ckpt) every T of simulated time; one is also
+    /// written when SIGINT or SIGTERM stops the run.
+    #[arg(long = "checkpoint-every", value_name = "T")]
+    pub checkpoint_every: Option<f64>,
+    /// Continue the run from a restart file of this deck (the histories in OUTDIR are cut
+    /// back to where the file was written and go on from there).
+    #[arg(long, value_name = "FILE")]
+    pub restart: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]

@@ -21,7 +21,7 @@
 use cleave_core::math::{add, norm, scale, sub, Vec3};
 
 /// The crack history of a run.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct CrackGrowth {
     origin: Option<Vec3>,
     /// (t, L) of every row.

@@ -11,6 +11,9 @@ pub enum Failure {
     Numerical(String),
     /// Anything else: I/O, internal (exit code 1).
     Other(String),
+    /// The run stopped on a signal after writing its restart file and output (exit code 128 +
+    /// the signal's number: 130 for SIGINT, 143 for SIGTERM).
+    Interrupted(String, i32),
 }
 
 impl Failure {
@@ -19,6 +22,7 @@ impl Failure {
             Failure::Input(_) => 2,
             Failure::Numerical(_) => 3,
             Failure::Other(_) => 1,
+            Failure::Interrupted(_, sig) => 128 + sig,
         }
     }
 }
@@ -26,7 +30,10 @@ impl Failure {
 impl fmt::Display for Failure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Failure::Input(m) | Failure::Numerical(m) | Failure::Other(m) => f.write_str(m),
+            Failure::Input(m)
+            | Failure::Numerical(m)
+            | Failure::Other(m)
+            | Failure::Interrupted(m, _) => f.write_str(m),
         }
     }
 }

@@ -42,6 +42,17 @@ pub fn fragment_table(s: &Solver, fr: &Fragments) -> Vec<FragmentSummary> {
     fr.summaries(&s.model.conn, &s.setup.mass, s.positions(), s.velocities())
 }
 
+/// What a restart file keeps of the fracture output: crack.csv's length, the crack surfaces
+/// written, and the history the plots and the crack speed are made from.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct FractureSaved {
+    crack_len: u64,
+    cracks: Vec<(f64, String)>,
+    count: usize,
+    history: Vec<(f64, f64, usize, f64)>,
+    growth: CrackGrowth,
+}
+
 /// The fracture files of a run.
 pub struct FractureOutput {
     dir: PathBuf,
@@ -61,14 +72,18 @@ pub struct FractureOutput {
 impl FractureOutput {
     /// Crack speeds are slopes over the last `speed_window` of time; `thickness`: the axis
     /// crack lengths leave out ([`crate::crack_growth::thickness_axis`]).
+    /// `resume`: the state of a restart file, to go on from (crack.csv is cut back to its
+    /// length then).
     pub fn create(
         dir: &Path,
         speed_window: f64,
         thickness: Option<usize>,
+        resume: Option<&FractureSaved>,
     ) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir.join("cracks"))?;
-        let crack = CsvWriter::create(
-            dir.join("crack.csv"),
+        let crack = crate::results::open_csv(
+            dir,
+            "crack.csv",
             &[
                 "time",
                 "failed_interfaces",
@@ -83,8 +98,9 @@ impl FractureOutput {
                 "crack_length",
                 "crack_speed",
             ],
+            resume.map(|r| r.crack_len),
         )?;
-        Ok(Self {
+        let mut out = Self {
             dir: dir.to_path_buf(),
             crack,
             cracks: PvdWriter::new(dir.join("cracks.pvd")),
@@ -94,6 +110,24 @@ impl FractureOutput {
             centroids: Vec::new(),
             final_masses: Vec::new(),
             strengths: None,
+        };
+        if let Some(r) = resume {
+            out.cracks = PvdWriter::with_entries(dir.join("cracks.pvd"), r.cracks.clone())?;
+            out.count = r.count;
+            out.history = r.history.clone();
+            out.growth = r.growth.clone();
+        }
+        Ok(out)
+    }
+
+    /// What a restart file keeps (every row is flushed first).
+    pub fn saved(&mut self) -> std::io::Result<FractureSaved> {
+        Ok(FractureSaved {
+            crack_len: self.crack.written_len()?,
+            cracks: self.cracks.entries().to_vec(),
+            count: self.count,
+            history: self.history.clone(),
+            growth: self.growth.clone(),
         })
     }
 
@@ -239,6 +273,11 @@ impl FractureOutput {
 
     /// Flush crack.csv; plot crack.png, crack_area.png and, once fragments.csv is written,
     /// fragments.png.
+    /// Flush crack.csv.
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.crack.flush()
+    }
+
     pub fn finish(&mut self) -> std::io::Result<()> {
         self.crack.flush()?;
         let area: Vec<(f64, f64)> = self.history.iter().map(|r| (r.0, r.1)).collect();

@@ -1,7 +1,8 @@
 //! `cleave`: explicit finite-element dynamics of solids with fracture by element separation.
 //!
 //! `main` only parses the command line, calls the command, and maps its error to the exit
-//! codes of the interface page: 0 success, 2 bad input, 3 numerical failure, 1 anything else.
+//! codes of the interface page: 0 success, 2 bad input, 3 numerical failure, 130/143 stopped by SIGINT/SIGTERM (with a
+//! restart file), 1 anything else.
 //! It first fixes the allocator's large-block threshold ([`alloc_tuning`]).
 
 mod alloc_tuning;
@@ -13,9 +14,12 @@ mod example;
 mod failure;
 mod fracture;
 mod import;
+mod interrupt;
 mod progress;
+mod restart;
 mod results;
 mod run;
+mod run_status;
 
 use clap::Parser;
 
@@ -28,7 +32,10 @@ fn main() {
     let code = match outcome {
         Ok(Ok(())) => 0,
         Ok(Err(f)) => {
-            eprintln!("error: {f}");
+            match f {
+                Failure::Interrupted(..) => eprintln!("stopped: {f}"),
+                _ => eprintln!("error: {f}"),
+            }
             f.exit_code()
         }
         Err(_) => {

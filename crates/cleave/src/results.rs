@@ -21,14 +21,16 @@ use cleave_io::output::csv::{CsvWriter, Field};
 use cleave_io::output::plot::plot_lines;
 use cleave_io::output::vtk::{write_vtu, DataArray, PvdWriter};
 
-use crate::fracture::{fragment_table, fragments_of, FractureOutput};
+use crate::fracture::{fragment_table, fragments_of, FractureOutput, FractureSaved};
 use crate::progress::Progress;
+use crate::restart::Checkpoints;
+use crate::run_status::RunStatus;
 use cleave_core::separation::fragments::Fragments;
 
 type Csv = CsvWriter<BufWriter<File>>;
 
 /// When a periodic output is due.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 struct Schedule {
     dt: f64,
     next: f64,
@@ -64,7 +66,7 @@ impl Schedule {
 }
 
 /// One row of the energy history kept for the plot.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct EnergyRow {
     pub t: f64,
     pub kinetic: f64,
@@ -98,10 +100,32 @@ pub struct RunOutput<'m> {
     /// Fragments at the last glstat row.
     pub fragments: usize,
     progress: Progress,
+    /// Restart files: when to write them and whether a signal asked to stop.
+    pub checkpoints: Option<Checkpoints>,
+    /// summary.json while the run goes on ([`RunStatus`]).
+    pub status: Option<RunStatus>,
 }
 
-fn csv(dir: &Path, name: &str, header: &[&str]) -> std::io::Result<Csv> {
-    CsvWriter::create(dir.join(name), header)
+/// `dir/name` with its header: a new file, or with `len` (a restart) the file written before,
+/// cut back to its first `len` bytes.
+pub fn open_csv(dir: &Path, name: &str, header: &[&str], len: Option<u64>) -> std::io::Result<Csv> {
+    match len {
+        None => CsvWriter::create(dir.join(name), header),
+        Some(len) => CsvWriter::append(dir.join(name), header, len),
+    }
+}
+
+/// What a restart file keeps of the output: where each file stood and each schedule, the
+/// ParaView states written, and the histories the plots are made from.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct OutputSaved {
+    /// glstat, nodout, elout, rwforc, rcforc: length in bytes and schedule (None: no file).
+    csv: [Option<(u64, Schedule)>; 5],
+    states: (Vec<(f64, String)>, Schedule),
+    state_count: usize,
+    fracture: FractureSaved,
+    energy: Vec<EnergyRow>,
+    fragments: usize,
 }
 
 impl<'m> RunOutput<'m> {
@@ -113,12 +137,14 @@ impl<'m> RunOutput<'m> {
         history_nodes: Vec<(i64, Vec<u32>)>,
         split: bool,
         progress: Progress,
+        resume: Option<&OutputSaved>,
     ) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir.join("states"))?;
+        let len = |k: usize| resume.and_then(|r| r.csv[k].map(|c| c.0));
         let o = &model.output;
         let end = model.control.end_time;
         let or_default = |dt: f64| if dt > 0.0 { dt } else { end / 200.0 };
-        let glstat = csv(
+        let glstat = open_csv(
             dir,
             "glstat.csv",
             &[
@@ -135,6 +161,7 @@ impl<'m> RunOutput<'m> {
                 "failed_interfaces",
                 "fragments",
             ],
+            len(0),
         )?;
         let nodout = if history_nodes.is_empty() {
             None
@@ -143,7 +170,7 @@ impl<'m> RunOutput<'m> {
                 "time", "node", "x_disp", "y_disp", "z_disp", "x_vel", "y_vel", "z_vel",
             ];
             Some((
-                csv(dir, "nodout.csv", &h)?,
+                open_csv(dir, "nodout.csv", &h, len(1))?,
                 Schedule::new(or_default(o.nodout_dt)),
             ))
         };
@@ -162,7 +189,7 @@ impl<'m> RunOutput<'m> {
                 "eff_plastic_strain",
             ];
             Some((
-                csv(dir, "elout.csv", &h)?,
+                open_csv(dir, "elout.csv", &h, len(2))?,
                 Schedule::new(or_default(o.elout_dt)),
             ))
         };
@@ -171,7 +198,7 @@ impl<'m> RunOutput<'m> {
         } else {
             let h = ["time", "wall", "normal_force", "fx", "fy", "fz"];
             Some((
-                csv(dir, "rwforc.csv", &h)?,
+                open_csv(dir, "rwforc.csv", &h, len(3))?,
                 Schedule::new(or_default(o.rwforc_dt)),
             ))
         };
@@ -183,7 +210,7 @@ impl<'m> RunOutput<'m> {
             // two touching bodies nearly cancels: see `ContactForce::force`)
             let h = ["time", "contact", "fx", "fy", "fz", "normal_force", "pairs"];
             Some((
-                csv(dir, "rcforc.csv", &h)?,
+                open_csv(dir, "rcforc.csv", &h, len(4))?,
                 Schedule::new(or_default(o.rcforc_dt)),
             ))
         };
@@ -192,7 +219,7 @@ impl<'m> RunOutput<'m> {
             .iter()
             .map(|&p| model.parts[p as usize].id as i32)
             .collect();
-        Ok(Self {
+        let mut out = Self {
             dir: dir.to_path_buf(),
             model,
             glstat: (glstat, Schedule::new(or_default(o.glstat_dt))),
@@ -211,11 +238,68 @@ impl<'m> RunOutput<'m> {
                 dir,
                 model.control.end_time / 30.0,
                 crate::crack_growth::thickness_axis(&model.x0),
+                resume.map(|r| &r.fracture),
             )?,
             static_fragments: (!split).then(|| cleave_core::setup::count_components(model)),
             energy: Vec::new(),
             fragments: 0,
             progress,
+            checkpoints: None,
+            status: None,
+        };
+        if let Some(r) = resume {
+            out.restore(r)?;
+        }
+        Ok(out)
+    }
+
+    /// Go on from a restart file's output state (the files are already cut back).
+    fn restore(&mut self, r: &OutputSaved) -> std::io::Result<()> {
+        let csvs = [
+            Some(&mut self.glstat),
+            self.nodout.as_mut(),
+            self.elout.as_mut(),
+            self.rwforc.as_mut(),
+            self.rcforc.as_mut(),
+        ];
+        for (mine, saved) in csvs.into_iter().zip(&r.csv) {
+            if let (Some(mine), Some(saved)) = (mine, saved) {
+                mine.1 = saved.1;
+            }
+        }
+        let path = self.dir.join("results.pvd");
+        self.states = (
+            PvdWriter::with_entries(path, r.states.0.clone())?,
+            r.states.1,
+        );
+        self.state_count = r.state_count;
+        self.energy = r.energy.clone();
+        self.fragments = r.fragments;
+        Ok(())
+    }
+
+    /// Where every output stands now, for a restart file (every row is flushed first).
+    pub fn saved(&mut self) -> std::io::Result<OutputSaved> {
+        let mut csv = [None; 5];
+        let files = [
+            Some(&mut self.glstat),
+            self.nodout.as_mut(),
+            self.elout.as_mut(),
+            self.rwforc.as_mut(),
+            self.rcforc.as_mut(),
+        ];
+        for (k, f) in files.into_iter().enumerate() {
+            if let Some((w, sch)) = f {
+                csv[k] = Some((w.written_len()?, *sch));
+            }
+        }
+        Ok(OutputSaved {
+            csv,
+            states: (self.states.0.entries().to_vec(), self.states.1),
+            state_count: self.state_count,
+            fracture: self.fracture.saved()?,
+            energy: self.energy.clone(),
+            fragments: self.fragments,
         })
     }
 
@@ -231,11 +315,9 @@ impl<'m> RunOutput<'m> {
         let e = &s.state.energy;
         let total = e.total();
         let denom = s.state.initial_energy + e.external_work;
-        let ratio = if denom.abs() > 0.0 {
-            total / denom
-        } else {
-            1.0
-        };
+        // 1 with nothing in the model; a non-finite figure goes through (the solver stops on
+        // one)
+        let ratio = if denom == 0.0 { 1.0 } else { total / denom };
         self.energy.push(EnergyRow {
             t: s.state.t,
             kinetic: e.kinetic,
@@ -372,9 +454,28 @@ impl<'m> RunOutput<'m> {
         Ok(())
     }
 
-    /// Flush every file and write the energy plot (at the end, or after a failure).
-    pub fn finish(&mut self) -> std::io::Result<()> {
-        self.progress.finish();
+    /// summary.json of the state `s` with `status` (every history flushed first, so the
+    /// files hold at least what the summary says).
+    pub fn write_summary(&mut self, s: &Solver, status: &str) -> std::io::Result<()> {
+        let Some(st) = &self.status else {
+            return Ok(());
+        };
+        let ratio = self.energy.last().map_or(1.0, |r| r.ratio);
+        let g = self.fracture.growth();
+        let summary = st.summary(
+            s,
+            self.fragments,
+            ratio,
+            (g.initiation(), g.mean_speed()),
+            status,
+        );
+        let path = st.path.clone();
+        self.flush()?;
+        summary.write(path)
+    }
+
+    /// Flush every history file.
+    fn flush(&mut self) -> std::io::Result<()> {
         self.glstat.0.flush()?;
         for f in [
             &mut self.nodout,
@@ -387,6 +488,13 @@ impl<'m> RunOutput<'m> {
         {
             f.0.flush()?;
         }
+        self.fracture.flush()
+    }
+
+    /// Flush every file and write the energy plot (at the end, or after a failure).
+    pub fn finish(&mut self) -> std::io::Result<()> {
+        self.progress.finish();
+        self.flush()?;
         self.fracture.finish()?;
         self.plot_energy()
     }
@@ -435,6 +543,21 @@ impl Observer for RunOutput<'_> {
             .update(s, s.separation().map_or(0, |sep| sep.num_failed()));
     }
 
+    /// A restart file when one is due or a signal asks to stop ([`Checkpoints`]).
+    fn between_steps(&mut self, s: &Solver) -> std::io::Result<bool> {
+        let Some(mut c) = self.checkpoints.take() else {
+            return Ok(false);
+        };
+        let (write, stop) = c.poll(s.state.t);
+        let written = if write {
+            self.saved().and_then(|o| c.write(s, o))
+        } else {
+            Ok(())
+        };
+        self.checkpoints = Some(c);
+        written.map(|()| stop)
+    }
+
     fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
         let t = s.state.t;
         let last = s.is_finished();
@@ -475,6 +598,9 @@ impl Observer for RunOutput<'_> {
         }
         self.progress
             .update(s, s.separation().map_or(0, |sep| sep.num_failed()));
+        if self.status.as_mut().is_some_and(|st| st.due()) {
+            self.write_summary(s, "running")?;
+        }
         Ok(())
     }
 }

@@ -9,12 +9,14 @@ use cleave_core::separation::interfaces::Separation;
 use cleave_core::separation::split::{copies_of, split_model, SharedFace};
 use cleave_core::setup::estimate_time_step;
 use cleave_core::solver::{RunError, Solver};
-use cleave_io::output::{peak_rss_mb, Summary};
 
 use crate::cli::RunArgs;
 use crate::failure::{io_failure, Failure};
+use crate::interrupt::{signal_name, Interrupt};
 use crate::progress::Progress;
+use crate::restart::{self, Checkpoints};
 use crate::results::RunOutput;
+use crate::run_status::RunStatus;
 
 /// DECK.k -> DECK.out beside it.
 pub fn default_out_dir(deck: &Path) -> PathBuf {
@@ -43,6 +45,13 @@ pub fn load_model(
     if no_separation {
         model.separations.clear();
     }
+    state_cap(&model)?;
+    Ok(model)
+}
+
+/// The cap on the ParaView states ([`MAX_STATES`]): `*DATABASE_BINARY_D3PLOT` DT against the
+/// end time (`cleave check` applies it too).
+pub fn state_cap(model: &Model) -> Result<(), Failure> {
     let (dt, end) = (model.output.d3plot_dt, model.control.end_time);
     if dt > 0.0 && end / dt > MAX_STATES {
         return Err(Failure::Input(format!(
@@ -50,7 +59,7 @@ pub fn load_model(
             end / dt
         )));
     }
-    Ok(model)
+    Ok(())
 }
 
 /// The most ParaView states a run may ask for (each is a file of the whole mesh). The CSV
@@ -150,7 +159,35 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Failure>
 
 pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let started = Instant::now();
-    let deck_model = load_model(&a.deck, a.end_time, a.no_separation)?;
+    let resume = a.restart.as_deref().map(restart::read).transpose()?;
+    if let Some(t) = a.checkpoint_every {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(Failure::Input(format!(
+                "--checkpoint-every {t}: must be a positive time"
+            )));
+        }
+    }
+    if a.gpu && (a.restart.is_some() || a.checkpoint_every.is_some()) {
+        return Err(Failure::Input(
+            "--checkpoint-every and --restart do not work with --gpu yet (the GPU step keeps its state on the device): run them without --gpu".into(),
+        ));
+    }
+    // a continued run keeps its end time unless told another
+    let end_time = a.end_time.or(resume.as_ref().map(|r| r.header.end_time));
+    let mut deck_model = load_model(&a.deck, end_time, a.no_separation)?;
+    let fingerprint = restart::fingerprint(&mut deck_model);
+    if let (Some(r), Some(file)) = (&resume, &a.restart) {
+        r.header
+            .check(file, &a.deck, fingerprint, a.no_separation)?;
+        if deck_model.control.end_time <= r.header.t {
+            return Err(Failure::Input(format!(
+                "--restart {}: it holds the state at t = {:e}, not before the end time {:e}: give a later --end-time",
+                file.display(),
+                r.header.t,
+                deck_model.control.end_time
+            )));
+        }
+    }
     let pool = thread_pool(a.threads)?;
     let dir = a.out.clone().unwrap_or_else(|| default_out_dir(&a.deck));
     let Prepared {
@@ -164,6 +201,14 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let (mut solver, warnings) = start_solver(model, interfaces)?;
     for w in &warnings {
         eprintln!("warning: {w}");
+    }
+    if let (Some(r), Some(file)) = (&resume, &a.restart) {
+        solver.restore_state(&r.solver).map_err(|e| {
+            Failure::Input(format!(
+                "--restart {}: cannot continue from it: {e}",
+                file.display()
+            ))
+        })?;
     }
     // the GPU: found and the deck checked before any output is written
     let mut gpu = if a.gpu {
@@ -180,9 +225,54 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         None
     };
     let progress = Progress::new(model.control.end_time, a.quiet);
-    let mut out = RunOutput::create(&dir, model, history_nodes, split, progress)
-        .map_err(|e| io_failure("cannot create output in", &dir, e))?;
+    let mut out = RunOutput::create(
+        &dir,
+        model,
+        history_nodes,
+        split,
+        progress,
+        resume.as_ref().map(|r| &r.output),
+    )
+    .map_err(|e| io_failure("cannot create output in", &dir, e))?;
+    let device = gpu
+        .as_ref()
+        .map_or("cpu".into(), |g| format!("gpu: {}", g.gpu().info.name));
+    let threads = pool.current_num_threads();
+    let mut status = RunStatus::new(
+        dir.join("summary.json"),
+        deck_nodes,
+        threads,
+        device,
+        warnings,
+        started,
+    );
+    status.first_step = solver.state.step;
+    out.status = Some(status);
+    if gpu.is_none() {
+        // signals stop the CPU loop between two steps, with a restart file
+        let interrupt = Interrupt::listen()
+            .map_err(|e| Failure::Other(format!("cannot listen to signals: {e}")))?;
+        let header = restart::Header {
+            version: env!("CARGO_PKG_VERSION").into(),
+            deck: a.deck.display().to_string(),
+            fingerprint,
+            no_separation: a.no_separation,
+            end_time: model.control.end_time,
+            t: 0.0,
+            step: 0,
+        };
+        out.checkpoints = Some(Checkpoints::new(
+            a.checkpoint_every,
+            &dir,
+            header,
+            Some(interrupt),
+            solver.state.t,
+        ));
+    }
     let loop_start = Instant::now();
+    if let Some(st) = &mut out.status {
+        st.loop_start = loop_start;
+    }
     let result = match &mut gpu {
         Some(g) => g.run(&mut solver, &mut out),
         None => pool.install(|| solver.run(&mut out)),
@@ -190,50 +280,48 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let loop_seconds = loop_start.elapsed().as_secs_f64();
     out.finish()
         .map_err(|e| io_failure("cannot write output in", &dir, e))?;
-
-    let steps = solver.state.step + u64::from(solver.is_finished());
-    let ne = model.num_elements();
-    let last = out.energy.last().copied();
-    let summary = Summary {
-        elements: ne,
-        nodes: deck_nodes,
-        nodes_solved: solver.positions().len(),
-        interfaces: solver.separation().map_or(0, |s| s.num_interfaces()),
-        failed_interfaces: solver.separation().map_or(0, |s| s.num_failed()),
-        fragments: out.fragments,
-        crack_initiation_time: out.fracture.growth().initiation(),
-        crack_speed_mean: out.fracture.growth().mean_speed(),
-        steps,
-        end_time: solver.state.t,
-        wall_seconds: started.elapsed().as_secs_f64(),
-        us_per_element_step: 1e6 * loop_seconds / (steps.max(1) as f64 * ne.max(1) as f64),
-        peak_rss_mb: peak_rss_mb(),
-        threads: pool.current_num_threads(),
-        device: gpu
-            .as_ref()
-            .map_or("cpu".into(), |g| format!("gpu: {}", g.gpu().info.name)),
-        energy_ratio: last.map_or(1.0, |r| r.ratio),
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        warnings,
+    let state = match &result {
+        Ok(()) if solver.is_finished() => "finished",
+        Ok(()) => "interrupted",
+        Err(_) => "failed",
     };
-    let summary_path = dir.join("summary.json");
-    summary
-        .write(&summary_path)
-        .map_err(|e| io_failure("cannot write", &summary_path, e))?;
+    out.write_summary(&solver, state)
+        .map_err(|e| io_failure("cannot write the summary in", &dir, e))?;
     match result {
+        Ok(()) if !solver.is_finished() => {
+            let c = out.checkpoints.as_ref();
+            let sig = c.and_then(|c| c.stopped_by).unwrap_or(0);
+            let file = c.map_or(dir.join(restart::FILE), |c| c.path().to_path_buf());
+            Err(Failure::Interrupted(
+                format!(
+                    "{} at t = {:e}, step {}; the restart file {} holds this state and the output in {} is complete up to it: continue with `cleave run {} --restart {}`",
+                    signal_name(sig),
+                    solver.state.t,
+                    solver.state.step,
+                    file.display(),
+                    dir.display(),
+                    a.deck.display(),
+                    file.display()
+                ),
+                sig,
+            ))
+        }
         Ok(()) => {
             if !a.quiet {
+                let steps = solver.state.step + 1;
+                let looped = (steps - out.status.as_ref().map_or(0, |s| s.first_step)).max(1);
+                let us = 1e6 * loop_seconds / (looped as f64 * model.num_elements().max(1) as f64);
                 let on = match &gpu {
                     Some(g) => format!("GPU {}", g.gpu().info.name),
-                    None => format!("{} threads", summary.threads),
+                    None => format!("{threads} threads"),
                 };
                 eprintln!(
                     "done: {} steps to t = {:e} in {:.2} s ({:.4} us per element step, {on}), energy ratio {:.5}; output in {}",
                     steps,
                     solver.state.t,
                     loop_seconds,
-                    summary.us_per_element_step,
-                    summary.energy_ratio,
+                    us,
+                    out.energy.last().map_or(1.0, |r| r.ratio),
                     dir.display()
                 );
             }

@@ -54,6 +54,50 @@ impl CsvWriter<BufWriter<File>> {
     pub fn create(path: impl AsRef<Path>, header: &[&str]) -> io::Result<Self> {
         CsvWriter::new(BufWriter::new(File::create(path)?), header)
     }
+
+    /// Opens the file at `path`, written by [`Self::create`] with the same header, to go on
+    /// after its first `len` bytes (a restart: what was written after the restart file is
+    /// cut off and written again). Errors if the file does not start with this header or is
+    /// shorter than `len`.
+    pub fn append(path: impl AsRef<Path>, header: &[&str], len: u64) -> io::Result<Self> {
+        let path = path.as_ref();
+        let mut file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(path)?;
+        let mut line = header.join(",");
+        line.push('\n');
+        let mut head = vec![0u8; line.len()];
+        let size = file.metadata()?.len();
+        if size < len || len < line.len() as u64 {
+            return Err(invalid(format!(
+                "{} has {size} bytes, fewer than the {len} written before the restart file",
+                path.display()
+            )));
+        }
+        io::Read::read_exact(&mut file, &mut head)?;
+        if head != line.as_bytes() {
+            return Err(invalid(format!(
+                "{} does not start with the header {:?}",
+                path.display(),
+                line.trim_end()
+            )));
+        }
+        file.set_len(len)?;
+        io::Seek::seek(&mut file, io::SeekFrom::End(0))?;
+        Ok(CsvWriter {
+            out: BufWriter::new(file),
+            columns: header.len(),
+            line,
+        })
+    }
+
+    /// Flushes the rows written so far and returns the file's length in bytes: every row in
+    /// it is complete.
+    pub fn written_len(&mut self) -> io::Result<u64> {
+        self.out.flush()?;
+        Ok(self.out.get_ref().metadata()?.len())
+    }
 }
 
 impl<W: Write> CsvWriter<W> {

@@ -44,6 +44,9 @@ pub struct Summary {
     pub device: String,
     /// Total energy over initial energy plus external work, at the end.
     pub energy_ratio: f64,
+    /// Where the run stands: "running" (written at intervals during the run), "finished",
+    /// "interrupted" (stopped by a signal, with a restart file) or "failed" (exit 3).
+    pub status: String,
     /// Version of cleave that wrote the file.
     pub version: String,
     /// What the user should know of the run beyond the numbers (for example, a contact
@@ -58,11 +61,18 @@ impl Summary {
         serde_json::to_string_pretty(self).expect("a Summary always serializes")
     }
 
-    /// Writes the summary to `path` as pretty-printed JSON followed by a newline.
+    /// Writes the summary to `path` as pretty-printed JSON followed by a newline, through a
+    /// temporary file in the same folder renamed over it: a reader (or a kill) never sees half
+    /// a file.
     pub fn write(&self, path: impl AsRef<Path>) -> io::Result<()> {
-        let mut w = BufWriter::new(File::create(path)?);
+        let path = path.as_ref();
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(".tmp");
+        let mut w = BufWriter::new(File::create(&tmp)?);
         w.write_all(self.to_json().as_bytes())?;
         w.write_all(b"\n")?;
-        w.flush()
+        w.flush()?;
+        drop(w);
+        std::fs::rename(&tmp, path)
     }
 }

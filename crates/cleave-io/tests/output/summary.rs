@@ -19,13 +19,14 @@ fn sample() -> Summary {
         device: "cpu".into(),
         threads: 2,
         energy_ratio: 0.9987,
+        status: "finished".into(),
         version: "0.1.0".into(),
         warnings: vec!["a warning".into()],
     }
 }
 
 /// The keys the interface page lists for `summary.json`, and the crack's and `warnings`.
-const KEYS: [&str; 18] = [
+const KEYS: [&str; 19] = [
     "elements",
     "nodes",
     "nodes_solved",
@@ -42,6 +43,7 @@ const KEYS: [&str; 18] = [
     "threads",
     "device",
     "energy_ratio",
+    "status",
     "version",
     "warnings",
 ];

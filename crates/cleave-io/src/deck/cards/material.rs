@@ -9,21 +9,17 @@ use crate::deck::error::DeckError;
 use crate::deck::fields::{Card, W10};
 use crate::deck::raw::{RawDeck, RawMaterial, RawSeparation};
 
-/// MID, RO, E, PR from fields 0..4, with the checks every deformable material needs:
-/// RO > 0, E > 0, -1 < PR < 0.5.
-fn common(c: &Card<'_>, rigid: bool) -> Result<(i64, f64, f64, f64), DeckError> {
+/// MID, RO, E, PR from fields 0..4, with the checks every material needs, rigid ones too
+/// (a rigid part's E and PR set the stiffness of its contact penalty springs and so the
+/// contact time step): RO > 0, E > 0, -1 < PR < 0.5 (blank PR: 0).
+fn common(c: &Card<'_>) -> Result<(i64, f64, f64, f64), DeckError> {
     let mid = c.id(0, "MID")?;
     let ro = c.positive(1, "RO")?;
-    let (e, pr) = if rigid {
-        (c.f64_or(2, "E", 0.0)?, c.f64_or(3, "PR", 0.0)?)
-    } else {
-        let pr = c.f64_or(3, "PR", 0.0)?;
-        if !(pr > -1.0 && pr < 0.5) {
-            return Err(c.field_err("PR", format!("{pr} must lie in (-1, 0.5)")));
-        }
-        (c.positive(2, "E")?, pr)
-    };
-    Ok((mid, ro, e, pr))
+    let pr = c.f64_or(3, "PR", 0.0)?;
+    if !(pr > -1.0 && pr < 0.5) {
+        return Err(c.field_err("PR", format!("{pr} must lie in (-1, 0.5)")));
+    }
+    Ok((mid, ro, c.positive(2, "E")?, pr))
 }
 
 fn push(
@@ -53,7 +49,7 @@ pub fn elastic(r: &mut Reader<'_>, deck: &mut RawDeck, titled: bool) -> Result<(
         }
         first = false;
         let c = r.required(W10, "MID RO E PR")?;
-        let m = common(&c, false)?;
+        let m = common(&c)?;
         push(r, deck, &c, m, MaterialKind::Elastic);
     }
     Ok(())
@@ -64,7 +60,7 @@ pub fn elastic(r: &mut Reader<'_>, deck: &mut RawDeck, titled: bool) -> Result<(
 /// must be blank or 0). SIGY > 0, 0 <= ETAN < E, 0 <= BETA <= 1 (default 0, kinematic).
 pub fn plastic_kinematic(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.required(W10, "MID RO E PR SIGY ETAN BETA")?;
-    let m = common(&c, false)?;
+    let m = common(&c)?;
     let sigy = c.positive(4, "SIGY")?;
     let etan = c.f64_or(5, "ETAN", 0.0)?;
     if etan < 0.0 || etan >= m.2 {
@@ -101,11 +97,11 @@ pub fn plastic_kinematic(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), D
 
 /// `*MAT_RIGID` / `*MAT_020`: card 1 `MID RO E PR N COUPLE M ALIAS`; optional card 2
 /// `CMO CON1 CON2` (CMO 0 none, 1 global constraints; CON1 translations and CON2 rotations
-/// coded 0..7); optional card 3 (alignment) ignored. E and PR are only used for contact
-/// stiffness, so they are not checked beyond being numbers.
+/// coded 0..7); optional card 3 (alignment) ignored. RO, E and PR are checked as on every
+/// material ([`common`]): E and PR set the contact stiffness of the part.
 pub fn rigid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.required(W10, "MID RO E PR")?;
-    let m = common(&c, true)?;
+    let m = common(&c)?;
     let (mut cmo, mut con1, mut con2) = (0, 0, 0);
     if let Some(c2) = r.next(W10)? {
         let v = c2.f64_or(0, "CMO", 0.0)?;

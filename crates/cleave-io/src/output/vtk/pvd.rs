@@ -29,6 +29,17 @@ impl PvdWriter {
         }
     }
 
+    /// A collection at `path` that goes on from `entries` (a restart), written at once: states
+    /// written after the restart file are dropped from it (and written again).
+    pub fn with_entries(path: impl Into<PathBuf>, entries: Vec<(f64, String)>) -> io::Result<Self> {
+        let p = PvdWriter {
+            path: path.into(),
+            entries,
+        };
+        p.write()?;
+        Ok(p)
+    }
+
     /// The `.pvd` file's path.
     pub fn path(&self) -> &Path {
         &self.path

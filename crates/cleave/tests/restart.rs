@@ -1,0 +1,374 @@
+//! Restart files and output that survives a stop.
+//!
+//! - A run that writes restart files (`--checkpoint-every`) and is continued from the last one
+//!   (`--restart`) gives the same bytes in every output file as a run never stopped: plastic
+//!   Taylor bar with a rigid wall, ball impact with separation and contact, the fragmenting bar
+//!   (cohesive, random strengths), ELFORM 13 tetrahedra and ELFORM 2 hexahedra; continued on
+//!   one thread after running on all.
+//! - SIGTERM stops a run between two steps with a restart file, exit 143 and a summary that
+//!   says "interrupted"; the continued run gives the same bytes.
+//! - A run killed (SIGKILL) leaves files that are all valid (complete CSV rows, a .pvd that
+//!   lists only complete states, a parseable summary.json), and continues from its last
+//!   restart file to the same bytes.
+//! - A restart file of another deck, of another version, or damaged is refused (exit 2).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command};
+use std::time::{Duration, Instant};
+
+use common::{cleave, tmp};
+
+/// Write the bundled example `name` (with `opts`) to `dir/deck.k`.
+fn example(dir: &Path, name: &str, opts: &[&str]) -> String {
+    let k = dir.join("deck.k");
+    let ks = k.to_str().unwrap().to_string();
+    let mut args = vec!["example", name, "-o", &ks];
+    args.extend_from_slice(opts);
+    let out = cleave(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    ks
+}
+
+fn run_ok(args: &[&str]) {
+    let out = cleave(args);
+    assert!(
+        out.status.success(),
+        "cleave {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Every file under `dir`, relative, sorted.
+fn files(dir: &Path) -> Vec<PathBuf> {
+    fn walk(root: &Path, d: &Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                walk(root, &p, out);
+            } else {
+                out.push(p.strip_prefix(root).unwrap().to_path_buf());
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(dir, dir, &mut out);
+    out.sort();
+    out
+}
+
+/// The two output folders hold the same files with the same bytes, but for the restart file
+/// and, in summary.json, the wall time, the time per element step and the memory.
+fn assert_same_output(a: &Path, b: &Path) {
+    let skip = |p: &PathBuf| p.as_os_str() == "restart.ckpt";
+    let fa: Vec<_> = files(a).into_iter().filter(|p| !skip(p)).collect();
+    let fb: Vec<_> = files(b).into_iter().filter(|p| !skip(p)).collect();
+    assert_eq!(fa, fb, "{} and {}", a.display(), b.display());
+    for f in &fa {
+        let (x, y) = (
+            std::fs::read(a.join(f)).unwrap(),
+            std::fs::read(b.join(f)).unwrap(),
+        );
+        if f.as_os_str() == "summary.json" {
+            let mut x: serde_json::Value = serde_json::from_slice(&x).unwrap();
+            let mut y: serde_json::Value = serde_json::from_slice(&y).unwrap();
+            for k in ["wall_seconds", "us_per_element_step", "peak_rss_mb"] {
+                x[k] = serde_json::Value::Null;
+                y[k] = serde_json::Value::Null;
+            }
+            assert_eq!(x, y, "summary.json");
+        } else {
+            assert!(
+                x == y,
+                "{} differs ({} and {} bytes)",
+                f.display(),
+                x.len(),
+                y.len()
+            );
+        }
+    }
+}
+
+/// Run `deck` once through, and once with restart files every `every` continued from the
+/// last one; the outputs must be the same bytes.
+fn check_continuation(dir: &Path, deck: &str, every: &str, extra: &[&str]) {
+    let full = dir.join("full");
+    let part = dir.join("part");
+    let (fs, ps) = (full.to_str().unwrap(), part.to_str().unwrap());
+    fn with<'a>(v: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
+        [v, extra].concat()
+    }
+    run_ok(&with(&["run", deck, "-q", "-o", fs], extra));
+    run_ok(&with(
+        &["run", deck, "-q", "-o", ps, "--checkpoint-every", every],
+        extra,
+    ));
+    let ckpt = part.join("restart.ckpt");
+    assert!(ckpt.exists(), "no restart file for {deck}");
+    let cs = ckpt.to_str().unwrap();
+    run_ok(&with(
+        &["run", deck, "-q", "-o", ps, "--restart", cs],
+        extra,
+    ));
+    assert_same_output(&full, &part);
+}
+
+#[test]
+fn a_continued_run_writes_the_same_bytes() {
+    let cases: [(&str, &[&str], &str, &[&str]); 5] = [
+        ("taylor-bar", &[], "1.1e-5", &["--end-time", "2e-5"]),
+        (
+            "ball-impact",
+            &["--elements", "425"],
+            "1.6e-4",
+            &["--end-time", "3e-4"],
+        ),
+        ("fragmenting-bar", &["--elements", "400"], "6e-7", &[]),
+        (
+            "taylor-bar",
+            &["--shape", "tet13"],
+            "2.6e-6",
+            &["--end-time", "5e-6"],
+        ),
+        (
+            "taylor-bar",
+            &["--shape", "hex2"],
+            "2.6e-6",
+            &["--end-time", "5e-6"],
+        ),
+    ];
+    for (k, (name, opts, every, extra)) in cases.iter().enumerate() {
+        let d = tmp(&format!("restart-{k}"));
+        let deck = example(&d, name, opts);
+        check_continuation(&d, &deck, every, extra);
+    }
+}
+
+/// Wait until `path` exists (and the child still runs), at most a minute.
+fn wait_for(child: &mut Child, path: &Path) {
+    let t0 = Instant::now();
+    while !path.exists() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before {} appeared",
+            path.display()
+        );
+        assert!(t0.elapsed() < Duration::from_secs(60), "{}", path.display());
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn spawn(args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_cleave"))
+        .args(args)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Continue `deck` into `out` from the restart file `ckpt`.
+fn continue_from(deck: &str, out: &Path, ckpt: &Path) {
+    let (o, c) = (out.to_str().unwrap(), ckpt.to_str().unwrap());
+    run_ok(&["run", deck, "-q", "-o", o, "--restart", c]);
+}
+
+/// The Taylor bar over its 80 us: long enough (several seconds) to be stopped midway.
+fn long_run(dir: &Path) -> (String, PathBuf) {
+    let deck = example(dir, "taylor-bar", &[]);
+    let full = dir.join("full");
+    run_ok(&["run", &deck, "-q", "-o", full.to_str().unwrap()]);
+    (deck, full)
+}
+
+#[cfg(unix)]
+#[test]
+fn sigterm_stops_with_a_restart_file_and_the_run_continues() {
+    let d = tmp("restart-sigterm");
+    let (deck, full) = long_run(&d);
+    let out = d.join("out");
+    let os = out.to_str().unwrap();
+    let mut child = spawn(&["run", &deck, "-q", "-o", os]);
+    // a state beyond the first: the loop runs
+    wait_for(&mut child, &out.join("states/state_00002.vtu"));
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let res = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&res.stderr);
+    assert_eq!(res.status.code(), Some(143), "{err}");
+    assert!(
+        err.contains("SIGTERM") && err.contains("--restart"),
+        "{err}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["status"], "interrupted");
+    let t = s["end_time"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 8e-5, "stopped at {t}");
+    let ckpt = out.join("restart.ckpt");
+    continue_from(&deck, &out, &ckpt);
+    assert_same_output(&full, &out);
+}
+
+/// Every file a killed run leaves is valid: CSV rows complete and numeric, each state the
+/// .pvd lists complete, summary.json parseable.
+fn assert_valid_files(out: &Path) {
+    for f in files(out) {
+        let p = out.join(&f);
+        match p.extension().and_then(|e| e.to_str()) {
+            Some("csv") => {
+                let (_, rows) = common::csv(&p);
+                let text = std::fs::read_to_string(&p).unwrap();
+                assert!(text.ends_with('\n'), "{}: a partial last row", f.display());
+                if f.as_os_str() == "glstat.csv" {
+                    assert!(!rows.is_empty());
+                    assert!(
+                        rows.iter().flatten().all(|x| x.is_finite()),
+                        "{}",
+                        f.display()
+                    );
+                }
+            }
+            Some("pvd") => {
+                let text = std::fs::read_to_string(&p).unwrap();
+                assert!(text.trim_end().ends_with("</VTKFile>"), "{}", f.display());
+                for part in text.split("file=\"").skip(1) {
+                    let name = &part[..part.find('"').unwrap()];
+                    let state = std::fs::read(out.join(name)).unwrap();
+                    assert!(state.ends_with(b"</VTKFile>\n"), "{name} is not complete");
+                }
+            }
+            Some("json") => {
+                let s: serde_json::Value =
+                    serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+                assert_eq!(s["status"], "running");
+            }
+            _ => {}
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn a_killed_run_leaves_valid_files_and_continues_from_its_restart_file() {
+    let d = tmp("restart-kill");
+    let (deck, full) = long_run(&d);
+    let out = d.join("out");
+    let os = out.to_str().unwrap();
+    let mut child = spawn(&["run", &deck, "-q", "-o", os, "--checkpoint-every", "1e-5"]);
+    let ckpt = out.join("restart.ckpt");
+    wait_for(&mut child, &ckpt);
+    // past the restart file: the histories hold rows the continued run cuts off
+    wait_for(&mut child, &out.join("states/state_00004.vtu"));
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    assert!(out.join("summary.json").exists());
+    assert_valid_files(&out);
+    continue_from(&deck, &out, &ckpt);
+    assert_same_output(&full, &out);
+}
+
+#[test]
+fn a_restart_file_of_another_deck_version_or_damaged_is_refused() {
+    let d = tmp("restart-refused");
+    let deck = example(&d, "taylor-bar", &[]);
+    let out = d.join("out");
+    let os = out.to_str().unwrap();
+    run_ok(&[
+        "run",
+        &deck,
+        "-q",
+        "-o",
+        os,
+        "--end-time",
+        "6e-6",
+        "--checkpoint-every",
+        "5e-6",
+    ]);
+    let ckpt = out.join("restart.ckpt");
+    let cs = ckpt.to_str().unwrap();
+    let refused = |args: &[&str], what: &[&str]| {
+        let r = cleave(args);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {err}");
+        for w in what {
+            assert!(err.contains(w), "{args:?}: {err} lacks {w}");
+        }
+    };
+    // another deck: one material value changed
+    let text = std::fs::read_to_string(&deck).unwrap();
+    let other = d.join("other.k");
+    let changed = text.replacen("8930.0", "8931.0", 1);
+    assert_ne!(changed, text);
+    std::fs::write(&other, changed).unwrap();
+    let os2 = d.join("o2");
+    let o2 = os2.to_str().unwrap();
+    refused(
+        &["run", other.to_str().unwrap(), "-o", o2, "--restart", cs],
+        &["restart.ckpt", "differs"],
+    );
+    refused(
+        &["run", &deck, "-o", os, "--restart", cs, "--no-separation"],
+        &["--no-separation"],
+    );
+    // an end time the file is already past
+    refused(
+        &[
+            "run",
+            &deck,
+            "-o",
+            os,
+            "--restart",
+            cs,
+            "--end-time",
+            "1e-6",
+        ],
+        &["end time"],
+    );
+    // another version: the header's version string altered
+    let bytes = std::fs::read(&ckpt).unwrap();
+    let v = env!("CARGO_PKG_VERSION").as_bytes();
+    let at = bytes.windows(v.len()).position(|w| w == v).unwrap();
+    let mut old = bytes.clone();
+    old[at] = b'9';
+    let oldf = d.join("old.ckpt");
+    std::fs::write(&oldf, &old).unwrap();
+    refused(
+        &["run", &deck, "-o", os, "--restart", oldf.to_str().unwrap()],
+        &["made by cleave 9"],
+    );
+    // damaged: cut short, or not a restart file at all
+    let cut = d.join("cut.ckpt");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    refused(
+        &["run", &deck, "-o", os, "--restart", cut.to_str().unwrap()],
+        &["truncated or damaged"],
+    );
+    refused(
+        &["run", &deck, "-o", os, "--restart", &deck],
+        &["not a cleave restart file"],
+    );
+    refused(
+        &["run", &deck, "-o", os, "--checkpoint-every", "0"],
+        &["--checkpoint-every"],
+    );
+    refused(
+        &[
+            "run",
+            &deck,
+            "-o",
+            os,
+            "--checkpoint-every",
+            "1e-6",
+            "--gpu",
+        ],
+        &["--gpu"],
+    );
+}

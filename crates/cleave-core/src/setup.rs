@@ -23,6 +23,9 @@ pub struct Setup {
     pub loose_params: Vec<Option<SolidParams>>,
     /// Material index of each element.
     pub elem_mat: Vec<u32>,
+    /// The hexahedra and wedges that share no face with another element: they run with
+    /// `loose_params` from the start ([`crate::topology::lone_elements`]).
+    pub lone: Vec<bool>,
     pub rigid: Vec<RigidBody>,
     /// Rigid body of each node, or `NOT_RIGID`.
     pub node_rigid: Vec<u32>,
@@ -170,6 +173,7 @@ impl Setup {
             params,
             loose_params,
             elem_mat,
+            lone: crate::topology::lone_elements(model),
             rigid,
             node_rigid,
             spc,
@@ -185,10 +189,15 @@ impl Setup {
 /// controls it, or `None` if the model has no deformable element.
 pub fn estimate_time_step(model: &Model) -> Option<(f64, usize)> {
     let mut best: Option<(f64, usize)> = None;
+    let lone = crate::topology::lone_elements(model);
     for (e, conn) in model.conn.iter().enumerate() {
-        let Some(p) = SolidParams::from_material(model.element_material(e)) else {
+        let m = model.element_material(e);
+        let Some(mut p) = SolidParams::from_material(m) else {
             continue;
         };
+        if lone[e] {
+            p.step_speed = free_element_speed(m);
+        }
         let Some(shape) = shape_of(conn) else {
             continue;
         };

@@ -511,6 +511,11 @@ impl<'m> Solver<'m> {
     pub fn advance_to_half_step(&mut self) -> Result<(), SolverError> {
         let t0 = Instant::now();
         let (dt_crit, dt_elem) = self.compute_element_forces()?;
+        if dt_crit == 0.0 || dt_crit.is_nan() {
+            // an element that allows no step at all: stop before the contact searches a mesh
+            // it has made degenerate (a node at 1e300 puts every face in one search cell)
+            return Err(self.bad_time_step(dt_crit, dt_elem));
+        }
         self.average_nodal_pressure();
         self.add_loads();
         let t1 = Instant::now();
@@ -687,6 +692,7 @@ impl<'m> Solver<'m> {
                 let e = e0 + k;
                 let params = match loose {
                     Some(l) if l[e] => &setup.loose_params,
+                    _ if setup.lone[e] => &setup.loose_params,
                     _ => &setup.params,
                 };
                 let Some(p) = &params[setup.elem_mat[e] as usize] else {
@@ -818,6 +824,7 @@ impl<'m> Solver<'m> {
             |e| {
                 let params = match loose {
                     Some(l) if l[e] => &setup.loose_params,
+                    _ if setup.lone[e] => &setup.loose_params,
                     _ => &setup.params,
                 };
                 params[setup.elem_mat[e] as usize].as_ref()
@@ -1096,17 +1103,7 @@ impl<'m> Solver<'m> {
             });
         }
         if !dt.is_finite() || dt <= 0.0 {
-            return Err(SolverError::BadTimeStep {
-                dt,
-                element: self
-                    .model
-                    .elem_ids
-                    .get(dt_elem as usize)
-                    .copied()
-                    .unwrap_or(0),
-                time: self.state.t,
-                step: self.state.step,
-            });
+            return Err(self.bad_time_step(dt, dt_elem));
         }
         self.state.dt_element = dt_elem;
         let remaining = c.end_time - self.state.t;
@@ -1118,6 +1115,16 @@ impl<'m> Solver<'m> {
             dt = remaining;
         }
         Ok(dt)
+    }
+
+    /// The error for a time step `dt` that cannot be used, controlled by element `e`.
+    fn bad_time_step(&self, dt: f64, e: u32) -> SolverError {
+        SolverError::BadTimeStep {
+            dt,
+            element: self.model.elem_ids.get(e as usize).copied().unwrap_or(0),
+            time: self.state.t,
+            step: self.state.step,
+        }
     }
 
     /// v^(n+1/2) = v^(n-1/2) + f/m dt_mid for every node, and the provisional v^n; with

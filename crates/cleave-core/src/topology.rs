@@ -42,6 +42,37 @@ pub fn element_components(model: &Model) -> (Vec<u32>, usize) {
     (f.label, f.count)
 }
 
+/// The hexahedra and wedges that share no face with another element of the deck's mesh (for a
+/// split model, faces are compared on the deck nodes, `x0.origin()`): a lone one-point
+/// hexahedron's uniform dilatation is unstable at the usual step h / c_L, so these take the
+/// free-element step ([`crate::material::free_element_speed`]) from the start.
+pub fn lone_elements(model: &Model) -> Vec<bool> {
+    use crate::element::hex8::FACES;
+    use crate::element::shape::{face_key, shape_of};
+    use crate::element::Shape;
+    let origin = model.x0.origin();
+    let deck = |n: u32| origin.map_or(n, |o| o[n as usize]);
+    let mut keys: Vec<([u32; 4], u32)> = Vec::with_capacity(6 * model.num_elements());
+    for (e, c) in model.conn.iter().enumerate() {
+        for f in FACES {
+            if let Some(k) = face_key(f.map(|a| deck(c[a]))) {
+                keys.push((k, e as u32));
+            }
+        }
+    }
+    keys.sort_unstable();
+    let mut shares = vec![false; model.num_elements()];
+    for w in keys.windows(2) {
+        if w[0].0 == w[1].0 && w[0].1 != w[1].1 {
+            shares[w[0].1 as usize] = true;
+            shares[w[1].1 as usize] = true;
+        }
+    }
+    (model.conn.iter().zip(&shares))
+        .map(|(c, &s)| !s && matches!(shape_of(c), Some(Shape::Hex | Shape::Wedge)))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -44,7 +44,8 @@ impl Layout {
     pub fn new(model: &Model, setup: &Setup) -> Self {
         let nn = model.num_nodes();
         let mut par = Vec::new();
-        for p in &setup.params {
+        // the materials, then again with the free-element step for the lone elements
+        for p in setup.params.iter().chain(&setup.loose_params) {
             let mut m = [0.0; MAT_STRIDE];
             if let Some(p) = p {
                 m[..5].copy_from_slice(&[p.density, p.lambda, p.shear, p.wave_speed, p.step_speed]);
@@ -136,7 +137,9 @@ impl Layout {
             mot_off,
             wall_off,
             conn: model.conn.iter().flatten().copied().collect(),
-            emat: setup.elem_mat.clone(),
+            emat: (setup.elem_mat.iter().zip(&setup.lone))
+                .map(|(&m, &lone)| m + if lone { setup.params.len() as u32 } else { 0 })
+                .collect(),
             nptr,
             ninc,
             nflag,

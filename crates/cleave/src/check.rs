@@ -181,14 +181,22 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
     println!("mass        {:e}", setup.mass.iter().sum::<f64>() + given);
     println!("end time    {:e}", m.control.end_time);
     match estimate_time_step(m) {
-        Some((dt, e)) => {
+        Some((dt, e)) if dt > 0.0 && dt.is_finite() => {
             println!(
                 "time step   {:e} (element {}, TSSFAC {})",
                 dt, m.elem_ids[e], m.control.tssfac
             );
+            println!("steps       about {:.0}", (m.control.end_time / dt).ceil());
+        }
+        Some((dt, e)) => {
+            // run stops at its first step on this element (exit 3); check says so first
+            eprintln!(
+                "warning: element {} allows no time step ({dt:e}): it is degenerate or its material is; `cleave run` will stop at once",
+                m.elem_ids[e]
+            );
             println!(
-                "steps       about {}",
-                (m.control.end_time / dt).ceil() as u64
+                "time step   none usable: element {} gives {dt:e}",
+                m.elem_ids[e]
             );
         }
         None => println!("time step   none: no deformable element"),

@@ -53,6 +53,8 @@ pub struct Model {
     pub rigid_walls: Vec<RigidWall>,
     pub contacts: Vec<ContactDef>,
     pub separations: Vec<SeparationDef>,
+    /// `*HOURGLASS` definitions (the parts' HGID).
+    pub hourglass: Vec<HourglassDef>,
     pub control: Control,
     pub output: OutputRequests,
 }
@@ -66,6 +68,22 @@ pub struct Part {
     pub section: usize,
     /// Index into `Model::materials`.
     pub material: usize,
+    /// Index into `Model::hourglass` (`*HOURGLASS`, the part's HGID); `None`: the
+    /// `*CONTROL_HOURGLASS` and `*CONTROL_BULK_VISCOSITY` values.
+    pub hourglass: Option<usize>,
+}
+
+/// `*HOURGLASS`: hourglass control and bulk viscosity of the parts that name it (HGID).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HourglassDef {
+    pub id: i64,
+    /// IHQ (blank or 0: the one of `*CONTROL_HOURGLASS`).
+    pub hourglass: Hourglass,
+    /// QM (blank: 0.1).
+    pub qh: f64,
+    /// Q1, Q2: the bulk viscosity (blank: 1.5, 0.06, LS-DYNA's defaults on this card).
+    pub q1: f64,
+    pub q2: f64,
 }
 
 /// `*SECTION_SOLID`.

@@ -65,6 +65,31 @@ use crate::state::{Energies, RigidState, State};
 
 mod restart;
 
+/// The hourglass control and bulk viscosity of each part: its `*HOURGLASS` (HGID), else the
+/// `*CONTROL_HOURGLASS` and `*CONTROL_BULK_VISCOSITY` values.
+pub fn kernel_controls(model: &Model) -> Vec<KernelControls> {
+    let c = &model.control;
+    let global = KernelControls {
+        hourglass: c.hourglass,
+        qh: c.qh,
+        q1: c.q1,
+        q2: c.q2,
+    };
+    (model.parts.iter())
+        .map(|p| {
+            p.hourglass.map_or(global, |h| {
+                let h = &model.hourglass[h];
+                KernelControls {
+                    hourglass: h.hourglass,
+                    qh: h.qh,
+                    q1: h.q1,
+                    q2: h.q2,
+                }
+            })
+        })
+        .collect()
+}
+
 /// Each parallel task of the element pass spans at least this many elements' worth of chunks
 /// before the colour filter (so about `ELEM_CHUNK / colours` elements of work); the chunks of
 /// the sums are the colouring's, fixed by the mesh, for deterministic sums.
@@ -176,7 +201,8 @@ pub struct Solver<'m> {
     pub state: State,
     /// Rigid wall resultants at t^n.
     pub wall_forces: Vec<WallForce>,
-    ctl: KernelControls,
+    /// Hourglass control and bulk viscosity of each part ([`kernel_controls`]).
+    ctl: Vec<KernelControls>,
     /// Colours of the element chunks, with the connectivity the element pass reads (private:
     /// checked proper once, its writes are race-free only so).
     colouring: Colouring<'m>,
@@ -231,13 +257,7 @@ impl<'m> Solver<'m> {
         let setup = Setup::new(model).map_err(SolverError::Setup)?;
         let ne = model.num_elements();
         let nn = model.num_nodes();
-        let c = &model.control;
-        let ctl = KernelControls {
-            hourglass: c.hourglass,
-            qh: c.qh,
-            q1: c.q1,
-            q2: c.q2,
-        };
+        let ctl = kernel_controls(model);
         let hg = vec![[0.0; 12]; ne];
         let rigid: Vec<RigidState> = setup
             .rigid
@@ -672,7 +692,7 @@ impl<'m> Solver<'m> {
         let x = &state.x;
         let v = &state.v;
         let dt_prev = state.dt_prev;
-        let ctl = *ctl;
+        let (ctl, elem_part) = (&ctl[..], &model.elem_part);
         // the colouring's connectivity: the nodes written are those it was checked for
         let conn = colouring.conn();
         let (size, colour, colours) = (colouring.size(), colouring.colour(), colouring.colours());
@@ -731,7 +751,7 @@ impl<'m> Solver<'m> {
                         np.and_then(|n| n.theta_bar(e)),
                         dt_prev,
                         p,
-                        &ctl,
+                        &ctl[elem_part[e] as usize],
                         &mut sc[k],
                         &mut hc[k],
                         &mut qc[k],
@@ -831,7 +851,7 @@ impl<'m> Solver<'m> {
             },
             |e| st.bulk_q[e],
             st.dt_prev,
-            &self.ctl,
+            |e| self.ctl[self.model.elem_part[e] as usize],
         );
     }
 

@@ -350,6 +350,7 @@ fn cohesive_bar(model: i32, slide: f64) {
         title: "middle".into(),
         section: 0,
         material: 1,
+        hourglass: None,
     });
     for e in [BAR_N / 2 - 1, BAR_N / 2] {
         bar.elem_part[e] = 1;
@@ -608,6 +609,7 @@ fn group_part() -> Part {
         title: "group".into(),
         section: 0,
         material: 1,
+        hourglass: None,
     }
 }
 

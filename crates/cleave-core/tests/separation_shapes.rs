@@ -243,6 +243,7 @@ fn cohesive_tetrahedral_and_wedge_bars_dissipate_gc_per_unit_area() {
             title: "middle".into(),
             section: 0,
             material: 1,
+            hourglass: None,
         });
         // the cells' elements are consecutive, `per` to a cell
         for e in (BAR_N / 2 - 1) * per..(BAR_N / 2 + 1) * per {

@@ -880,6 +880,7 @@ fn pulled_bar_energy_equals_external_work() {
                 title: "cap".into(),
                 section: 0,
                 material: 1,
+                hourglass: None,
             });
             for e in 0..m.num_elements() {
                 if elem_centre(&m, e)[0] > len - len / 40.0 {

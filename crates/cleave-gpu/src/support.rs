@@ -31,6 +31,9 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
             crate::layout::MAX_WALLS
         ));
     }
+    if model.parts.iter().any(|p| p.hourglass.is_some()) {
+        return Some("a part's own hourglass control (*HOURGLASS, HGID on *PART)".into());
+    }
     if !setup.rigid.is_empty() {
         return Some("rigid bodies (*MAT_RIGID, *CONSTRAINED_NODAL_RIGID_BODY)".into());
     }

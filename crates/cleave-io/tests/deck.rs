@@ -986,12 +986,14 @@ fn round_trip_model() -> Model {
                 title: "body".into(),
                 section: 0,
                 material: 1,
+                hourglass: Some(0),
             },
             Part {
                 id: 20,
                 title: "".into(),
                 section: 0,
                 material: 0,
+                hourglass: None,
             },
         ],
         sections: vec![Section { id: 3, elform: 1 }],
@@ -1225,6 +1227,13 @@ fn round_trip_model() -> Model {
                 dc: 0.0,
             },
         ],
+        hourglass: vec![HourglassDef {
+            id: 12,
+            hourglass: Hourglass::Stiffness,
+            qh: 0.05,
+            q1: 1.2,
+            q2: 0.08,
+        }],
         separations: vec![SeparationDef {
             material: 1,
             model: 3,
@@ -2161,4 +2170,46 @@ all
         1,
     ));
     assert!(e.message.contains("_SPC and _INERTIA"), "{e}");
+}
+
+/// `*HOURGLASS` and HGID on `*PART`: IHQ blank takes `*CONTROL_HOURGLASS`'s form, QM, Q1, Q2
+/// blank their defaults 0.1, 1.5, 0.06; an HGID that no `*HOURGLASS` defines is an error naming
+/// it and the line; IHQ 6 is refused naming the field.
+#[test]
+fn hourglass_cards_and_hgid() {
+    let deck = with(
+        "*PART\nblock\n1, 1, 1",
+        "*HOURGLASS\n4, 5, 0.03, 0, 1.1, 0.2\n9\n*CONTROL_HOURGLASS\n4\n*PART\nblock\n1, 1, 1, , 9",
+    );
+    let m = parse(&deck);
+    assert_eq!(m.parts[0].hourglass, Some(1));
+    assert_eq!(m.parts[1].hourglass, None);
+    assert_eq!(
+        m.hourglass,
+        vec![
+            HourglassDef {
+                id: 4,
+                hourglass: Hourglass::Stiffness,
+                qh: 0.03,
+                q1: 1.1,
+                q2: 0.2
+            },
+            HourglassDef {
+                id: 9,
+                hourglass: Hourglass::Stiffness,
+                qh: 0.1,
+                q1: 1.5,
+                q2: 0.06
+            },
+        ]
+    );
+    let bad = with("*PART\nblock\n1, 1, 1", "*PART\nblock\n1, 1, 1, , 3");
+    let e = err(&bad).to_string();
+    assert!(e.contains("HGID") && e.contains('3'), "{e}");
+    assert!(
+        e.starts_with(&format!("t.k:{}:", line_of(&bad, "1, 1, 1, , 3"))),
+        "{e}"
+    );
+    let e = err(&with("*PART\nblock", "*HOURGLASS\n4, 6\n*PART\nblock")).to_string();
+    assert!(e.contains("IHQ") && e.contains("6 not supported"), "{e}");
 }

@@ -43,6 +43,7 @@ fn two_blocks(na: [usize; 3], la: [f64; 3], nb: [usize; 3], lb: [f64; 3], off: V
         title: "b".into(),
         section: 0,
         material: 0,
+        hourglass: None,
     });
     m
 }
@@ -648,6 +649,7 @@ fn failing_block(
             title: "upper".into(),
             section: 0,
             material: 0,
+            hourglass: None,
         });
         deck.elem_part = (0..32).map(|e| (e >= 16) as u32).collect();
     }

@@ -347,7 +347,7 @@ impl SriElements {
         params: impl Fn(usize) -> Option<&'p SolidParams> + Sync,
         q_prev: impl Fn(usize) -> f64 + Sync,
         dt_prev: f64,
-        ctl: &KernelControls,
+        ctl: impl Fn(usize) -> KernelControls + Sync,
     ) {
         use rayon::prelude::*;
         let Self {
@@ -374,7 +374,7 @@ impl SriElements {
                 };
                 let (x, v) = corners(e);
                 *qe = q_prev(e);
-                *r = sri_step(&x, &v, dt_prev, mat, ctl, p, s, qe, f);
+                *r = sri_step(&x, &v, dt_prev, mat, &ctl(e), p, s, qe, f);
                 *ep = p.hist.iter().map(|h| h.eps_p).sum::<f64>() / 8.0;
             });
     }

@@ -43,6 +43,7 @@ impl Assembly {
             title: title.into(),
             section: 0,
             material,
+            hourglass: None,
         });
         p.len() - 1
     }

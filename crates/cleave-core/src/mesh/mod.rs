@@ -99,6 +99,7 @@ pub fn single_part_model(mesh: BoxMesh, material: Material, end_time: f64) -> Mo
             title: "part 1".into(),
             section: 0,
             material: 0,
+            hourglass: None,
         }],
         sections: vec![Section { id: 1, elform: 1 }],
         materials: vec![material],

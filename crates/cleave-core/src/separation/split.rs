@@ -411,6 +411,7 @@ mod tests {
                 title: "b".into(),
                 section: 0,
                 material: 1,
+                hourglass: None,
             });
             for (e, c) in m.conn.clone().iter().enumerate() {
                 if m.x0[c[0] as usize][2] >= 1.0 {

@@ -142,6 +142,7 @@ pub fn append_box(
         title: format!("part {}", part + 1),
         section: m.sections.len() - 1,
         material: m.materials.len() - 1,
+        hourglass: None,
     });
     for x in b.x {
         m.x0.push(cleave_core::math::add(x, origin));

@@ -46,8 +46,22 @@ pub struct RawPart {
     pub mid: i64,
     /// EOSID, if given.
     pub eosid: Option<i64>,
+    /// HGID (`*HOURGLASS`), if given.
+    pub hgid: Option<i64>,
     /// `*PART_INERTIA`: the given mass properties and initial motion.
     pub inertia: Option<RawInertia>,
+}
+
+/// `*HOURGLASS`: `HGID IHQ QM IBQ Q1 Q2`; IHQ `None` when blank or 0 (the
+/// `*CONTROL_HOURGLASS` form then).
+#[derive(Clone, Debug)]
+pub struct RawHourglass {
+    pub src: Src,
+    pub id: i64,
+    pub ihq: Option<cleave_core::model::Hourglass>,
+    pub qm: f64,
+    pub q1: f64,
+    pub q2: f64,
 }
 
 /// The inertia cards of `*PART_INERTIA` and `*CONSTRAINED_NODAL_RIGID_BODY_INERTIA`.
@@ -248,6 +262,8 @@ pub struct RawContact {
 #[derive(Clone, Debug, Default)]
 pub struct RawDeck {
     pub title: String,
+    /// `*HOURGLASS` definitions.
+    pub hourglass: Vec<RawHourglass>,
     pub nodes: Vec<RawNode>,
     pub elems: Vec<RawElem>,
     pub parts: Vec<RawPart>,

@@ -439,18 +439,47 @@ fn properties(o: &mut String, m: &Model) {
         let (s, mat) = (m.sections[p.section].id, material.id);
         // an equation of state is written with its material's id (EOSID only then, so that
         // decks without one keep the three-field card)
-        match material.kind {
-            MaterialKind::JohnsonCook(JohnsonCook { eos: Some(_), .. }) => {
+        let eos = matches!(
+            material.kind,
+            MaterialKind::JohnsonCook(JohnsonCook { eos: Some(_), .. })
+        );
+        match (eos, p.hourglass) {
+            (_, Some(h)) => {
+                let e = if eos { F::I(mat) } else { F::B };
+                let h = F::I(m.hourglass[h].id);
+                names(o, &["pid", "secid", "mid", "eosid", "hgid"], &W10);
+                card(o, &[F::I(p.id), F::I(s), F::I(mat), e, h], &W10);
+            }
+            (true, None) => {
                 names(o, &["pid", "secid", "mid", "eosid"], &W10);
                 card(o, &[F::I(p.id), F::I(s), F::I(mat), F::I(mat)], &W10);
             }
-            _ => {
+            (false, None) => {
                 names(o, &["pid", "secid", "mid"], &W10);
                 card(o, &[F::I(p.id), F::I(s), F::I(mat)], &W10);
             }
         }
         if let Some(pi) = given(k) {
             inertia_cards(o, &pi.given, true);
+        }
+    }
+    if !m.hourglass.is_empty() {
+        o.push_str("*HOURGLASS\n");
+        names(o, &["hgid", "ihq", "qm", "ibq", "q1", "q2"], &W10);
+        for h in &m.hourglass {
+            let ihq = match h.hourglass {
+                Hourglass::Viscous => 1,
+                Hourglass::Stiffness => 4,
+            };
+            let f = [
+                F::I(h.id),
+                F::I(ihq),
+                F::R(h.qh),
+                F::B,
+                F::R(h.q1),
+                F::R(h.q2),
+            ];
+            card(o, &f, &W10);
         }
     }
     if !m.sections.is_empty() {

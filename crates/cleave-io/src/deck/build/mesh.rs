@@ -6,8 +6,8 @@ use cleave_core::element::{first_bad_corner, Shape};
 use cleave_core::material::PiecewiseLinear;
 use cleave_core::math::Vec3;
 use cleave_core::model::{
-    GivenInertia, Material, MaterialKind, Model, NodeSet, Part, PartInertia, PartSet, Section,
-    SegmentSet, SeparationDef, SolidSet,
+    GivenInertia, HourglassDef, Material, MaterialKind, Model, NodeSet, Part, PartInertia, PartSet,
+    Section, SegmentSet, SeparationDef, SolidSet,
 };
 
 use super::{Builder, Ids};
@@ -50,12 +50,30 @@ impl Builder<'_> {
             });
         }
         self.separations(m, &ids)?;
+        // *HOURGLASS: IHQ blank takes *CONTROL_HOURGLASS's form
+        let hourglass =
+            self.index::<_, usize>(&raw.hourglass, "hourglass definition", |h| (h.id, &h.src))?;
+        m.hourglass = (raw.hourglass.iter())
+            .map(|h| HourglassDef {
+                id: h.id,
+                hourglass: h.ihq.unwrap_or(raw.control.hourglass),
+                qh: h.qm,
+                q1: h.q1,
+                q2: h.q2,
+            })
+            .collect();
         for p in &raw.parts {
             m.parts.push(Part {
                 id: p.id,
                 title: p.title.clone(),
                 section: self.find(&ids.sections, p.secid, &p.src, "SECID", "section")?,
                 material: self.find(&ids.materials, p.mid, &p.src, "MID", "material")?,
+                hourglass: match p.hgid {
+                    Some(h) => {
+                        Some(self.find(&hourglass, h, &p.src, "HGID", "hourglass definition")?)
+                    }
+                    None => None,
+                },
             });
         }
         self.equations_of_state(m)?;

@@ -5,7 +5,7 @@ use cleave_core::model::{Hourglass, PenaltyRule};
 use super::Reader;
 use crate::deck::error::DeckError;
 use crate::deck::fields::{Card, W10};
-use crate::deck::raw::RawDeck;
+use crate::deck::raw::{RawDeck, RawHourglass};
 
 /// Records a warning if field `i` is set (non-blank, non-zero): it is read but not used.
 pub fn warn_ignored(c: &Card<'_>, i: usize, name: &str, what: &str, deck: &mut RawDeck) {
@@ -199,6 +199,50 @@ fn hourglass(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
         return Err(c.field_err("QH", format!("{qh} must not be negative")));
     }
     deck.control.qh = qh;
+    Ok(())
+}
+
+/// `*HOURGLASS` (`_TITLE`): `HGID IHQ QM IBQ Q1 Q2 QB/VDC QW`, the hourglass control and bulk
+/// viscosity of the parts naming HGID. IHQ blank or 0: the `*CONTROL_HOURGLASS` form; 1, 2, 3
+/// the viscous form, 4 and 5 the stiffness form (as `*CONTROL_HOURGLASS`); QM blank or 0:
+/// 0.1; Q1, Q2 blank or 0: 1.5 and 0.06 (the card's defaults in LS-DYNA, not those of
+/// `*CONTROL_BULK_VISCOSITY`). IBQ, QB/VDC and QW concern shells and are not read.
+pub fn hourglass_def(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    while !r.at_end() {
+        let c = r.required(W10, "HGID")?;
+        let id = c.id(0, "HGID")?;
+        let ihq = match c.i64_or(1, "IHQ", 0)? {
+            0 => None,
+            1..=3 => Some(Hourglass::Viscous),
+            4 | 5 => Some(Hourglass::Stiffness),
+            v => {
+                return Err(c.field_err(
+                    "IHQ",
+                    format!(
+                    "{v} not supported (1, 2, 3: viscous; 4, 5: stiffness; 0: *CONTROL_HOURGLASS)"
+                ),
+                ))
+            }
+        };
+        let (qm, q1, q2) = (
+            c.f64_nz(2, "QM", 0.1)?,
+            c.f64_nz(4, "Q1", 1.5)?,
+            c.f64_nz(5, "Q2", 0.06)?,
+        );
+        for (v, name) in [(qm, "QM"), (q1, "Q1"), (q2, "Q2")] {
+            if v < 0.0 {
+                return Err(c.field_err(name, format!("{v} must not be negative")));
+            }
+        }
+        deck.hourglass.push(RawHourglass {
+            src: r.src(c.line),
+            id,
+            ihq,
+            qm,
+            q1,
+            q2,
+        });
+    }
     Ok(())
 }
 

@@ -82,8 +82,8 @@ pub fn element_solid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
 
 /// `*PART`: for each part, a title line (80 characters) then
 /// `PID SECID MID EOSID HGID GRAV ADPOPT TMID`. SECID and MID are required; EOSID names an
-/// `*EOS_...` (for `*MAT_JOHNSON_COOK` only); HGID and TMID must be blank (those keywords are
-/// not supported). `*PART_INERTIA` (`inertia`): the inertia cards follow each part's card
+/// `*EOS_...` (for `*MAT_JOHNSON_COOK` only); HGID a `*HOURGLASS`; TMID must be blank (thermal
+/// materials are not supported). `*PART_INERTIA` (`inertia`): the inertia cards follow each part's card
 /// ([`super::constrained::inertia_cards`]: `XC YC ZC TM IRCS NODEID`, the tensor, the
 /// velocities and, with IRCS 1, the local axes).
 pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck, inertia: bool) -> Result<(), DeckError> {
@@ -98,13 +98,12 @@ pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck, inertia: bool) -> Result<(),
             .ref_id(2, "MID")?
             .ok_or_else(|| c.field_err("MID", format!("part {id} has no material")))?;
         let eosid = c.ref_id(3, "EOSID")?;
-        for (i, name, what) in [
-            (4, "HGID", "*HOURGLASS (use *CONTROL_HOURGLASS)"),
-            (7, "TMID", "thermal materials"),
-        ] {
-            if c.ref_id(i, name)?.is_some() {
-                return Err(c.field_err(name, format!("{what} not supported; leave it blank")));
-            }
+        let hgid = c.ref_id(4, "HGID")?;
+        if c.ref_id(7, "TMID")?.is_some() {
+            return Err(c.field_err(
+                "TMID",
+                "thermal materials not supported; leave it blank".to_string(),
+            ));
         }
         let given = if inertia {
             Some(super::constrained::inertia_cards(r, true)?)
@@ -118,6 +117,7 @@ pub fn part(r: &mut Reader<'_>, deck: &mut RawDeck, inertia: bool) -> Result<(),
             secid,
             mid,
             eosid,
+            hgid,
             inertia: given,
         });
     }

@@ -72,6 +72,7 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             "*PART_INERTIA" => mesh::part(&mut r, &mut deck, true)?,
             k if k.starts_with("*CONSTRAINED_") => constrained::constrained(&mut r, &mut deck)?,
             "*SECTION_SOLID" => mesh::section_solid(&mut r, &mut deck, titled)?,
+            "*HOURGLASS" => control::hourglass_def(&mut r, &mut deck)?,
             "*MAT_ELASTIC" | "*MAT_001" => material::elastic(&mut r, &mut deck, titled)?,
             "*MAT_PLASTIC_KINEMATIC" | "*MAT_003" => {
                 material::plastic_kinematic(&mut r, &mut deck)?

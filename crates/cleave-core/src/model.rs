@@ -360,6 +360,9 @@ pub struct ContactDef {
     /// Ordinal (1-based) of the contact in the deck, used in rcforc.csv.
     pub id: i64,
     pub single_surface: bool,
+    /// `*CONTACT_AUTOMATIC_NODES_TO_SURFACE`: only the slave side's nodes are checked, against
+    /// the master side's faces (surface to surface checks both ways).
+    pub one_way: bool,
     pub slave: ContactSurface,
     /// Master side (surface to surface only).
     pub master: Option<ContactSurface>,
@@ -376,6 +379,7 @@ impl ContactDef {
         Self {
             id: 1,
             single_surface: true,
+            one_way: false,
             slave: ContactSurface::All,
             master: None,
             fs,

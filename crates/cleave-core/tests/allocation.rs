@@ -84,6 +84,7 @@ fn the_steady_step_allocates_nothing() {
     m.contacts.push(ContactDef {
         id: 1,
         single_surface: true,
+        one_way: false,
         slave: ContactSurface::All,
         master: None,
         fs: 0.3,

@@ -43,6 +43,7 @@ fn contact(slave: ContactSurface, master: Option<ContactSurface>, fs: f64, fd: f
     ContactDef {
         id: 1,
         single_surface: master.is_none(),
+        one_way: false,
         slave,
         master,
         fs,
@@ -428,7 +429,19 @@ fn static_friction_holds_below_fs_and_dynamic_friction_acts_above() {
 ///   penalty's estimate: contact stress rho c v / 2 over SLSFAC K / h, 1.7%).
 #[test]
 fn head_on_blocks_exchange_momentum_without_penetrating() {
-    head_on("hexahedra", |b| b);
+    head_on("hexahedra", |b| b, false);
+}
+
+/// The same collision through `*CONTACT_AUTOMATIC_NODES_TO_SURFACE`, the left block's nodes
+/// (slave) against the right block's faces (master) only: the same pins, and at most the 25
+/// nodes of the left block's front face are ever in contact (a surface-to-surface or single
+/// surface contact also checks the right block's nodes, up to 50 pairs).
+#[test]
+fn head_on_blocks_through_nodes_to_surface() {
+    let pairs = head_on("hexahedra, nodes to surface", |b| b, true);
+    assert!(pairs > 0 && pairs <= 25, "{pairs} pairs");
+    let both = head_on("hexahedra", |b| b, false);
+    assert!(both > 25, "{both} pairs both ways");
 }
 
 /// The head-on collision of blocks of tetrahedra and of wedges: the contact surfaces are
@@ -436,11 +449,12 @@ fn head_on_blocks_exchange_momentum_without_penetrating() {
 /// pins as for hexahedra.
 #[test]
 fn head_on_blocks_of_tetrahedra_and_wedges() {
-    head_on("tetrahedra", |b| b.split_tets());
-    head_on("wedges", |b| b.split_wedges());
+    head_on("tetrahedra", |b| b.split_tets(), false);
+    head_on("wedges", |b| b.split_wedges(), false);
 }
 
-fn head_on(name: &str, cut: fn(BoxMesh) -> BoxMesh) {
+/// Returns the most node-face pairs in contact at a step.
+fn head_on(name: &str, cut: fn(BoxMesh) -> BoxMesh, one_way: bool) -> usize {
     let v0 = 10.0;
     let (l, n) = (0.02, 8);
     let h = l / n as f64;
@@ -457,8 +471,20 @@ fn head_on(name: &str, cut: fn(BoxMesh) -> BoxMesh) {
     for i in ln.clone() {
         m.v0[i as usize] = [v0, 0.0, 0.0];
     }
-    m.contacts
-        .push(contact(ContactSurface::All, None, 0.0, 0.0));
+    m.contacts.push(if one_way {
+        ContactDef {
+            one_way: true,
+            ..contact(
+                ContactSurface::Part(left),
+                Some(ContactSurface::Part(right)),
+                0.0,
+                0.0,
+            )
+        }
+    } else {
+        contact(ContactSurface::All, None, 0.0, 0.0)
+    });
+    let mut pairs = 0;
     let face_l: Vec<u32> = ln
         .clone()
         .filter(|&i| m.x0[i as usize][0] > -2e-5)
@@ -479,6 +505,7 @@ fn head_on(name: &str, cut: fn(BoxMesh) -> BoxMesh) {
         if s.state.step == 0 {
             e0 = s.state.energy.kinetic;
         }
+        pairs = pairs.max(s.contact().map_or(0, |c| c.forces()[0].pairs));
     });
     let momentum = |r: &std::ops::Range<u32>| -> f64 {
         r.clone()
@@ -502,6 +529,7 @@ fn head_on(name: &str, cut: fn(BoxMesh) -> BoxMesh) {
     assert!(vl.abs() < 0.1 * v0 && vr > 0.9 * v0);
     assert!(e.kinetic <= e0 * (1.0 + 1e-6));
     assert!(pen < 0.05 * h);
+    pairs
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1202,6 +1202,7 @@ fn round_trip_model() -> Model {
             ContactDef {
                 id: 1,
                 single_surface: true,
+                one_way: false,
                 slave: ContactSurface::All,
                 master: None,
                 fs: 0.3,
@@ -1211,6 +1212,7 @@ fn round_trip_model() -> Model {
             ContactDef {
                 id: 2,
                 single_surface: false,
+                one_way: false,
                 slave: ContactSurface::PartSet(0),
                 master: Some(ContactSurface::Part(1)),
                 fs: 0.0,
@@ -1220,6 +1222,7 @@ fn round_trip_model() -> Model {
             ContactDef {
                 id: 3,
                 single_surface: false,
+                one_way: false,
                 slave: ContactSurface::SegmentSet(0),
                 master: Some(ContactSurface::All),
                 fs: 0.1,
@@ -2212,4 +2215,27 @@ fn hourglass_cards_and_hgid() {
     );
     let e = err(&with("*PART\nblock", "*HOURGLASS\n4, 6\n*PART\nblock")).to_string();
     assert!(e.contains("IHQ") && e.contains("6 not supported"), "{e}");
+}
+
+/// `*CONTACT_AUTOMATIC_NODES_TO_SURFACE` reads as a one-way surface-to-surface contact (its
+/// `_ID` form too); a node-set slave (SSTYP 4) is refused naming the field; the writer writes
+/// the keyword back.
+#[test]
+fn nodes_to_surface_contact() {
+    let old = "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n1, 2, 3, 3";
+    for kw in [
+        "*CONTACT_AUTOMATIC_NODES_TO_SURFACE\n1, 2, 3, 3",
+        "*CONTACT_AUTOMATIC_NODES_TO_SURFACE_ID\n5, one way\n1, 2, 3, 3",
+    ] {
+        let m = parse(&with(old, kw));
+        let c = m.contacts.last().unwrap();
+        assert!(c.one_way && !c.single_surface, "{kw}: {c:?}");
+        assert_eq!(c.master, Some(ContactSurface::Part(1)));
+        let back = parse_deck(&write_deck(&m), "w.k").unwrap().model;
+        assert!(back.contacts.last().unwrap().one_way);
+    }
+    let bad = with(old, "*CONTACT_AUTOMATIC_NODES_TO_SURFACE\n1, 2, 4, 3");
+    let e = err(&bad).to_string();
+    assert!(e.contains("SSTYP") && e.contains("node set"), "{e}");
+    assert!(!parse(BASE).contacts.last().unwrap().one_way);
 }

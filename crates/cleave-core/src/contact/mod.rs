@@ -1451,6 +1451,8 @@ impl Contact {
         }
         let pairs: &[(usize, usize)] = if def.single_surface {
             &[(0, 0)]
+        } else if def.one_way {
+            &[(0, 1)]
         } else {
             &[(0, 1), (1, 0)]
         };

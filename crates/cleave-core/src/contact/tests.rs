@@ -52,6 +52,7 @@ fn def(single: bool, fs: f64, fd: f64, dc: f64) -> ContactDef {
     ContactDef {
         id: 1,
         single_surface: single,
+        one_way: false,
         slave: if single {
             ContactSurface::All
         } else {

@@ -251,6 +251,8 @@ pub struct RawSurface {
 pub struct RawContact {
     pub src: Src,
     pub single_surface: bool,
+    /// NODES_TO_SURFACE: the slave side's nodes against the master side's faces only.
+    pub one_way: bool,
     pub slave: RawSurface,
     pub master: Option<RawSurface>,
     pub fs: f64,

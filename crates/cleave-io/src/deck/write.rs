@@ -853,6 +853,8 @@ fn interactions(o: &mut String, m: &Model, wall_sets: &[i64]) {
     for c in &m.contacts {
         let kw = if c.single_surface {
             "*CONTACT_AUTOMATIC_SINGLE_SURFACE"
+        } else if c.one_way {
+            "*CONTACT_AUTOMATIC_NODES_TO_SURFACE"
         } else {
             "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE"
         };

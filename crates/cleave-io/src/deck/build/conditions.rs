@@ -195,6 +195,7 @@ impl Builder<'_> {
             m.contacts.push(ContactDef {
                 id: k as i64 + 1,
                 single_surface: c.single_surface,
+                one_way: c.one_way,
                 slave,
                 master,
                 fs: c.fs,

@@ -89,15 +89,25 @@ fn surface(
     })
 }
 
-/// `*CONTACT_AUTOMATIC_SINGLE_SURFACE` / `_SURFACE_TO_SURFACE`: card 1 `SSID MSID SSTYP MSTYP
-/// SBOXID MBOXID SPR MPR` (types 0 segment set, 2 part set, 3 part; id 0: everything);
-/// optional card 2 `FS FD DC VC VDC PENCHK BT DT` (blank: 0); further optional cards ignored.
+/// `*CONTACT_AUTOMATIC_SINGLE_SURFACE` / `_SURFACE_TO_SURFACE` / `_NODES_TO_SURFACE`
+/// (`one_way`: only the slave side's nodes are checked against the master side's faces): card 1
+/// `SSID MSID SSTYP MSTYP SBOXID MBOXID SPR MPR` (types 0 segment set, 2 part set, 3 part; id
+/// 0: everything; a nodes-to-surface slave given as parts or segments stands for their surface
+/// nodes, as only those can touch, and a node set, SSTYP 4, is an error for now); optional
+/// card 2 `FS FD DC VC VDC PENCHK BT DT` (blank: 0); further optional cards ignored.
 pub fn contact(
     r: &mut Reader<'_>,
     deck: &mut RawDeck,
     single_surface: bool,
+    one_way: bool,
 ) -> Result<(), DeckError> {
     let c = r.required(W10, "SSID MSID SSTYP MSTYP SBOXID MBOXID SPR MPR")?;
+    if one_way && c.i64_or(2, "SSTYP", 0)? == 4 {
+        return Err(c.field_err(
+            "SSTYP",
+            "4 (a node set) not supported yet for the slave side of NODES_TO_SURFACE: give the slave as parts (2 part set, 3 part) or a segment set (0); their surface nodes are checked".to_string(),
+        ));
+    }
     let slave = surface(&c, 0, 2, ["SSID", "SSTYP"])?;
     let master = if single_surface {
         warn_ignored(
@@ -135,6 +145,7 @@ pub fn contact(
     deck.contacts.push(RawContact {
         src: r.src(c.line),
         single_surface,
+        one_way,
         slave,
         master,
         fs,

@@ -114,9 +114,14 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             "*LOAD_BODY_Y" => loads::body(&mut r, &mut deck, 1)?,
             "*LOAD_BODY_Z" => loads::body(&mut r, &mut deck, 2)?,
             "*RIGIDWALL_PLANAR" => interaction::rigidwall_planar(&mut r, &mut deck)?,
-            "*CONTACT_AUTOMATIC_SINGLE_SURFACE" => interaction::contact(&mut r, &mut deck, true)?,
+            "*CONTACT_AUTOMATIC_SINGLE_SURFACE" => {
+                interaction::contact(&mut r, &mut deck, true, false)?
+            }
             "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE" => {
-                interaction::contact(&mut r, &mut deck, false)?
+                interaction::contact(&mut r, &mut deck, false, false)?
+            }
+            "*CONTACT_AUTOMATIC_NODES_TO_SURFACE" => {
+                interaction::contact(&mut r, &mut deck, false, true)?
             }
             "*CONTACT_FORCE_TRANSDUCER_PENALTY" => {
                 deck.warnings.push(format!(

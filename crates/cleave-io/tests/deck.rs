@@ -786,15 +786,12 @@ fn unsorted_curve() {
 
 #[test]
 fn unsupported_keyword() {
-    let t = with(
-        "*MAT_ELASTIC",
-        "*MAT_ELASTIC_PLASTIC_HYDRO\n1, 2\n*MAT_ELASTIC",
-    );
+    let t = with("*MAT_ELASTIC", "*MAT_SOIL_AND_FOAM\n1, 2\n*MAT_ELASTIC");
     let e = err(&t);
     check(
         &e,
-        Some(line_of(&t, "*MAT_ELASTIC_PLASTIC_HYDRO")),
-        Some("*MAT_ELASTIC_PLASTIC_HYDRO"),
+        Some(line_of(&t, "*MAT_SOIL_AND_FOAM")),
+        Some("*MAT_SOIL_AND_FOAM"),
         None,
         "not supported",
     );
@@ -2238,4 +2235,42 @@ fn nodes_to_surface_contact() {
     let e = err(&bad).to_string();
     assert!(e.contains("SSTYP") && e.contains("node set"), "{e}");
     assert!(!parse(BASE).contacts.last().unwrap().one_way);
+}
+
+/// `*MAT_ELASTIC_PLASTIC_HYDRO` (`*MAT_010`) with a Mie-Gruneisen EOS on its part reads as the
+/// Johnson-Cook material with A = SIGY, B = EH, N = 1, no rate and no temperature terms, and the
+/// same EOS and elastic constants (from G and K0): the same model as that `*MAT_JOHNSON_COOK`
+/// deck, whose law is verified against its closed form. Errors: no EOS on its part, a pressure
+/// cutoff, a pressure-dependent yield (A1), a hardening curve, erosion (FS).
+#[test]
+fn elastic_plastic_hydro_is_johnson_cook_without_rate_or_heat() {
+    let eos = "*EOS_GRUNEISEN\n5, 4578., 1.33, 0., 0., 1.67, 0.43\n1.0\n";
+    let hydro = format!("*MAT_ELASTIC_PLASTIC_HYDRO\n1, 7830., 8.18e10, 7.92e8, 2.1e9\n{eos}");
+    let jc = format!(
+        "*MAT_JOHNSON_COOK\n1, 7830., 8.18e10\n7.92e8, 2.1e9, 1.0, 0., 1., 0., 0., 1.0\n0.\n{eos}"
+    );
+    let deck = |mat: &str| {
+        with("*MAT_ELASTIC\n1, 7800., 2.0e11, 0.3\n", mat).replacen("1, 1, 1\n", "1, 1, 1, 5\n", 1)
+    };
+    let (a, b) = (parse(&deck(&hydro)), parse(&deck(&jc)));
+    assert_eq!(a.materials[0], b.materials[0]);
+    let MaterialKind::JohnsonCook(j) = a.materials[0].kind else {
+        panic!("a Johnson-Cook material")
+    };
+    assert_eq!((j.a, j.b, j.n, j.c), (7.92e8, 2.1e9, 1.0, 0.0));
+    assert!(j.eos.is_some() && j.rho_cp.is_infinite() && j.t_melt.is_infinite());
+    let mat010 = deck(&hydro.replace("*MAT_ELASTIC_PLASTIC_HYDRO", "*MAT_010"));
+    assert_eq!(parse(&mat010).materials[0], a.materials[0]);
+    // errors
+    let e = err(&deck(&hydro).replacen("1, 1, 1, 5\n", "1, 1, 1\n", 1));
+    assert!(e.message.contains("*MAT_ELASTIC_PLASTIC_HYDRO"), "{e}");
+    for (card, field) in [
+        ("7.92e8, 2.1e9, -1e8", "PC"),
+        ("7.92e8, 2.1e9, 0., 0.5", "FS"),
+        ("7.92e8, 2.1e9\n1e3", "A1"),
+        ("7.92e8, 2.1e9\n0., 0., 0.\n0., 0.1", "EPS"),
+    ] {
+        let e = err(&deck(&hydro.replace("7.92e8, 2.1e9", card)));
+        assert_eq!(e.field.as_deref(), Some(field), "{card}: {e}");
+    }
 }

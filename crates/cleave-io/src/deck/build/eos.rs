@@ -79,7 +79,7 @@ impl Builder<'_> {
                         .err(
                             &rm.src,
                             format!(
-                                "material {}: PR (or E) is missing and no part gives it an *EOS: the bulk modulus comes from one of them",
+                                "material {}: PR (or E) is missing, or the material is *MAT_ELASTIC_PLASTIC_HYDRO, and no part gives it an *EOS (EOSID): the bulk modulus comes from one of them",
                                 mat.id
                             ),
                         )

@@ -216,3 +216,57 @@ pub fn johnson_cook(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
     push(r, deck, &c, mid, [ro, young, pr], jc, shear_only);
     Ok(())
 }
+
+/// `*MAT_ELASTIC_PLASTIC_HYDRO` / `*MAT_010`: card 1 `MID RO G SIGY EH PC FS CHARL`, optional
+/// card 2 `A1 A2 SPALL`, optional cards 3-6 `EPS1..EPS16`, `ES1..ES16`. An elastic-plastic
+/// deviator with linear hardening, yield stress `SIGY + EH ep`, and the pressure of the part's
+/// equation of state (EOSID, required: the bulk modulus comes from it). cleave runs it as a
+/// Johnson-Cook material with A = SIGY, B = EH, N = 1 and no rate or temperature terms (the
+/// same deviatoric return and EOS update). PC blank or 0 means no cutoff, as in LS-DYNA;
+/// another PC (a pressure cutoff), FS (erosion), A1 and A2 (a pressure-dependent yield stress)
+/// and the EPS/ES curve are errors; CHARL and SPALL warn.
+pub fn elastic_plastic_hydro(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let c = r.required(W10, "MID RO G SIGY EH PC FS CHARL")?;
+    let mid = c.id(0, "MID")?;
+    let ro = c.positive(1, "RO")?;
+    let g = c.positive(2, "G")?;
+    let sigy = c.positive(3, "SIGY")?;
+    let eh = non_negative(&c, 4, "EH")?;
+    unsupported(&c, 5, "PC", "a pressure cutoff")?;
+    unsupported(&c, 6, "FS", "failure by plastic strain (element erosion)")?;
+    warn_ignored(&c, 7, "CHARL", "no erosion", deck);
+    if let Some(c2) = r.next(W10)? {
+        unsupported(&c2, 0, "A1", "a pressure-dependent yield stress")?;
+        unsupported(&c2, 1, "A2", "a pressure-dependent yield stress")?;
+        warn_ignored(&c2, 2, "SPALL", "no spall model", deck);
+    }
+    for k in 0..4 {
+        let Some(ck) = r.next(W10)? else { break };
+        let name = if k < 2 { "EPS" } else { "ES" };
+        for i in 0..8 {
+            unsupported(
+                &ck,
+                i,
+                name,
+                "a piecewise hardening curve on *MAT_010 (use EH, or *MAT_024)",
+            )?;
+        }
+    }
+    let jc = JohnsonCook {
+        a: sigy,
+        b: eh,
+        n: 1.0,
+        c: 0.0,
+        eps0: 1.0,
+        m: 1.0,
+        t_melt: f64::INFINITY,
+        t_room: 0.0,
+        rho_cp: f64::INFINITY,
+        sig_max: f64::INFINITY,
+        sig_sat: f64::INFINITY,
+        eos: None,
+    };
+    // E and PR follow from G and the EOS's bulk modulus when the parts are built
+    push(r, deck, &c, mid, [ro, 3.0 * g, f64::NAN], jc, Some(g));
+    Ok(())
+}

@@ -82,6 +82,9 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
                 piecewise::piecewise_linear(&mut r, &mut deck)?
             }
             "*MAT_JOHNSON_COOK" | "*MAT_015" => johnson_cook::johnson_cook(&mut r, &mut deck)?,
+            "*MAT_ELASTIC_PLASTIC_HYDRO" | "*MAT_010" => {
+                johnson_cook::elastic_plastic_hydro(&mut r, &mut deck)?
+            }
             "*MAT_SIMPLIFIED_JOHNSON_COOK" | "*MAT_098" => {
                 johnson_cook::simplified(&mut r, &mut deck)?
             }

@@ -28,10 +28,7 @@ fn block() -> Model {
 
 fn run(m: &Model, steps: usize) -> Vec<u64> {
     let mut s = Solver::new(m).unwrap();
-    for _ in 0..steps {
-        s.advance_to_half_step().unwrap();
-        s.update_positions().unwrap();
-    }
+    common::steps(&mut s, steps);
     let e = s.state.energy;
     let mut b: Vec<u64> = s
         .positions()

@@ -4,10 +4,11 @@
 //! falling under gravity rang up from round-off (internal energy from 1e-22 J to 41 J in 126
 //! steps before this). Elements inside a mesh, also of a split mesh, keep h / c_L.
 
+mod common;
+
 use cleave_core::mesh::box_model;
 use cleave_core::model::{BodyLoad, Material, MaterialKind};
 use cleave_core::setup::Setup;
-use cleave_core::solver::Solver;
 
 /// Soft rubber-like block material: rho 1000, E 1 MPa, nu 0.3.
 fn soft() -> Material {
@@ -34,13 +35,8 @@ fn a_lone_block_falling_freely_stays_unstrained() {
     });
     let setup = Setup::new(&m).unwrap();
     assert_eq!(setup.lone, vec![true]);
-    let mut s = Solver::new(&m).unwrap();
     let mut steps = 0;
-    while !s.is_finished() {
-        s.advance_to_half_step().unwrap();
-        s.update_positions().unwrap();
-        steps += 1;
-    }
+    let s = common::run(&m, |_| steps += 1);
     let e = s.state.energy;
     let c_l = {
         let (young, nu, rho): (f64, f64, f64) = (1e6, 0.3, 1000.0);
@@ -87,15 +83,7 @@ fn only_elements_sharing_no_face_are_lone() {
     two.elem_ids.push(2);
     assert_eq!(Setup::new(&two).unwrap().lone, vec![true, true]);
     let mut split = bar.clone();
-    split.separations.push(cleave_core::model::SeparationDef {
-        material: 0,
-        model: 1,
-        sigmax: 1e30,
-        beta: 1.0,
-        gc: 0.0,
-        bond: 1,
-        strength: Default::default(),
-    });
+    split.separations.push(common::unbreakable(0));
     let sp = cleave_core::separation::split::split_model(&split);
     assert_eq!(Setup::new(&sp.model).unwrap().lone, vec![false, false]);
 }

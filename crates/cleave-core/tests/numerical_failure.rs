@@ -18,18 +18,11 @@ fn block() -> Model {
     m
 }
 
-fn steps(s: &mut Solver, n: usize) {
-    for _ in 0..n {
-        s.advance_to_half_step().unwrap();
-        s.update_positions().unwrap();
-    }
-}
-
 #[test]
 fn a_non_finite_energy_stops_the_run_naming_it() {
     let m = block();
     let mut s = Solver::new(&m).unwrap();
-    steps(&mut s, 3);
+    common::steps(&mut s, 3);
     s.state.energy.external_work = f64::NAN;
     let e = s.advance_to_half_step().unwrap_err();
     assert!(
@@ -50,7 +43,7 @@ fn a_non_finite_energy_stops_the_run_naming_it() {
 fn a_non_finite_stress_names_its_element_and_one_of_its_nodes() {
     let m = block();
     let mut s = Solver::new(&m).unwrap();
-    steps(&mut s, 3);
+    common::steps(&mut s, 3);
     // the last element, far from node 1 (the first node whose velocity a scan would find
     // would be the lowest of its nodes, not node 1)
     let k = m.num_elements() - 1;

@@ -19,13 +19,6 @@ fn block() -> Model {
     m
 }
 
-fn steps(s: &mut Solver, n: usize) {
-    for _ in 0..n {
-        s.advance_to_half_step().unwrap();
-        s.update_positions().unwrap();
-    }
-}
-
 fn bits(s: &Solver) -> Vec<u64> {
     let mut b: Vec<u64> = s
         .positions()
@@ -45,14 +38,14 @@ fn bits(s: &Solver) -> Vec<u64> {
 fn a_restored_state_continues_bit_for_bit() {
     let m = block();
     let mut straight = Solver::new(&m).unwrap();
-    steps(&mut straight, 70);
+    common::steps(&mut straight, 70);
     let mut first = Solver::new(&m).unwrap();
-    steps(&mut first, 30);
+    common::steps(&mut first, 30);
     let saved = first.save_state();
     let mut again = Solver::new(&m).unwrap();
     again.restore_state(&saved).unwrap();
     assert_eq!(again.state.step, 30);
-    steps(&mut again, 40);
+    common::steps(&mut again, 40);
     assert_eq!(bits(&again), bits(&straight));
     // and the state does change over those steps (the comparison is not of a still block)
     assert_ne!(bits(&first), bits(&straight));
@@ -62,7 +55,7 @@ fn a_restored_state_continues_bit_for_bit() {
 fn a_state_of_another_model_is_refused() {
     let m = block();
     let mut s = Solver::new(&m).unwrap();
-    steps(&mut s, 3);
+    common::steps(&mut s, 3);
     let saved = s.save_state();
     let other = box_model([2, 2, 2], [0.2; 3], common::elastic_steel(0.3), 1e-3);
     let err = Solver::new(&other)

@@ -255,14 +255,7 @@ impl<'m> RunOutput<'m> {
 
     /// Go on from a restart file's output state (the files are already cut back).
     fn restore(&mut self, r: &OutputSaved) -> std::io::Result<()> {
-        let csvs = [
-            Some(&mut self.glstat),
-            self.nodout.as_mut(),
-            self.elout.as_mut(),
-            self.rwforc.as_mut(),
-            self.rcforc.as_mut(),
-        ];
-        for (mine, saved) in csvs.into_iter().zip(&r.csv) {
+        for (mine, saved) in self.histories().into_iter().zip(&r.csv) {
             if let (Some(mine), Some(saved)) = (mine, saved) {
                 mine.1 = saved.1;
             }
@@ -281,14 +274,7 @@ impl<'m> RunOutput<'m> {
     /// Where every output stands now, for a restart file (every row is flushed first).
     pub fn saved(&mut self) -> std::io::Result<OutputSaved> {
         let mut csv = [None; 5];
-        let files = [
-            Some(&mut self.glstat),
-            self.nodout.as_mut(),
-            self.elout.as_mut(),
-            self.rwforc.as_mut(),
-            self.rcforc.as_mut(),
-        ];
-        for (k, f) in files.into_iter().enumerate() {
+        for (k, f) in self.histories().into_iter().enumerate() {
             if let Some((w, sch)) = f {
                 csv[k] = Some((w.written_len()?, *sch));
             }
@@ -474,18 +460,21 @@ impl<'m> RunOutput<'m> {
         summary.write(path)
     }
 
+    /// glstat, nodout, elout, rwforc, rcforc with their schedules (None: the run has no such
+    /// file), in the order of [`OutputSaved`].
+    fn histories(&mut self) -> [Option<&mut (Csv, Schedule)>; 5] {
+        [
+            Some(&mut self.glstat),
+            self.nodout.as_mut(),
+            self.elout.as_mut(),
+            self.rwforc.as_mut(),
+            self.rcforc.as_mut(),
+        ]
+    }
+
     /// Flush every history file.
     fn flush(&mut self) -> std::io::Result<()> {
-        self.glstat.0.flush()?;
-        for f in [
-            &mut self.nodout,
-            &mut self.elout,
-            &mut self.rwforc,
-            &mut self.rcforc,
-        ]
-        .into_iter()
-        .flatten()
-        {
+        for f in self.histories().into_iter().flatten() {
             f.0.flush()?;
         }
         self.fracture.flush()

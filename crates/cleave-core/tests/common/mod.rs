@@ -27,6 +27,14 @@ pub fn run(m: &Model, f: impl FnMut(&Solver)) -> Solver<'_> {
     s
 }
 
+/// Take `n` steps of `s` (each ends with the positions of the next).
+pub fn steps(s: &mut Solver, n: usize) {
+    for _ in 0..n {
+        s.advance_to_half_step().expect("step");
+        s.update_positions().expect("positions");
+    }
+}
+
 /// A separation group on material `material` that nothing breaks (MODEL 1, SIGMAX 1e30): the
 /// mesh is split and every interface is checked, but none fails.
 pub fn unbreakable(material: usize) -> cleave_core::model::SeparationDef {

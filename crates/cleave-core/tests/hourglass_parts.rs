@@ -29,15 +29,7 @@ fn block() -> Model {
 fn run(m: &Model, steps: usize) -> Vec<u64> {
     let mut s = Solver::new(m).unwrap();
     common::steps(&mut s, steps);
-    let e = s.state.energy;
-    let mut b: Vec<u64> = s
-        .positions()
-        .iter()
-        .flatten()
-        .map(|x| x.to_bits())
-        .collect();
-    b.extend([e.internal, e.hourglass, e.kinetic].map(f64::to_bits));
-    b
+    common::state_bits(&s)
 }
 
 #[test]

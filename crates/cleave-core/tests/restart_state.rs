@@ -19,21 +19,6 @@ fn block() -> Model {
     m
 }
 
-fn bits(s: &Solver) -> Vec<u64> {
-    let mut b: Vec<u64> = s
-        .positions()
-        .iter()
-        .flatten()
-        .map(|x| x.to_bits())
-        .collect();
-    b.extend(s.velocities().iter().flatten().map(|x| x.to_bits()));
-    b.extend(s.state.stress.iter().flatten().map(|x| x.to_bits()));
-    let e = &s.state.energy;
-    b.extend([e.kinetic, e.internal, e.hourglass, e.external_work].map(f64::to_bits));
-    b.push(s.state.t.to_bits());
-    b
-}
-
 #[test]
 fn a_restored_state_continues_bit_for_bit() {
     let m = block();
@@ -46,9 +31,9 @@ fn a_restored_state_continues_bit_for_bit() {
     again.restore_state(&saved).unwrap();
     assert_eq!(again.state.step, 30);
     common::steps(&mut again, 40);
-    assert_eq!(bits(&again), bits(&straight));
+    assert_eq!(common::state_bits(&again), common::state_bits(&straight));
     // and the state does change over those steps (the comparison is not of a still block)
-    assert_ne!(bits(&first), bits(&straight));
+    assert_ne!(common::state_bits(&first), common::state_bits(&straight));
 }
 
 #[test]

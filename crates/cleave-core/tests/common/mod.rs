@@ -27,6 +27,23 @@ pub fn run(m: &Model, f: impl FnMut(&Solver)) -> Solver<'_> {
     s
 }
 
+/// The bits of the state a step leaves: positions, velocities, stresses, the energies and
+/// the time (tests that compare two runs bit for bit).
+pub fn state_bits(s: &Solver) -> Vec<u64> {
+    let mut b: Vec<u64> = s
+        .positions()
+        .iter()
+        .flatten()
+        .map(|x| x.to_bits())
+        .collect();
+    b.extend(s.velocities().iter().flatten().map(|x| x.to_bits()));
+    b.extend(s.state.stress.iter().flatten().map(|x| x.to_bits()));
+    let e = &s.state.energy;
+    b.extend([e.kinetic, e.internal, e.hourglass, e.external_work].map(f64::to_bits));
+    b.push(s.state.t.to_bits());
+    b
+}
+
 /// Take `n` steps of `s` (each ends with the positions of the next).
 pub fn steps(s: &mut Solver, n: usize) {
     for _ in 0..n {

@@ -13,9 +13,13 @@
 //!   in the deck as its keyword text (`*NODE`, `*ELEMENT_SOLID`, `*SET_NODE_LIST`,
 //!   `*SET_SEGMENT`), the deck's own `*PART` cards giving the physical volumes' part ids their
 //!   section and material.
+//! - `*INCLUDE_TRANSFORM`: the file named on its first card is read as a group of its own
+//!   (its blocks carry the group's number, [`Block::group`]), whose ids are offset and whose
+//!   nodes are moved as the keyword's further cards say (`super::transform`). A transformed
+//!   include inside another one is an error.
 //! - A file that includes itself, directly or through others, is an error naming the chain;
 //!   so are a missing file (naming the places searched) and the `*INCLUDE_...` variants that
-//!   transform or offset what they read (`_TRANSFORM`, `_AUTO_OFFSET`, `_NASTRAN`,
+//!   offset or convert what they read in other ways (`_AUTO_OFFSET`, `_NASTRAN`,
 //!   `_STAMPED_PART`, ...), which cleave does not apply.
 
 use std::path::{Path, PathBuf};
@@ -45,6 +49,7 @@ pub fn collect(text: &str, file: &str) -> Result<Vec<Source>, DeckError> {
     let mut search = Vec::new();
     visit(
         0,
+        false,
         &mut vec![file.to_string()],
         &main_dir,
         &mut search,
@@ -61,34 +66,61 @@ pub fn blocks(sources: &[Source]) -> Result<Vec<Block<'_>>, DeckError> {
         lexed.push(Some(lex(&s.text, &s.file)?));
     }
     let mut out = Vec::new();
-    flatten(0, sources, &mut lexed, &mut out);
+    let mut groups = 0;
+    flatten(0, 0, sources, &mut lexed, &mut groups, &mut out);
     Ok(out)
 }
 
+/// Appends the blocks of source `i` to `out`, in group `group`; an `*INCLUDE_TRANSFORM` opens
+/// the next group (`groups` counts them) and is kept, marked with that group, for its cards to
+/// be read.
 fn flatten<'a>(
     i: usize,
+    group: usize,
     sources: &[Source],
     lexed: &mut [Option<Vec<Block<'a>>>],
+    groups: &mut usize,
     out: &mut Vec<Block<'a>>,
 ) {
     let Some(blocks) = lexed[i].take() else {
         return;
     };
-    for b in blocks {
-        if b.keyword == "*INCLUDE" {
-            let children = sources[i]
+    for mut b in blocks {
+        let children = || {
+            sources[i]
                 .includes
                 .iter()
                 .find(|(line, _)| *line == b.line)
                 .map(|(_, c)| c.clone())
-                .unwrap_or_default();
-            for c in children {
-                flatten(c, sources, lexed, out);
+                .unwrap_or_default()
+        };
+        if b.keyword == "*INCLUDE" {
+            for c in children() {
+                flatten(c, group, sources, lexed, groups, out);
+            }
+        } else if b.keyword == "*INCLUDE_TRANSFORM" {
+            *groups += 1;
+            let g = *groups;
+            let cs = children();
+            b.group = g;
+            out.push(b);
+            for c in cs {
+                flatten(c, g, sources, lexed, groups, out);
             }
         } else if !b.keyword.starts_with("*INCLUDE_PATH") {
+            b.group = group;
             out.push(b);
         }
     }
+}
+
+/// How many of a block's lines its file name takes: the first line, and the lines after it
+/// while each ends with ` +` (the continuation of a long name).
+pub fn name_lines(lines: &[super::lex::Line<'_>]) -> usize {
+    lines
+        .iter()
+        .position(|l| !l.text.trim().ends_with(" +"))
+        .map_or(lines.len(), |k| k + 1)
 }
 
 /// The directory of `file` (the current directory for a bare name).
@@ -124,8 +156,11 @@ fn names(block: &Block<'_>) -> Vec<(usize, String)> {
     out
 }
 
+/// Reads source `i`'s includes, recursively; `in_xform` when it is read through an
+/// `*INCLUDE_TRANSFORM` (directly or through plain includes).
 fn visit(
     i: usize,
+    in_xform: bool,
     chain: &mut Vec<String>,
     main_dir: &Path,
     search: &mut Vec<PathBuf>,
@@ -174,11 +209,58 @@ fn visit(
                         });
                         let child = sources.len() - 1;
                         chain.push(shown);
-                        visit(child, chain, main_dir, search, sources)?;
+                        visit(child, in_xform, chain, main_dir, search, sources)?;
                         chain.pop();
                         children.push(child);
                     }
                     includes.push((b.line, children));
+                }
+                "*INCLUDE_TRANSFORM" => {
+                    let at = |line: usize, m: String| DeckError::at(&file, line, Some(kw), m);
+                    if in_xform {
+                        return Err(at(
+                            b.line,
+                            "an *INCLUDE_TRANSFORM inside a file read through another one is not supported (cleave does not compose the two transformations)".into(),
+                        ));
+                    }
+                    let k = name_lines(&b.lines);
+                    let Some((line, name)) = names(&Block {
+                        lines: b.lines[..k].to_vec(),
+                        ..b.clone()
+                    })
+                    .into_iter()
+                    .next() else {
+                        return Err(at(b.line, "missing card (the file name)".into()));
+                    };
+                    if chain.len() > MAX_DEPTH {
+                        return Err(at(line, format!("includes nest deeper than {MAX_DEPTH} files")));
+                    }
+                    let path = resolve(&name, &here, search).map_err(|m| at(line, m))?;
+                    let shown = path.display().to_string();
+                    let key = canonical(&path);
+                    if let Some(k) = chain.iter().position(|f| canonical(Path::new(f)) == key) {
+                        return Err(at(
+                            line,
+                            format!("'{name}' includes itself: {} -> {shown}", chain[k..].join(" -> ")),
+                        ));
+                    }
+                    let bytes = std::fs::read(&path)
+                        .map_err(|e| at(line, format!("cannot read '{shown}': {e}")))?;
+                    if is_msh(&path) {
+                        sources.push(msh_source(&bytes, &shown)?);
+                        includes.push((b.line, vec![sources.len() - 1]));
+                        continue;
+                    }
+                    sources.push(Source {
+                        file: shown.clone(),
+                        text: String::from_utf8_lossy(&bytes).into_owned(),
+                        includes: Vec::new(),
+                    });
+                    let child = sources.len() - 1;
+                    chain.push(shown);
+                    visit(child, true, chain, main_dir, search, sources)?;
+                    chain.pop();
+                    includes.push((b.line, vec![child]));
                 }
                 "*INCLUDE_PATH" | "*INCLUDE_PATH_RELATIVE" => {
                     for (_, dir) in names(b) {
@@ -195,7 +277,7 @@ fn visit(
                         &file,
                         b.line,
                         Some(k),
-                        "not supported (cleave includes files as they are: *INCLUDE, *INCLUDE_PATH, *INCLUDE_PATH_RELATIVE)",
+                        "not supported (cleave reads *INCLUDE, *INCLUDE_PATH, *INCLUDE_PATH_RELATIVE and *INCLUDE_TRANSFORM)",
                     ))
                 }
                 _ => {}

@@ -36,6 +36,10 @@ pub struct Block<'a> {
     /// Line of the keyword.
     pub line: usize,
     pub lines: Vec<Line<'a>>,
+    /// 0 for the deck and its plain includes; k > 0 for the blocks read through the k-th
+    /// `*INCLUDE_TRANSFORM` (and, on that `*INCLUDE_TRANSFORM` block itself, the group it
+    /// opens), whose ids are offset and nodes moved as it says.
+    pub group: usize,
 }
 
 /// Splits `text` into blocks. Errors: data before the first keyword.
@@ -64,6 +68,7 @@ pub fn lex<'a>(text: &'a str, file: &str) -> Result<Vec<Block<'a>>, DeckError> {
                 keyword,
                 line: no,
                 lines: Vec::new(),
+                group: 0,
             });
             continue;
         }

@@ -17,6 +17,7 @@ mod include;
 pub mod lex;
 mod params;
 mod raw;
+mod transform;
 pub(crate) mod write;
 
 use std::path::Path;
@@ -72,7 +73,7 @@ pub fn parse_deck(text: &str, file: &str) -> Result<Deck, DeckError> {
             files.push(b.file.to_string());
         }
     }
-    let mut raw = cards::read_blocks(&blocks)?;
+    let mut raw = transform::read(&blocks)?;
     let warnings = std::mem::take(&mut raw.warnings);
     let model = build::build(raw, file)?;
     Ok(Deck {

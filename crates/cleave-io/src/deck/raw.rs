@@ -260,6 +260,48 @@ pub struct RawContact {
     pub dc: f64,
 }
 
+/// `*DEFINE_TRANSFORMATION`: its id and its rows `OPTION A1..A7` in order, each with its
+/// line (the option upper case).
+#[derive(Clone, Debug)]
+pub struct RawTransform {
+    pub src: Src,
+    pub id: i64,
+    pub ops: Vec<(String, [f64; 7], usize)>,
+}
+
+/// The id offsets of an `*INCLUDE_TRANSFORM` (IDNOFF IDEOFF IDPOFF IDMOFF IDSOFF IDFOFF
+/// IDDOFF, IDROFF).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Offsets {
+    /// IDNOFF: nodes.
+    pub node: i64,
+    /// IDEOFF: elements.
+    pub elem: i64,
+    /// IDPOFF: parts and nodal rigid bodies.
+    pub part: i64,
+    /// IDMOFF: materials and equations of state.
+    pub mat: i64,
+    /// IDSOFF: sets.
+    pub set: i64,
+    /// IDFOFF: curves.
+    pub curve: i64,
+    /// IDDOFF: other `*DEFINE_` ids (none that cleave reads refers to one).
+    pub define: i64,
+    /// IDROFF: every other id (sections, hourglass definitions).
+    pub other: i64,
+}
+
+/// `*INCLUDE_TRANSFORM`: the group of blocks it read ([`super::lex::Block::group`]), its
+/// offsets and TRANID.
+#[derive(Clone, Debug)]
+pub struct RawIncludeXform {
+    pub src: Src,
+    pub group: usize,
+    pub offsets: Offsets,
+    /// TRANID and the line it is on.
+    pub tranid: Option<(i64, usize)>,
+}
+
 /// Everything read from the deck.
 #[derive(Clone, Debug, Default)]
 pub struct RawDeck {
@@ -296,5 +338,9 @@ pub struct RawDeck {
     pub history_solids: Vec<(i64, Src)>,
     /// `*DATABASE_HISTORY_SOLID_SET`: solid set ids.
     pub history_solid_sets: Vec<(i64, Src)>,
+    /// `*DEFINE_TRANSFORMATION`s.
+    pub transforms: Vec<RawTransform>,
+    /// `*INCLUDE_TRANSFORM`s.
+    pub include_xforms: Vec<RawIncludeXform>,
     pub warnings: Vec<String>,
 }

@@ -15,6 +15,7 @@ mod material;
 mod mesh;
 mod piecewise;
 mod sets;
+mod transform;
 
 use std::rc::Rc;
 
@@ -26,10 +27,10 @@ use super::raw::{RawDeck, Src};
 
 /// Decodes every block. Unsupported keywords are errors; `*TITLE`, `*COMMENT` and unknown
 /// `*DATABASE_...` keywords are accepted (the latter with a warning, their data skipped).
-pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
+/// `params` are the whole deck's (`Params::read`).
+pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<RawDeck, DeckError> {
     let mut deck = RawDeck::default();
-    let params = Params::read(blocks)?;
-    for block in blocks {
+    for &block in blocks {
         let kw = block.keyword.as_str();
         let (base, titled) = match kw.strip_suffix("_TITLE") {
             Some(b)
@@ -39,7 +40,8 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
                     || b.starts_with("*SET_")
                     || b.starts_with("*BOUNDARY_")
                     || b.starts_with("*CONTACT_")
-                    || b == "*DEFINE_CURVE" =>
+                    || b == "*DEFINE_CURVE"
+                    || b == "*DEFINE_TRANSFORMATION" =>
             {
                 (b, true)
             }
@@ -53,7 +55,7 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             }
             _ => (base, titled),
         };
-        let mut r = Reader::new(block, &params);
+        let mut r = Reader::new(block, params);
         if titled {
             r.title()?;
         }
@@ -101,6 +103,8 @@ pub fn read_blocks(blocks: &[Block<'_>]) -> Result<RawDeck, DeckError> {
             }
             "*SET_PART_LIST_GENERATE" => sets::part_generate(&mut r, &mut deck)?,
             "*DEFINE_CURVE" => curve::define_curve(&mut r, &mut deck)?,
+            "*DEFINE_TRANSFORMATION" => transform::define_transformation(&mut r, &mut deck)?,
+            "*INCLUDE_TRANSFORM" => transform::include_transform(&mut r, &mut deck, block.group)?,
             "*INITIAL_VELOCITY_GENERATION" => loads::velocity_generation(&mut r, &mut deck)?,
             "*INITIAL_VELOCITY_NODE" => loads::velocity_node(&mut r, &mut deck)?,
             "*INITIAL_VELOCITY" => loads::velocity(&mut r, &mut deck)?,
@@ -188,6 +192,16 @@ impl<'a> Reader<'a> {
     /// Line of the keyword itself.
     pub fn line_of_keyword(&self) -> usize {
         self.block_line
+    }
+
+    /// The lines not read yet.
+    pub fn remaining(&self) -> &'a [Line<'a>] {
+        &self.lines[self.pos.min(self.lines.len())..]
+    }
+
+    /// An error at the keyword's line.
+    pub fn error_at_keyword(&self, message: impl Into<String>) -> DeckError {
+        DeckError::at(self.file, self.block_line, Some(self.keyword), message)
     }
 
     /// Text of the line most recently returned as a card.

@@ -19,6 +19,7 @@ pub mod awake;
 pub mod contact;
 pub mod curve;
 pub mod element;
+pub mod erosion;
 pub mod error;
 pub mod loads;
 pub mod material;

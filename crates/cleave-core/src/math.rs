@@ -106,6 +106,28 @@ pub fn von_mises(s: &Sym3) -> f64 {
     (1.5 * ddot(&d, &d)).sqrt()
 }
 
+/// Eigenvalues of a symmetric tensor, ascending (the principal stresses of a stress). The
+/// closed form of the cubic's three real roots (Smith, Comm. ACM 4, 1961): with
+/// `p = sqrt(|s'|^2 / 6)` of the deviator s' and `r = det(s') / (2 p^3)` clamped to [-1, 1],
+/// the roots are `tr(s)/3 + 2 p cos(acos(r)/3 + 2 pi k/3)`.
+pub fn principal_values(s: &Sym3) -> [f64; 3] {
+    let m = trace(s) / 3.0;
+    let d = deviator(s);
+    let p2 = ddot(&d, &d) / 6.0;
+    if p2 <= 0.0 || !p2.is_finite() {
+        return [m; 3];
+    }
+    let p = p2.sqrt();
+    let det_d = d[0] * (d[1] * d[2] - d[4] * d[4]) - d[3] * (d[3] * d[2] - d[4] * d[5])
+        + d[5] * (d[3] * d[4] - d[1] * d[5]);
+    let r = (det_d / (2.0 * p * p2)).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    let hi = m + 2.0 * p * phi.cos();
+    let lo = m + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+    let mid = 3.0 * m - hi - lo;
+    [lo, mid, hi]
+}
+
 /// Traction t = s n of a symmetric tensor on a unit normal n.
 #[inline]
 pub fn sym_mul_vec(s: &Sym3, n: Vec3) -> Vec3 {

@@ -53,6 +53,8 @@ pub struct Model {
     pub rigid_walls: Vec<RigidWall>,
     pub contacts: Vec<ContactDef>,
     pub separations: Vec<SeparationDef>,
+    /// Element erosion per material (`*MAT_024` FAIL, `*MAT_003` FS, `*MAT_ADD_EROSION`).
+    pub erosion: Vec<crate::erosion::ErosionDef>,
     /// `*HOURGLASS` definitions (the parts' HGID).
     pub hourglass: Vec<HourglassDef>,
     pub control: Control,

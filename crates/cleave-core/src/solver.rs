@@ -63,6 +63,7 @@ use crate::separation::interfaces::Separation;
 use crate::setup::Setup;
 use crate::state::{Energies, RigidState, State};
 
+mod erosion;
 mod restart;
 
 /// The hourglass control and bulk viscosity of each part: its `*HOURGLASS` (HGID), else the
@@ -247,6 +248,8 @@ pub struct Solver<'m> {
     loads: Loads,
     /// The ELFORM 2 hexahedra, if any, with their Gauss points.
     sri: Option<SriElements>,
+    /// Element erosion, when a material erodes.
+    erosion: Option<erosion::Erosion>,
     /// Time spent in each phase.
     pub times: PhaseTimes,
 }
@@ -287,6 +290,11 @@ impl<'m> Solver<'m> {
             energy: Energies::default(),
             initial_energy: 0.0,
             dt_element: 0,
+            eroded: if model.erosion.is_empty() {
+                Vec::new()
+            } else {
+                vec![false; ne]
+            },
         };
         let nodal_pressure = NodalPressure::new(
             &model.conn,
@@ -334,6 +342,7 @@ impl<'m> Solver<'m> {
             nodal_pressure,
             loads: Loads::default(),
             sri,
+            erosion: erosion::Erosion::new(model),
             times: PhaseTimes::default(),
         })
     }
@@ -536,6 +545,7 @@ impl<'m> Solver<'m> {
             // it has made degenerate (a node at 1e300 puts every face in one search cell)
             return Err(self.bad_time_step(dt_crit, dt_elem));
         }
+        self.erode_elements();
         self.average_nodal_pressure();
         self.add_loads();
         let t1 = Instant::now();
@@ -697,6 +707,7 @@ impl<'m> Solver<'m> {
         let conn = colouring.conn();
         let (size, colour, colours) = (colouring.size(), colouring.colour(), colouring.colours());
         let loose = separation.as_ref().map(|s| s.loose_elements());
+        let eroded = &state.eroded;
         let np = self.nodal_pressure.as_ref();
         let sri = self.sri.as_ref();
         let sink = Scatter::new(f);
@@ -710,6 +721,9 @@ impl<'m> Solver<'m> {
             let mut acc = ElemChunkSum::default();
             for k in 0..sc.len() {
                 let e = e0 + k;
+                if eroded.get(e).is_some_and(|&d| d) {
+                    continue;
+                }
                 let params = match loose {
                     Some(l) if l[e] => &setup.loose_params,
                     _ if setup.lone[e] => &setup.loose_params,
@@ -772,6 +786,7 @@ impl<'m> Solver<'m> {
                         }
                         acc.de_internal += r.de_internal;
                         acc.de_hourglass += r.de_hourglass;
+                        hc[k].work += r.de_internal + r.de_hourglass;
                         if r.dt_crit < acc.dt_min {
                             acc.dt_min = r.dt_crit;
                             acc.dt_elem = e as u32;
@@ -1105,6 +1120,10 @@ impl<'m> Solver<'m> {
         let mut dt = c.tssfac * dt_crit.min(self.dt_contact);
         if let Some(sep) = &self.separation {
             dt = dt.min(sep.cohesive_time_step());
+        }
+        if !dt_crit.is_finite() && self.state.step > 0 && self.eroded_count() > 0 {
+            // every deformable element has eroded: go on with the last step
+            dt = dt.min(self.state.dt_prev);
         }
         if c.dt_init > 0.0 && (self.state.step == 0 || !dt_crit.is_finite()) {
             // DTINIT caps the first step, and is the step of a model with no deformable element

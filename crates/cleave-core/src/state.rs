@@ -20,6 +20,10 @@ pub struct Energies {
     pub fracture: f64,
     /// Work of prescribed motion, body loads and rigid walls on the model.
     pub external_work: f64,
+    /// The energy eroded elements held when they eroded ([`crate::erosion`]); a part of
+    /// `internal` and `hourglass`, not added to the total again.
+    #[serde(default)]
+    pub eroded: f64,
 }
 
 impl Energies {
@@ -85,4 +89,8 @@ pub struct State {
     pub initial_energy: f64,
     /// Index of the element that controls the current time step.
     pub dt_element: u32,
+    /// Per element, whether it has eroded ([`crate::erosion`]); empty when no material
+    /// erodes.
+    #[serde(default)]
+    pub eroded: Vec<bool>,
 }

@@ -22,6 +22,9 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
                 .into(),
         );
     }
+    if !model.erosion.is_empty() {
+        return Some("element erosion (FAIL, FS, *MAT_ADD_EROSION)".into());
+    }
     if !model.contacts.is_empty() {
         return Some("contact (*CONTACT_...)".into());
     }

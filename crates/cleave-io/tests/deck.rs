@@ -1248,6 +1248,26 @@ fn round_trip_model() -> Model {
                 seed: 123_456_789,
             },
         }],
+        erosion: vec![
+            cleave_core::erosion::ErosionDef {
+                material: 2,
+                rule: cleave_core::erosion::ErosionRule {
+                    max_principal: Some(1.5e9),
+                    failure_time: Some(2.0e-4),
+                    ncs: 2,
+                    ..Default::default()
+                },
+            },
+            cleave_core::erosion::ErosionDef {
+                material: 4,
+                rule: cleave_core::erosion::ErosionRule {
+                    plastic_strain: Some(0.35),
+                    min_pressure: Some(-1.0e9),
+                    ncs: 1,
+                    ..Default::default()
+                },
+            },
+        ],
         control: Control {
             end_time: 2.5e-4,
             dt_init: 1.0e-8,
@@ -1343,9 +1363,9 @@ fn johnson_cook_cards_are_read() {
         ),
         (format!("{jc015}\n0.002"), "D5", "erosion"),
         (
-            jc098.replace("0.014, , 1.5e9", "0.014, 0.8, 1.5e9"),
+            jc098.replace("0.014, , 1.5e9", "0.014, -0.8, 1.5e9"),
             "PSFAIL",
-            "erosion",
+            "must not be negative",
         ),
         (
             jc098.replace("0.26, 0.014", "0., 0.014"),
@@ -1385,9 +1405,9 @@ fn piecewise_linear_plasticity_is_read() {
     for (t, field, msg) in [
         ("*MAT_024\n1, 7800., 2.0e11, 0.3", "SIGY", "positive"),
         (
-            "*MAT_024\n1, 7800., 2.0e11, 0.3, 4.0e8, , 0.3",
+            "*MAT_024\n1, 7800., 2.0e11, 0.3, 4.0e8, , -1.0",
             "FAIL",
-            "erosion",
+            "user failure subroutine",
         ),
         (
             "*MAT_024\n1, 7800., 2.0e11, 0.3, 4.0e8\n40.4",
@@ -2261,12 +2281,18 @@ fn elastic_plastic_hydro_is_johnson_cook_without_rate_or_heat() {
     assert!(j.eos.is_some() && j.rho_cp.is_infinite() && j.t_melt.is_infinite());
     let mat010 = deck(&hydro.replace("*MAT_ELASTIC_PLASTIC_HYDRO", "*MAT_010"));
     assert_eq!(parse(&mat010).materials[0], a.materials[0]);
+    // FS erodes at that effective plastic strain (the separation group set aside)
+    let eroding = parse(
+        &deck(&hydro.replace("7.92e8, 2.1e9", "7.92e8, 2.1e9, 0., 0.5"))
+            .replace("*MAT_ADD_SEPARATION", "*COMMENT"),
+    );
+    assert_eq!(eroding.erosion[0].rule.plastic_strain, Some(0.5));
     // errors
     let e = err(&deck(&hydro).replacen("1, 1, 1, 5\n", "1, 1, 1\n", 1));
     assert!(e.message.contains("*MAT_ELASTIC_PLASTIC_HYDRO"), "{e}");
     for (card, field) in [
         ("7.92e8, 2.1e9, -1e8", "PC"),
-        ("7.92e8, 2.1e9, 0., 0.5", "FS"),
+        ("7.92e8, 2.1e9, 0., -0.5", "FS"),
         ("7.92e8, 2.1e9\n1e3", "A1"),
         ("7.92e8, 2.1e9\n0., 0., 0.\n0., 0.1", "EPS"),
     ] {

@@ -8,6 +8,8 @@ use cleave_core::model::Model;
 use cleave_core::solver::{Observer, Solver};
 use cleave_io::deck::{read_deck, DeckError};
 
+mod blocks;
+
 /// A fresh scratch directory under the target directory.
 fn scratch(name: &str) -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("include-transform-{name}"));
@@ -19,42 +21,8 @@ fn scratch(name: &str) -> PathBuf {
 /// A block of 3 x 2 x 2 hexahedra of side `h` starting at x = `x0`: nodes 1.., elements 1..,
 /// part 1 (section 1, elastic material 1), node set 1 holding every node, curve 7.
 fn block(x0: f64, h: f64) -> String {
-    let (nx, ny, nz) = (3, 2, 2);
-    let id = |i: usize, j: usize, k: usize| 1 + i + (nx + 1) * (j + (ny + 1) * k);
-    let mut t = String::from("*KEYWORD\n*NODE\n");
-    for k in 0..=nz {
-        for j in 0..=ny {
-            for i in 0..=nx {
-                t += &format!(
-                    "{}, {}, {}, {}\n",
-                    id(i, j, k),
-                    x0 + h * i as f64,
-                    h * j as f64,
-                    h * k as f64
-                );
-            }
-        }
-    }
-    t += "*ELEMENT_SOLID\n";
-    let mut e = 0;
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                e += 1;
-                t += &format!(
-                    "{e}, 1, {}, {}, {}, {}, {}, {}, {}, {}\n",
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1)
-                );
-            }
-        }
-    }
+    let (nodes, elems) = blocks::hex_block(1, 1, 1, [3, 2, 2], h, [x0, 0.0, 0.0]);
+    let mut t = format!("*KEYWORD\n*NODE\n{nodes}*ELEMENT_SOLID\n{elems}");
     t += "*PART\nblock\n1, 1, 1\n*SECTION_SOLID\n1, 1\n*MAT_ELASTIC\n1, 7800., 2.0e11, 0.3\n";
     t += "*SET_NODE_LIST_GENERATE\n1\n1, 36\n*DEFINE_CURVE\n7\n0., 1.\n1., 1.\n*END\n";
     t

@@ -149,6 +149,34 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
             );
         }
     }
+    if !m.erosion.is_empty() {
+        println!("erosion     {} material(s)", m.erosion.len());
+        for d in &m.erosion {
+            let r = &d.rule;
+            let mut what: Vec<String> = Vec::new();
+            let mut add = |name: &str, v: Option<f64>| {
+                if let Some(v) = v {
+                    what.push(format!("{name} {v:e}"));
+                }
+            };
+            add("plastic strain", r.plastic_strain);
+            add("pressure >=", r.max_pressure);
+            add("pressure <=", r.min_pressure);
+            add("max principal stress >=", r.max_principal);
+            add("von Mises stress >=", r.max_von_mises);
+            add("time >=", r.failure_time);
+            let ncs = if r.criteria() > 1 {
+                format!(" ({} of the *MAT_ADD_EROSION criteria at once)", r.ncs)
+            } else {
+                String::new()
+            };
+            println!(
+                "  material {}: erodes at {}{ncs}",
+                m.materials[d.material].id,
+                what.join(", ")
+            );
+        }
+    }
     println!("contacts    {}", m.contacts.len());
     println!("rigid walls {}", m.rigid_walls.len());
     println!("rigid bodies {}", setup.rigid.len());

@@ -117,6 +117,11 @@ pub struct ExampleArgs {
     /// Write the deck without its separation card.
     #[arg(long = "no-separation")]
     pub no_separation: bool,
+    /// Erode instead of separating: each separation group becomes `*MAT_ADD_EROSION` with
+    /// SIGP1 = its strength, so an element is deleted when its largest principal stress
+    /// reaches the stress at which its faces would have failed (the paper's comparison).
+    #[arg(long)]
+    pub erosion: bool,
     /// taylor-bar: the element shape, `hex` (default), `hex2` (the hexahedra with ELFORM 2),
     /// `wedge`, `tet` or `tet13` (each hexahedron of the same mesh cut into 2 wedges or 6
     /// tetrahedra; the tetrahedra with ELFORM 10, or 13: nodal pressure averaging).

@@ -144,6 +144,14 @@ impl<'m> RunOutput<'m> {
         let o = &model.output;
         let end = model.control.end_time;
         let or_default = |dt: f64| if dt > 0.0 { dt } else { end / 200.0 };
+        // the columns of erosion only in a model that erodes (the interface page's columns
+        // otherwise)
+        let erodes = !model.erosion.is_empty();
+        let glstat_columns: &[&str] = if erodes {
+            &["eroded_elements", "eroded_energy"]
+        } else {
+            &[]
+        };
         let glstat = open_csv(
             dir,
             "glstat.csv",
@@ -160,7 +168,11 @@ impl<'m> RunOutput<'m> {
                 "energy_ratio",
                 "failed_interfaces",
                 "fragments",
-            ],
+            ]
+            .iter()
+            .chain(glstat_columns)
+            .copied()
+            .collect::<Vec<_>>(),
             len(0),
         )?;
         let nodout = if history_nodes.is_empty() {
@@ -315,7 +327,7 @@ impl<'m> RunOutput<'m> {
             external: e.external_work,
             ratio,
         });
-        self.glstat.0.row(&[
+        let mut row = vec![
             Field::F(s.state.t),
             Field::F(s.state.dt),
             Field::F(e.kinetic),
@@ -328,7 +340,11 @@ impl<'m> RunOutput<'m> {
             Field::F(ratio),
             Field::I(failed as i64),
             Field::I(self.fragments as i64),
-        ])
+        ];
+        if !self.model.erosion.is_empty() {
+            row.extend([Field::I(s.eroded_count() as i64), Field::F(e.eroded)]);
+        }
+        self.glstat.0.row(&row)
     }
 
     fn write_nodout(
@@ -418,6 +434,9 @@ impl<'m> RunOutput<'m> {
         let disp: Vec<Vec3> = x.iter().zip(&m.x0).map(|(x, x0)| sub(*x, *x0)).collect();
         let vm: Vec<f64> = s.state.stress.iter().map(von_mises).collect();
         let eps_p: Vec<f64> = s.state.hist.iter().map(|h| h.eps_p).collect();
+        // in a model that erodes, 1 for an eroded element (ParaView's Threshold on it hides
+        // them), 0 otherwise
+        let eroded: Vec<i32> = s.state.eroded.iter().map(|&d| i32::from(d)).collect();
         let mut w = BufWriter::new(File::create(self.dir.join(&name))?);
         write_vtu(
             &mut w,
@@ -432,7 +451,8 @@ impl<'m> RunOutput<'m> {
                 ("von_mises", DataArray::Scalar(&vm)),
                 ("stress", DataArray::SymTensor(&s.state.stress)),
                 ("eff_plastic_strain", DataArray::Scalar(&eps_p)),
-            ],
+                ("eroded", DataArray::Int(&eroded)),
+            ][..if m.erosion.is_empty() { 4 } else { 5 }],
         )?;
         std::io::Write::flush(&mut w)?;
         self.states.0.add(s.state.t, &name)?;

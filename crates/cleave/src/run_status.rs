@@ -84,6 +84,7 @@ impl RunStatus {
             interfaces: s.separation().map_or(0, |x| x.num_interfaces()),
             failed_interfaces: s.separation().map_or(0, |x| x.num_failed()),
             fragments,
+            eroded_elements: s.eroded_count(),
             crack_initiation_time: crack.0,
             crack_speed_mean: crack.1,
             steps,

@@ -500,6 +500,29 @@ impl<'m> ContactSet<'m> {
         added
     }
 
+    /// Elements eroded ([`crate::erosion`]): the faces of every element marked in `eroded`
+    /// stop pushing (stiffness and depth 0: no node-face pair forms with them, the next
+    /// searches leave them out, and node normals no longer count them), a node whose faces
+    /// have all eroded is no longer checked (it is *buried*, [`Side::buried`]), and
+    /// `exposed`, the faces of live elements that eroded ones covered, join the sides that hold
+    /// their parts as failed interfaces' faces do ([`ContactSet::activate`]). Returns what
+    /// `activate` returns.
+    pub fn erode(&mut self, eroded: &[bool], exposed: &[FaceId]) -> usize {
+        for c in &mut self.contacts {
+            for side in &mut c.sides {
+                for (f, tight) in side.faces.iter_mut().zip(&mut side.tight) {
+                    if eroded[f.elem as usize] {
+                        f.k = 0.0;
+                        f.depth = 0.0;
+                        // a node all of whose faces eroded is buried: no longer checked
+                        *tight = true;
+                    }
+                }
+            }
+        }
+        self.activate(exposed)
+    }
+
     /// Ties changed in some other way than by failed interfaces named to
     /// [`ContactSet::activate`]: rebuild all candidate lists at the next `compute`.
     pub fn ties_changed(&mut self) {
@@ -981,7 +1004,10 @@ impl Side {
         NodeFrame::of(self.members(i as u32).flat_map(|k| {
             self.node_faces
                 .of(k)
-                .map(|f| self.faces[f as usize].normal_terms(x))
+                .map(|f| &self.faces[f as usize])
+                // an eroded element's face no longer shapes the surface
+                .filter(|f| f.depth > 0.0)
+                .map(|f| f.normal_terms(x))
         }))
     }
 
@@ -1268,7 +1294,9 @@ impl Query<'_> {
             let held = |a: u32| {
                 a == s || (set != NONE && self.tie[a as usize] == set) || self.chains.held(a, s)
             };
-            dist2(p, c) <= r2 && !fs.faces[f as usize].nodes.iter().any(|&a| held(a))
+            // an eroded element's face (depth 0, `ContactSet::erode`) is no candidate
+            let face = &fs.faces[f as usize];
+            dist2(p, c) <= r2 && face.depth > 0.0 && !face.nodes.iter().any(|&a| held(a))
         };
         // the old list, by face, in this thread's scratch (sized by the first searches)
         let start = new.len();

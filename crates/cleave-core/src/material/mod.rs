@@ -36,6 +36,10 @@ pub struct History {
     pub ln_j: f64,
     /// Internal energy per unit reference volume less E0 (Pa), for an equation of state.
     pub energy: f64,
+    /// The element's energy so far (J): the work of its stresses, bulk viscosity and
+    /// hourglass forces, what it takes away when it erodes ([`crate::erosion`]).
+    #[serde(default)]
+    pub work: f64,
 }
 
 /// A material law with its parameters precomputed for the kernel.

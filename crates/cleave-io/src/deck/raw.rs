@@ -142,6 +142,16 @@ pub struct RawSeparation {
     pub strength: StrengthDist,
 }
 
+/// A failure rule for material `mid`: FAIL / FS of its material card (`from_material`), or
+/// a `*MAT_ADD_EROSION` card.
+#[derive(Clone, Debug)]
+pub struct RawErosion {
+    pub src: Src,
+    pub mid: i64,
+    pub rule: cleave_core::erosion::ErosionRule,
+    pub from_material: bool,
+}
+
 #[derive(Clone, Debug)]
 pub struct RawCurve {
     pub src: Src,
@@ -315,6 +325,7 @@ pub struct RawDeck {
     pub materials: Vec<RawMaterial>,
     pub eos: Vec<RawEos>,
     pub separations: Vec<RawSeparation>,
+    pub erosions: Vec<RawErosion>,
     pub curves: Vec<RawCurve>,
     pub node_sets: Vec<RawSet<i64>>,
     pub part_sets: Vec<RawSet<i64>>,

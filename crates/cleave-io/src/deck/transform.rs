@@ -274,6 +274,7 @@ fn offset(d: &mut RawDeck, o: &Offsets) {
         materials,
         eos,
         separations,
+        erosions,
         curves,
         node_sets,
         part_sets,
@@ -325,6 +326,7 @@ fn offset(d: &mut RawDeck, o: &Offsets) {
     }
     eos.iter_mut().for_each(|e| add(&mut e.id, o.mat));
     separations.iter_mut().for_each(|s| add(&mut s.mid, o.mat));
+    erosions.iter_mut().for_each(|s| add(&mut s.mid, o.mat));
     curves
         .iter_mut()
         .for_each(|c| add(&mut c.curve.id, o.curve));
@@ -441,6 +443,7 @@ fn merge(d: &mut RawDeck, s: RawDeck) {
         materials,
         eos,
         separations,
+        erosions,
         curves,
         node_sets,
         part_sets,
@@ -474,6 +477,7 @@ fn merge(d: &mut RawDeck, s: RawDeck) {
     d.materials.extend(materials);
     d.eos.extend(eos);
     d.separations.extend(separations);
+    d.erosions.extend(erosions);
     d.curves.extend(curves);
     d.node_sets.extend(node_sets);
     d.part_sets.extend(part_sets);

@@ -384,19 +384,64 @@ fn equation_of_state(o: &mut String, id: i64, eos: &Eos) {
 /// `*MAT_PIECEWISE_LINEAR_PLASTICITY`: the deck curve LCSS where the law came from one (it is
 /// written with the curves), else the points as EPS/ES (at most 8: a law of more points and no
 /// curve, which only a program can make, is written with its first 8 and a comment saying so).
-fn piecewise(o: &mut String, mat: &Material, p: &PiecewiseLinear) {
-    simple(
+/// `*MAT_ADD_EROSION` of material `mid` with the criteria of `r` (its plastic strain goes on
+/// the material's card).
+fn add_erosion(o: &mut String, mid: i64, r: &cleave_core::erosion::ErosionRule) {
+    let opt = |v: Option<f64>| v.map_or(F::B, F::R);
+    o.push_str("*MAT_ADD_EROSION\n");
+    names(
         o,
-        "*MAT_PIECEWISE_LINEAR_PLASTICITY",
-        &["mid", "ro", "e", "pr", "sigy"],
         &[
-            F::I(mat.id),
-            F::R(mat.density),
-            F::R(mat.young),
-            F::R(mat.poisson),
-            F::R(p.points.first().map_or(0.0, |q| q[1])),
+            "mid", "excl", "mxpres", "mneps", "effeps", "voleps", "numfip", "ncs",
         ],
+        &W10,
     );
+    let c1 = [
+        F::I(mid),
+        F::B,
+        opt(r.max_pressure),
+        F::B,
+        F::B,
+        F::B,
+        F::B,
+        F::I(i64::from(r.ncs.max(1))),
+    ];
+    card(o, &c1, &W10);
+    names(
+        o,
+        &[
+            "mnpres", "sigp1", "sigvm", "mxeps", "epssh", "sigth", "impulse", "failtm",
+        ],
+        &W10,
+    );
+    let c2 = [
+        opt(r.min_pressure),
+        opt(r.max_principal),
+        opt(r.max_von_mises),
+        F::B,
+        F::B,
+        F::B,
+        F::B,
+        opt(r.failure_time),
+    ];
+    card(o, &c2, &W10);
+}
+
+/// `*MAT_024`, with FAIL = `fail` when the material erodes at a plastic strain.
+fn piecewise(o: &mut String, mat: &Material, p: &PiecewiseLinear, fail: Option<f64>) {
+    let mut f = vec![
+        F::I(mat.id),
+        F::R(mat.density),
+        F::R(mat.young),
+        F::R(mat.poisson),
+        F::R(p.points.first().map_or(0.0, |q| q[1])),
+    ];
+    let mut n = vec!["mid", "ro", "e", "pr", "sigy"];
+    if let Some(fail) = fail {
+        f.extend([F::B, F::R(fail)]);
+        n.extend(["etan", "fail"]);
+    }
+    simple(o, "*MAT_PIECEWISE_LINEAR_PLASTICITY", &n, &f);
     names(o, &["c", "p", "lcss"], &W10);
     let (c, pp) = if p.c > 0.0 {
         (F::R(p.c), F::R(p.p))
@@ -489,7 +534,9 @@ fn properties(o: &mut String, m: &Model) {
             card(o, &[F::I(s.id), F::I(s.elform as i64)], &W10);
         }
     }
-    for mat in &m.materials {
+    for (k, mat) in m.materials.iter().enumerate() {
+        let erosion = m.erosion.iter().find(|d| d.material == k).map(|d| &d.rule);
+        let fail = erosion.and_then(|r| r.plastic_strain);
         let common = [
             F::I(mat.id),
             F::R(mat.density),
@@ -514,9 +561,13 @@ fn properties(o: &mut String, m: &Model) {
                     &["mid", "ro", "e", "pr", "sigy", "etan", "beta"],
                     &f,
                 );
+                if let Some(fs) = fail {
+                    names(o, &["src", "srp", "fs"], &W10);
+                    card(o, &[F::B, F::B, F::R(fs)], &W10);
+                }
             }
             MaterialKind::JohnsonCook(jc) => johnson_cook(o, mat, &jc),
-            MaterialKind::PiecewiseLinear(ref p) => piecewise(o, mat, p),
+            MaterialKind::PiecewiseLinear(ref p) => piecewise(o, mat, p, fail),
             MaterialKind::Rigid { cmo, con1, con2 } => {
                 simple(o, "*MAT_RIGID", &["mid", "ro", "e", "pr"], &common);
                 names(o, &["cmo", "con1", "con2"], &W10);
@@ -526,6 +577,21 @@ fn properties(o: &mut String, m: &Model) {
                     &W10,
                 );
             }
+        }
+        if fail.is_some()
+            && !matches!(
+                mat.kind,
+                MaterialKind::PlasticKinematic { .. } | MaterialKind::PiecewiseLinear(_)
+            )
+        {
+            let _ = writeln!(
+                o,
+                "$ cleave: material {} erodes at a plastic strain, which only *MAT_003 and *MAT_024 cards hold; not written",
+                mat.id
+            );
+        }
+        if let Some(r) = erosion.filter(|r| r.criteria() > 0) {
+            add_erosion(o, mat.id, r);
         }
     }
     if !m.separations.is_empty() {

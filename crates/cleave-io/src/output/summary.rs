@@ -23,6 +23,9 @@ pub struct Summary {
     pub failed_interfaces: usize,
     /// Fragments at the end.
     pub fragments: usize,
+    /// Elements eroded by the end (`*MAT_024` FAIL, `*MAT_003` FS, `*MAT_ADD_EROSION`).
+    #[serde(default)]
+    pub eroded_elements: usize,
     /// Time of the first failed interface (`null`: none failed).
     pub crack_initiation_time: Option<f64>,
     /// Mean crack speed while the crack length grows from 10% to 90% of its final value (m/s;

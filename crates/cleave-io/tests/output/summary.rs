@@ -9,6 +9,7 @@ fn sample() -> Summary {
         interfaces: 7960,
         failed_interfaces: 412,
         fragments: 17,
+        eroded_elements: 3,
         crack_initiation_time: Some(1.34e-4),
         crack_speed_mean: None,
         steps: 123_456_789_012,
@@ -26,13 +27,14 @@ fn sample() -> Summary {
 }
 
 /// The keys the interface page lists for `summary.json`, and the crack's and `warnings`.
-const KEYS: [&str; 19] = [
+const KEYS: [&str; 20] = [
     "elements",
     "nodes",
     "nodes_solved",
     "interfaces",
     "failed_interfaces",
     "fragments",
+    "eroded_elements",
     "crack_initiation_time",
     "crack_speed_mean",
     "steps",

@@ -8,6 +8,8 @@
 //! | `three-point-bend` | the paper's section 4.2: a notched steel beam (200 x 75 x 25 mm, notch 25 mm) hit at mid-span by a rigid tup at a constant 10 m/s, a separation strip ahead of the notch (MODEL 1 at 2 GPa, or `--model 3` cohesive), 0.3 ms ([`three_point_bend`](fn@three_point_bend)). |
 //!
 //! The builders return the [`Model`](cleave_core::model::Model); `example` applies the options and writes the deck.
+//! `--erosion` turns each separation group into element erosion at the same strength (the
+//! largest principal stress reaching SIGMAX, `*MAT_ADD_EROSION` SIGP1).
 //! `--weibull M [--seed S]` turns the strength of every separation group into the scale of a
 //! Weibull distribution of modulus M (`*MAT_ADD_SEPARATION` DIST 2).
 
@@ -151,6 +153,25 @@ pub fn example(a: &ExampleArgs) -> Result<(), Failure> {
                 seed: a.seed,
             };
         }
+    }
+    if a.erosion {
+        if model.separations.is_empty() || a.no_separation || a.weibull.is_some() {
+            return Err(Failure::Input(format!(
+                "--erosion turns {name}'s separation groups into erosion: it needs some, and goes with neither --no-separation nor --weibull"
+            )));
+        }
+        model.erosion = model
+            .separations
+            .drain(..)
+            .map(|s| cleave_core::erosion::ErosionDef {
+                material: s.material,
+                rule: cleave_core::erosion::ErosionRule {
+                    max_principal: Some(s.sigmax),
+                    ncs: 1,
+                    ..Default::default()
+                },
+            })
+            .collect();
     }
     if a.no_separation {
         model.separations.clear();

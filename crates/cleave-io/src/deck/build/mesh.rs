@@ -3,6 +3,7 @@
 use cleave_core::curve::Curve;
 use cleave_core::element::shape::canonical;
 use cleave_core::element::{first_bad_corner, Shape};
+use cleave_core::erosion::{ErosionDef, ErosionRule};
 use cleave_core::material::PiecewiseLinear;
 use cleave_core::math::Vec3;
 use cleave_core::model::{
@@ -50,6 +51,7 @@ impl Builder<'_> {
             });
         }
         self.separations(m, &ids)?;
+        self.erosion(m, &ids)?;
         // *HOURGLASS: IHQ blank takes *CONTROL_HOURGLASS's form
         let hourglass =
             self.index::<_, usize>(&raw.hourglass, "hourglass definition", |h| (h.id, &h.src))?;
@@ -162,6 +164,47 @@ impl Builder<'_> {
         Ok(())
     }
 
+    /// The failure rules, one per material: its card's FAIL / FS and its `*MAT_ADD_EROSION`
+    /// together. Errors: a rigid material, a material that also separates (erosion and
+    /// separation are the two ways to compare, not to combine), two `*MAT_ADD_EROSION` of one
+    /// material.
+    fn erosion(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
+        for s in &self.raw.erosions {
+            let material = self.find(&ids.materials, s.mid, &s.src, "MID", "material")?;
+            let bad = |msg: String| Err(self.err(&s.src, msg).with_field("MID"));
+            if matches!(m.materials[material].kind, MaterialKind::Rigid { .. }) {
+                return bad(format!("material {} is rigid and cannot erode", s.mid));
+            }
+            if m.separations.iter().any(|d| d.material == material) {
+                return bad(format!(
+                    "material {} has a *MAT_ADD_SEPARATION: an element either erodes or separates; give it one of the two",
+                    s.mid
+                ));
+            }
+            let def = match m.erosion.iter_mut().find(|d| d.material == material) {
+                Some(d) => d,
+                None => {
+                    m.erosion.push(ErosionDef {
+                        material,
+                        rule: ErosionRule::default(),
+                    });
+                    m.erosion.last_mut().expect("just pushed")
+                }
+            };
+            if s.from_material {
+                def.rule.plastic_strain = s.rule.plastic_strain;
+            } else if def.rule.criteria() > 0 || def.rule.ncs > 0 {
+                return bad(format!("material {} already has a *MAT_ADD_EROSION", s.mid));
+            } else {
+                def.rule = ErosionRule {
+                    plastic_strain: def.rule.plastic_strain,
+                    ..s.rule.clone()
+                };
+            }
+        }
+        Ok(())
+    }
+
     /// The material's kind with the curves it names resolved: `*MAT_024`'s LCSS becomes its
     /// hardening points (yield stress against plastic strain), checked.
     fn material_curves(
@@ -224,6 +267,19 @@ impl Builder<'_> {
                         "element {} is a {} in part {}, whose section has ELFORM {elform} (tetrahedra only)",
                         e.id,
                         shape.name(),
+                        m.parts[part].id
+                    ),
+                ));
+            }
+            if elform == 13
+                && m.erosion
+                    .iter()
+                    .any(|d| d.material == m.parts[part].material)
+            {
+                return Err(self.err(
+                    &nsrc,
+                    format!(
+                        "part {} has ELFORM 13 and a material that erodes: the nodal pressure averaging does not skip eroded elements yet; use ELFORM 10",
                         m.parts[part].id
                     ),
                 ));

@@ -1,8 +1,8 @@
 //! `*MAT_JOHNSON_COOK` (`*MAT_015`) and `*MAT_SIMPLIFIED_JOHNSON_COOK` (`*MAT_098`) (LS-DYNA
 //! Keyword Manual, Vol. II), read into [`JohnsonCook`]. What cleave does not model is an
-//! error, not a silent change of the physics: damage and element erosion (cleave separates
-//! along interfaces instead, `*MAT_ADD_SEPARATION`), the other rate forms (RATEOP), a spall
-//! pressure cutoff. VP may be 0 or 1: the rate is always the plastic one (VP 1,
+//! error, not a silent change of the physics: Johnson-Cook damage (D1-D5), the other rate
+//! forms (RATEOP), a spall pressure cutoff. `*MAT_098` PSFAIL and `*MAT_010` FS erode the
+//! element at that plastic strain ([`cleave_core::erosion`]). VP may be 0 or 1: the rate is always the plastic one (VP 1,
 //! [`JohnsonCook`]).
 
 use cleave_core::material::JohnsonCook;
@@ -66,9 +66,9 @@ fn push(
 
 /// `*MAT_SIMPLIFIED_JOHNSON_COOK` / `*MAT_098`: card 1 `MID RO E PR VP` (the shell fields
 /// EPPFR, LCDM, NUMINT after it are ignored with a warning), card 2
-/// `A B N C PSFAIL SIGMAX SIGSAT EPSO`. No thermal softening. PSFAIL (erosion) must be blank,
-/// 0 or at least 1e16 (LS-DYNA's default 1e17, no failure); SIGMAX and SIGSAT blank or 0: no
-/// cap; VP 0 or 1.
+/// `A B N C PSFAIL SIGMAX SIGSAT EPSO`. No thermal softening. PSFAIL: the element erodes at
+/// that effective plastic strain ([`cleave_core::erosion`]); blank, 0 or 1e16 and more (LS-DYNA's
+/// default 1e17): no failure. SIGMAX and SIGSAT blank or 0: no cap; VP 0 or 1.
 pub fn simplified(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.required(W10, "MID RO E PR VP")?;
     let mid = c.id(0, "MID")?;
@@ -82,11 +82,12 @@ pub fn simplified(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
     let c2 = r.required(W10, "A B N C PSFAIL SIGMAX SIGSAT EPSO")?;
     let [a, b, n, rate, eps0] = hardening_and_rate(&c2, 7)?;
     let psfail = c2.f64_or(4, "PSFAIL", 0.0)?;
-    if psfail != 0.0 && psfail < 1e16 {
-        return Err(c2.field_err(
-            "PSFAIL",
-            format!("{psfail}: element erosion is not supported (cleave separates along interfaces: *MAT_ADD_SEPARATION); leave it blank"),
-        ));
+    if psfail < 0.0 {
+        return Err(c2.field_err("PSFAIL", format!("{psfail} must not be negative")));
+    }
+    if psfail > 0.0 && psfail < 1e16 {
+        // the element erodes at this effective plastic strain
+        super::erosion::plastic_strain(r, deck, &c2, mid, psfail);
     }
     let jc = JohnsonCook {
         a,
@@ -223,8 +224,9 @@ pub fn johnson_cook(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
 /// equation of state (EOSID, required: the bulk modulus comes from it). cleave runs it as a
 /// Johnson-Cook material with A = SIGY, B = EH, N = 1 and no rate or temperature terms (the
 /// same deviatoric return and EOS update). PC blank or 0 means no cutoff, as in LS-DYNA;
-/// another PC (a pressure cutoff), FS (erosion), A1 and A2 (a pressure-dependent yield stress)
-/// and the EPS/ES curve are errors; CHARL and SPALL warn.
+/// FS > 0 erodes the element at that effective plastic strain ([`cleave_core::erosion`]);
+/// another PC (a pressure cutoff), A1 and A2 (a pressure-dependent yield stress) and the EPS/ES
+/// curve are errors; CHARL and SPALL warn.
 pub fn elastic_plastic_hydro(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.required(W10, "MID RO G SIGY EH PC FS CHARL")?;
     let mid = c.id(0, "MID")?;
@@ -233,8 +235,12 @@ pub fn elastic_plastic_hydro(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(
     let sigy = c.positive(3, "SIGY")?;
     let eh = non_negative(&c, 4, "EH")?;
     unsupported(&c, 5, "PC", "a pressure cutoff")?;
-    unsupported(&c, 6, "FS", "failure by plastic strain (element erosion)")?;
-    warn_ignored(&c, 7, "CHARL", "no erosion", deck);
+    let fs = non_negative(&c, 6, "FS")?;
+    if fs > 0.0 {
+        // the element erodes at this effective plastic strain
+        super::erosion::plastic_strain(r, deck, &c, mid, fs);
+    }
+    warn_ignored(&c, 7, "CHARL", "no erosion by characteristic length", deck);
     if let Some(c2) = r.next(W10)? {
         unsupported(&c2, 0, "A1", "a pressure-dependent yield stress")?;
         unsupported(&c2, 1, "A2", "a pressure-dependent yield stress")?;

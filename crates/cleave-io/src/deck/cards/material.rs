@@ -56,8 +56,8 @@ pub fn elastic(r: &mut Reader<'_>, deck: &mut RawDeck, titled: bool) -> Result<(
 }
 
 /// `*MAT_PLASTIC_KINEMATIC` / `*MAT_003`: card 1 `MID RO E PR SIGY ETAN BETA`; optional
-/// card 2 `SRC SRP FS VP` (strain-rate effects and erosion are not supported: SRC, SRP and FS
-/// must be blank or 0). SIGY > 0, 0 <= ETAN < E, 0 <= BETA <= 1 (default 0, kinematic).
+/// card 2 `SRC SRP FS VP` (strain-rate effects are not supported: SRC and SRP must be blank
+/// or 0; FS > 0 erodes the element at that effective plastic strain, [`cleave_core::erosion`]). SIGY > 0, 0 <= ETAN < E, 0 <= BETA <= 1 (default 0, kinematic).
 pub fn plastic_kinematic(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.required(W10, "MID RO E PR SIGY ETAN BETA")?;
     let m = common(&c)?;
@@ -77,11 +77,21 @@ pub fn plastic_kinematic(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), D
         for (i, name, what) in [
             (0, "SRC", "strain-rate effects"),
             (1, "SRP", "strain-rate effects"),
-            (2, "FS", "element erosion"),
         ] {
             if c2.f64_or(i, name, 0.0)? != 0.0 {
                 return Err(c2.field_err(name, format!("{what} not supported; leave it blank")));
             }
+        }
+        let fs = c2.f64_or(2, "FS", 0.0)?;
+        if fs < 0.0 {
+            return Err(c2.field_err(
+                "FS",
+                format!("{fs}: a failure strain below 0 (LS-DYNA's *MAT_ADD_EROSION forms) is not supported; give the plastic strain at failure"),
+            ));
+        }
+        if fs > 0.0 {
+            let mid = c.id(0, "MID")?;
+            super::erosion::plastic_strain(r, deck, &c2, mid, fs);
         }
         warn_ignored(&c2, 3, "VP", "rate formulation not used", deck);
     }

@@ -8,6 +8,7 @@ mod constrained;
 mod control;
 mod curve;
 mod eos;
+mod erosion;
 mod interaction;
 mod johnson_cook;
 mod loads;
@@ -91,6 +92,7 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
                 johnson_cook::simplified(&mut r, &mut deck)?
             }
             "*MAT_ADD_SEPARATION" => material::separation(&mut r, &mut deck)?,
+            "*MAT_ADD_EROSION" => erosion::add_erosion(&mut r, &mut deck)?,
             "*EOS_LINEAR_POLYNOMIAL" => eos::linear_polynomial(&mut r, &mut deck)?,
             "*EOS_GRUNEISEN" => eos::gruneisen(&mut r, &mut deck)?,
             "*SET_NODE_LIST" => sets::node_list(&mut r, &mut deck)?,
@@ -121,6 +123,17 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
             "*LOAD_BODY_Y" => loads::body(&mut r, &mut deck, 1)?,
             "*LOAD_BODY_Z" => loads::body(&mut r, &mut deck, 2)?,
             "*RIGIDWALL_PLANAR" => interaction::rigidwall_planar(&mut r, &mut deck)?,
+            // the eroding contacts: cleave's contacts all take the faces erosion exposes
+            // (`ContactSet::erode`); their card 4 (ISYM EROSOP IADJ) is not read
+            "*CONTACT_ERODING_SINGLE_SURFACE" => {
+                interaction::contact(&mut r, &mut deck, true, false)?
+            }
+            "*CONTACT_ERODING_SURFACE_TO_SURFACE" => {
+                interaction::contact(&mut r, &mut deck, false, false)?
+            }
+            "*CONTACT_ERODING_NODES_TO_SURFACE" => {
+                interaction::contact(&mut r, &mut deck, false, true)?
+            }
             "*CONTACT_AUTOMATIC_SINGLE_SURFACE" => {
                 interaction::contact(&mut r, &mut deck, true, false)?
             }

@@ -6,8 +6,9 @@
 //! plastic strain; resolved when the deck is built) if given, else the points EPS/ES (at least
 //! two, up to the last non-zero ES), else SIGY with the tangent modulus ETAN. C and P are
 //! Cowper and Symonds' rate parameters. VP may be -1, 0 or 1: the rate is always the plastic
-//! strain rate (VP 1, see [`PiecewiseLinear`]). Not modelled, errors when set: FAIL (element
-//! erosion: cleave separates instead), a rate curve LCSR, LCF; TDEL warns.
+//! strain rate (VP 1, see [`PiecewiseLinear`]). FAIL > 0 (below 1e20) erodes the element at
+//! that effective plastic strain ([`cleave_core::erosion`]). Not modelled, errors when set:
+//! FAIL < 0 (a user subroutine), a rate curve LCSR, LCF; TDEL warns.
 
 use cleave_core::material::PiecewiseLinear;
 use cleave_core::model::MaterialKind;
@@ -33,13 +34,22 @@ pub fn piecewise_linear(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
         return Err(c.field_err("ETAN", format!("{etan} must lie in [0, E) with E = {e}")));
     }
     let fail = c.f64_or(6, "FAIL", 0.0)?;
-    if fail != 0.0 && fail < 1e20 {
+    if fail < 0.0 {
         return Err(c.field_err(
             "FAIL",
-            format!("{fail}: element erosion is not supported (cleave separates along interfaces: *MAT_ADD_SEPARATION); leave it blank"),
+            format!("{fail}: a user failure subroutine is not supported; give the plastic strain at failure or leave it blank"),
         ));
     }
-    warn_ignored(&c, 7, "TDEL", "no element deletion", deck);
+    if fail > 0.0 && fail < 1e20 {
+        super::erosion::plastic_strain(r, deck, &c, mid, fail);
+    }
+    warn_ignored(
+        &c,
+        7,
+        "TDEL",
+        "elements are not deleted for their time step",
+        deck,
+    );
 
     let (mut rate_c, mut rate_p, mut lcss) = (0.0, 0.0, None);
     let mut points: Vec<[f64; 2]> = Vec::new();

@@ -1,0 +1,113 @@
+//! The solver's part of element erosion ([`crate::erosion`]): which elements may erode, and
+//! the check after each element pass.
+
+use rayon::prelude::*;
+
+use super::Solver;
+use crate::contact::surface::FaceId;
+use crate::erosion::ErosionRule;
+use crate::model::Model;
+
+/// The elements that may erode and, when the model has contact, the face neighbours whose
+/// faces an eroded element exposes.
+#[derive(Clone, Debug)]
+pub(super) struct Erosion {
+    /// Index into `Model::erosion` of each element's rule, or `u32::MAX`.
+    rule: Vec<u32>,
+    /// The elements with a rule, ascending.
+    candidates: Vec<u32>,
+    /// [`crate::topology::face_neighbours`], when the model has contact (else empty).
+    neighbours: Vec<[(u32, u8); 6]>,
+}
+
+impl Erosion {
+    /// `None` when no material of `model` erodes.
+    pub(super) fn new(model: &Model) -> Option<Self> {
+        if model.erosion.is_empty() {
+            return None;
+        }
+        let rule: Vec<u32> = model
+            .elem_part
+            .iter()
+            .map(|&p| {
+                let m = model.parts[p as usize].material;
+                model
+                    .erosion
+                    .iter()
+                    .position(|d| d.material == m)
+                    .map_or(u32::MAX, |i| i as u32)
+            })
+            .collect();
+        let candidates = (0..rule.len() as u32)
+            .filter(|&e| rule[e as usize] != u32::MAX)
+            .collect();
+        let neighbours = if model.contacts.is_empty() {
+            Vec::new()
+        } else {
+            crate::topology::face_neighbours(model)
+        };
+        Some(Self {
+            rule,
+            candidates,
+            neighbours,
+        })
+    }
+
+    fn rule_of<'a>(&self, model: &'a Model, e: u32) -> &'a ErosionRule {
+        &model.erosion[self.rule[e as usize] as usize].rule
+    }
+}
+
+impl Solver<'_> {
+    /// After the element pass of step n: the live elements whose rule holds for their stress
+    /// and plastic strain at t^n erode. Their forces of this step stand; from the next step
+    /// on the element pass skips them. Their energy is booked as eroded, their stress,
+    /// hourglass forces and bulk viscosity are zeroed (for output), and the contact drops
+    /// their faces and takes the live neighbours' faces they covered.
+    pub(super) fn erode_elements(&mut self) {
+        let Some(er) = &mut self.erosion else {
+            return;
+        };
+        let (model, st) = (self.model, &self.state);
+        let failed: Vec<u32> = er
+            .candidates
+            .par_iter()
+            .copied()
+            .filter(|&e| {
+                let k = e as usize;
+                !st.eroded[k]
+                    && er
+                        .rule_of(model, e)
+                        .fails(&st.stress[k], st.hist[k].eps_p, st.t)
+            })
+            .collect();
+        if failed.is_empty() {
+            return;
+        }
+        let st = &mut self.state;
+        for &e in &failed {
+            let k = e as usize;
+            st.eroded[k] = true;
+            st.energy.eroded += st.hist[k].work;
+            st.stress[k] = [0.0; 6];
+            st.hg[k] = [0.0; 12];
+            st.bulk_q[k] = 0.0;
+        }
+        if let Some(c) = &mut self.contact {
+            let mut exposed: Vec<FaceId> = Vec::new();
+            for &e in &failed {
+                for &(n, f) in &er.neighbours[e as usize] {
+                    if n != u32::MAX && !st.eroded[n as usize] {
+                        exposed.push((n, f));
+                    }
+                }
+            }
+            c.erode(&st.eroded, &exposed);
+        }
+    }
+
+    /// Elements eroded so far.
+    pub fn eroded_count(&self) -> usize {
+        self.state.eroded.iter().filter(|&&e| e).count()
+    }
+}

@@ -1,0 +1,82 @@
+//! Element erosion through the command line: `cleave example ball-impact --erosion` writes the
+//! ball with `*MAT_ADD_EROSION` at the separation strength; `cleave run` books what erodes in
+//! glstat (two more columns), summary.json and the ParaView states; `--gpu` refuses it by name.
+
+mod common;
+
+use common::{cleave, csv, tmp};
+
+#[test]
+fn an_eroding_ball_books_its_erosion_in_every_output() {
+    let d = tmp("erosion-cli");
+    let deck = d.join("ball.k");
+    let deck_s = deck.to_str().unwrap();
+    let out = d.join("out");
+    let o = cleave(&[
+        "example",
+        "ball-impact",
+        "--elements",
+        "425",
+        "--erosion",
+        "-o",
+        deck_s,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&deck).unwrap();
+    assert!(text.contains("*MAT_ADD_EROSION"), "{text}");
+    assert!(!text.contains("*MAT_ADD_SEPARATION"));
+    let r = cleave(&[
+        "run",
+        deck_s,
+        "--end-time",
+        "6e-5",
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let (h, rows) = csv(&out.join("glstat.csv"));
+    let col = |name: &str| h.iter().position(|c| c == name).expect(name);
+    let (ne, ee, ie, hg) = (
+        col("eroded_elements"),
+        col("eroded_energy"),
+        col("internal_energy"),
+        col("hourglass_energy"),
+    );
+    let last = rows.last().unwrap();
+    assert!(last[ne] > 100.0, "eroded elements {}", last[ne]);
+    // eroded energy: positive, never decreasing, part of internal + hourglass
+    for w in rows.windows(2) {
+        assert!(w[1][ee] >= w[0][ee] && w[1][ne] >= w[0][ne]);
+    }
+    assert!(
+        last[ee] > 0.0 && last[ee] <= last[ie] + last[hg],
+        "{last:?}"
+    );
+    let ratio = last[col("energy_ratio")];
+    assert!((ratio - 1.0).abs() < 0.01, "energy ratio {ratio}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["eroded_elements"].as_f64(), Some(last[ne]));
+    let states: Vec<_> = std::fs::read_dir(out.join("states")).unwrap().collect();
+    let vtu = states
+        .iter()
+        .map(|e| e.as_ref().unwrap().path())
+        .find(|p| p.extension().is_some_and(|x| x == "vtu"))
+        .unwrap();
+    let bytes = std::fs::read(vtu).unwrap();
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]);
+    assert!(head.contains("Name=\"eroded\""), "{head}");
+
+    let g = cleave(&[
+        "run",
+        deck_s,
+        "--gpu",
+        "-q",
+        "-o",
+        d.join("gpu").to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&g.stderr);
+    assert_eq!(g.status.code(), Some(2), "{err}");
+    assert!(err.contains("element erosion"), "{err}");
+}

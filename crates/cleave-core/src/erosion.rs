@@ -1,8 +1,10 @@
 //! Element erosion, as LS-DYNA deletes elements: an element whose material's failure rule
 //! holds at the end of a step stops carrying stress from the next step on.
 //!
-//! - **Rules** (LS-DYNA Keyword Manual, Vol. II): `*MAT_PIECEWISE_LINEAR_PLASTICITY` FAIL and
-//!   `*MAT_PLASTIC_KINEMATIC` FS, the effective plastic strain at failure; `*MAT_ADD_EROSION`
+//! - **Rules** (LS-DYNA Keyword Manual, Vol. II): `*MAT_PIECEWISE_LINEAR_PLASTICITY` FAIL,
+//!   `*MAT_PLASTIC_KINEMATIC` and `*MAT_ELASTIC_PLASTIC_HYDRO` FS, `*MAT_SIMPLIFIED_JOHNSON_COOK`
+//!   PSFAIL, the effective plastic strain at failure; `*MAT_JOHNSON_COOK`'s damage
+//!   ([`JcDamage`], accumulated by the solver); `*MAT_ADD_EROSION`
 //!   MXPRES (pressure p = -tr(sigma)/3 at or above), MNPRES (p at or below), SIGP1 (largest
 //!   principal stress at or above), SIGVM (von Mises stress at or above) and FAILTM (time at
 //!   or after), of which NCS must hold at once. The stress is the element's Cauchy stress
@@ -39,9 +41,58 @@ pub struct ErosionRule {
     pub max_von_mises: Option<f64>,
     /// FAILTM: fails at this time (s) or after.
     pub failure_time: Option<f64>,
+    /// `*MAT_015` D1-D5: Johnson-Cook damage; the element erodes when it reaches 1.
+    pub johnson_cook: Option<JcDamage>,
     /// NCS: how many of the `*MAT_ADD_EROSION` criteria must hold at once (1 or more, at most
     /// the number given).
     pub ncs: u32,
+}
+
+/// Johnson-Cook damage (Johnson and Cook, Engineering Fracture Mechanics 21, 1985; LS-DYNA
+/// `*MAT_015` D1-D5, EFMIN):
+///
+/// ```text
+/// D     = sum d eps_p / eps_f,   the element erodes at D >= 1
+/// eps_f = max(EFMIN, (D1 + D2 exp(D3 s*)) (1 + D4 ln max(eps_dot / EPSO, 1)) (1 + D5 T*))
+/// s*    = sigma_m / sigma_vm     (mean stress over von Mises stress, positive in tension)
+/// ```
+///
+/// with d eps_p the step's plastic strain increment, eps_dot = d eps_p / dt its rate, and T*
+/// the homologous temperature of the Johnson-Cook flow stress (0 without thermal softening).
+/// The rate term is clamped below EPSO as the flow stress's is; a negative `eps_f` is floored
+/// at EFMIN (LS-DYNA's default 1e-6).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JcDamage {
+    pub d: [f64; 5],
+    pub efmin: f64,
+}
+
+impl JcDamage {
+    /// The failure strain at stress `s`, plastic strain rate `eps_dot`, temperature rise
+    /// `heat` over TR, for the material `jc`.
+    pub fn failure_strain(
+        &self,
+        jc: &crate::material::JohnsonCook,
+        s: &Sym3,
+        eps_dot: f64,
+        heat: f64,
+    ) -> f64 {
+        let [d1, d2, d3, d4, d5] = self.d;
+        let vm = von_mises(s);
+        let triax = if vm > 0.0 { trace(s) / 3.0 / vm } else { 0.0 };
+        let rate = if jc.eps0 > 0.0 {
+            (eps_dot / jc.eps0).max(1.0).ln()
+        } else {
+            0.0
+        };
+        let t_star = if jc.t_melt.is_finite() {
+            (heat / (jc.t_melt - jc.t_room)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let f = (d1 + d2 * (d3 * triax).exp()) * (1.0 + d4 * rate) * (1.0 + d5 * t_star);
+        f.max(self.efmin)
+    }
 }
 
 /// The rule of one material.
@@ -67,7 +118,13 @@ impl ErosionRule {
         .count()
     }
 
-    /// Whether an element with stress `s`, effective plastic strain `eps_p` at time `t` fails.
+    /// Whether the rule has anything to check.
+    pub fn is_empty(&self) -> bool {
+        self.plastic_strain.is_none() && self.criteria() == 0 && self.johnson_cook.is_none()
+    }
+
+    /// Whether an element with stress `s`, effective plastic strain `eps_p` at time `t` fails
+    /// (Johnson-Cook damage is checked by the solver, which accumulates it).
     pub fn fails(&self, s: &Sym3, eps_p: f64, t: f64) -> bool {
         if self.plastic_strain.is_some_and(|f| eps_p >= f) {
             return true;

@@ -1254,6 +1254,11 @@ fn round_trip_model() -> Model {
                 rule: cleave_core::erosion::ErosionRule {
                     max_principal: Some(1.5e9),
                     failure_time: Some(2.0e-4),
+                    // 4340 steel (Johnson and Cook 1985)
+                    johnson_cook: Some(cleave_core::erosion::JcDamage {
+                        d: [0.05, 3.44, -2.12, 0.002, 0.61],
+                        efmin: 1.0e-6,
+                    }),
                     ncs: 2,
                     ..Default::default()
                 },
@@ -1356,12 +1361,12 @@ fn johnson_cook_cards_are_read() {
             "positive",
         ),
         (jc015.replace("\n477.", "\n477., -1.0e9"), "PC", "spall"),
+        (format!("{jc015}\n0., , 2"), "EROD", "not one of 0..1"),
         (
-            jc015.replace("\n477.", "\n477., , , , 0.05"),
-            "D1",
-            "erosion",
+            format!("{jc015}\n0., , , -1."),
+            "EFMIN",
+            "must not be negative",
         ),
-        (format!("{jc015}\n0.002"), "D5", "erosion"),
         (
             jc098.replace("0.014, , 1.5e9", "0.014, -0.8, 1.5e9"),
             "PSFAIL",

@@ -21,64 +21,110 @@ fn err(text: &str) -> DeckError {
     parse_deck(text, "t.k").expect_err("the deck should be refused")
 }
 
-/// One element in uniaxial strain (every node held in y and z, the x = 0 face in x, the x = L
-/// face pulled at v): with elastic-perfectly-plastic J2 (G, SIGY) the von Mises stress is
-/// 2 G eps (eps = ln(1 + v t / L)) until it reaches SIGY at eps_y = SIGY / 2G, and from there
-/// the effective plastic strain grows as 2/3 (eps - eps_y) (the whole deviatoric rate is
-/// plastic; radial return gives it exactly at each step). So the element erodes at the first
-/// step at or after eps* = eps_y + 3/2 FAIL: t* = L (exp(eps*) - 1) / v. Checked for
-/// `*MAT_024` FAIL, `*MAT_003` FS and `*MAT_098` PSFAIL; the energy the element takes away is then the model's
-/// whole internal and hourglass energy, and it stops changing.
+/// Side, pull velocity, E, PR and yield stress of the uniaxial-strain element.
+const L: f64 = 0.01;
+const V: f64 = 1.0;
+const E: f64 = 2.0e11;
+const NU: f64 = 0.3;
+const SIGY: f64 = 2.0e8;
+
+/// One element in uniaxial strain: every node held in y and z, the x = 0 face in x, the
+/// x = L face pulled at V, material card `mat` (MID 1). Returns the time of the step at whose
+/// end the element eroded and the largest step. The element takes away the whole internal and
+/// hourglass energy, which stops changing afterwards, and its stress is zero.
+fn uniaxial_strain_erosion(mat: &str) -> (f64, f64) {
+    let (nodes, elems) = block(1, 1, 1, [1, 1, 1], L, [0.0; 3]);
+    let deck = format!(
+        "*KEYWORD\n*CONTROL_TERMINATION\n3.0e-4\n*PART\nbar\n1, 1, 1\n*SECTION_SOLID\n1, 1\n{mat}\
+         *NODE\n{nodes}*ELEMENT_SOLID\n{elems}\
+         *SET_NODE_LIST\n1\n1, 3, 5, 7\n*SET_NODE_LIST\n2\n2, 4, 6, 8\n\
+         *BOUNDARY_SPC_SET\n1, 0, 1, 1, 1\n*BOUNDARY_SPC_SET\n2, 0, 0, 1, 1\n\
+         *BOUNDARY_PRESCRIBED_MOTION_SET\n2, 1, 0, 9, {V}\n*DEFINE_CURVE\n9\n0., 1.\n1., 1.\n*END\n"
+    );
+    let m = model(&deck);
+    assert_eq!(m.erosion.len(), 1);
+    let mut s = Solver::new(&m).expect("setup");
+    let (mut eroded_at, mut dt_max, mut energy_then) = (None, 0.0f64, None);
+    while !s.is_finished() {
+        s.advance_to_half_step().expect("step");
+        dt_max = dt_max.max(s.state.dt);
+        let en = s.state.energy;
+        if eroded_at.is_none() && s.eroded_count() == 1 {
+            eroded_at = Some(s.state.t);
+            energy_then = Some(en.internal + en.hourglass);
+            assert!(
+                (en.eroded - (en.internal + en.hourglass)).abs() <= 1e-12 * en.eroded,
+                "{en:?}"
+            );
+        }
+        s.update_positions().expect("positions");
+    }
+    let en = s.state.energy;
+    assert_eq!(Some(en.internal + en.hourglass), energy_then, "{en:?}");
+    assert_eq!(s.state.stress[0], [0.0; 6]);
+    (eroded_at.expect("the element eroded"), dt_max)
+}
+
+/// In uniaxial strain eps = ln(1 + V t / L), elastic-perfectly-plastic J2 (G, SIGY) reaches
+/// the von Mises stress 2 G eps = SIGY at eps_y = SIGY / 2G; from there the whole deviatoric
+/// rate is plastic and the effective plastic strain is 2/3 (eps - eps_y) (radial return gives
+/// it exactly at each step). With a failure strain FAIL the element erodes at the first step
+/// at or after eps* = eps_y + 3/2 FAIL: t* = L (exp(eps*) - 1) / V. Checked for `*MAT_024`
+/// FAIL, `*MAT_003` FS, `*MAT_098` PSFAIL and `*MAT_015` damage with D1 = FAIL alone.
 #[test]
 fn plastic_strain_at_failure_erodes_at_the_analytic_time() {
-    let (l, v, e, nu, sigy, fail): (f64, f64, f64, f64, f64, f64) =
-        (0.01, 1.0, 2.0e11, 0.3, 2.0e8, 0.01);
-    let (nodes, elems) = block(1, 1, 1, [1, 1, 1], l, [0.0; 3]);
+    let fail = 0.01;
+    let g = E / (2.0 * (1.0 + NU));
+    let eps: f64 = SIGY / (2.0 * g) + 1.5 * fail;
+    let t_star = L * (eps.exp() - 1.0) / V;
     for mat in [
-        format!("*MAT_PIECEWISE_LINEAR_PLASTICITY\n1, 7800., {e}, {nu}, {sigy}, 0., {fail}\n"),
-        format!("*MAT_PLASTIC_KINEMATIC\n1, 7800., {e}, {nu}, {sigy}, 0., 1.\n0., 0., {fail}\n"),
-        format!("*MAT_SIMPLIFIED_JOHNSON_COOK\n1, 7800., {e}, {nu}\n{sigy}, 0., 0., 0., {fail}\n"),
+        format!("*MAT_PIECEWISE_LINEAR_PLASTICITY\n1, 7800., {E}, {NU}, {SIGY}, 0., {fail}\n"),
+        format!("*MAT_PLASTIC_KINEMATIC\n1, 7800., {E}, {NU}, {SIGY}, 0., 1.\n0., 0., {fail}\n"),
+        format!("*MAT_SIMPLIFIED_JOHNSON_COOK\n1, 7800., {E}, {NU}\n{SIGY}, 0., 0., 0., {fail}\n"),
+        format!(
+            "*MAT_JOHNSON_COOK\n1, 7800., {g}, , {NU}\n{SIGY}, 0., 0., 0., 1., 0., 0., 1.\n\
+             0., 0., 0., 0., {fail}\n"
+        ),
     ] {
-        let deck = format!(
-            "*KEYWORD\n*CONTROL_TERMINATION\n3.0e-4\n*PART\nbar\n1, 1, 1\n*SECTION_SOLID\n1, 1\n{mat}\
-             *NODE\n{nodes}*ELEMENT_SOLID\n{elems}\
-             *SET_NODE_LIST\n1\n1, 3, 5, 7\n*SET_NODE_LIST\n2\n2, 4, 6, 8\n\
-             *BOUNDARY_SPC_SET\n1, 0, 1, 1, 1\n*BOUNDARY_SPC_SET\n2, 0, 0, 1, 1\n\
-             *BOUNDARY_PRESCRIBED_MOTION_SET\n2, 1, 0, 9, {v}\n*DEFINE_CURVE\n9\n0., 1.\n1., 1.\n*END\n"
-        );
-        let m = model(&deck);
-        assert_eq!(m.erosion.len(), 1);
-        let mut s = Solver::new(&m).expect("setup");
-        let (mut eroded_at, mut dt_max, mut energy_then) = (None, 0.0f64, None);
-        while !s.is_finished() {
-            s.advance_to_half_step().expect("step");
-            dt_max = dt_max.max(s.state.dt);
-            let en = s.state.energy;
-            if eroded_at.is_none() && s.eroded_count() == 1 {
-                eroded_at = Some(s.state.t);
-                energy_then = Some(en.internal + en.hourglass);
-                // the element takes away the whole internal and hourglass energy
-                assert!(
-                    (en.eroded - (en.internal + en.hourglass)).abs() <= 1e-12 * en.eroded,
-                    "{en:?}"
-                );
-            }
-            s.update_positions().expect("positions");
-        }
-        let g = e / (2.0 * (1.0 + nu));
-        let eps = sigy / (2.0 * g) + 1.5 * fail;
-        let t_star = l * (eps.exp() - 1.0) / v;
-        let t = eroded_at.expect("the element eroded");
-        eprintln!("eroded at {t:.6e} s, analytic {t_star:.6e} s, step {dt_max:.3e} s");
+        let (t, dt) = uniaxial_strain_erosion(&mat);
+        eprintln!("eroded at {t:.6e} s, analytic {t_star:.6e} s, step {dt:.3e} s");
         assert!(
-            t >= t_star * (1.0 - 1e-6) && t <= t_star + dt_max * 1.001,
-            "eroded at {t:e}, analytic {t_star:e} (dt {dt_max:e})"
+            t >= t_star * (1.0 - 1e-6) && t <= t_star + dt * 1.001,
+            "{mat}: eroded at {t:e}, analytic {t_star:e} (dt {dt:e})"
         );
-        // nothing works on the eroded element afterwards
-        let en = s.state.energy;
-        assert_eq!(Some(en.internal + en.hourglass), energy_then, "{en:?}");
-        assert_eq!(s.state.stress[0], [0.0; 6]);
     }
+}
+
+/// Johnson-Cook damage with a triaxiality term (`*MAT_015` D1 0.005, D2 0.02, D3 -0.1): in the
+/// same uniaxial strain the mean stress is K eps (K the bulk modulus) and the von Mises stress
+/// SIGY once yielding, so s* = K eps / SIGY and the damage is
+/// `D(eps) = integral from eps_y to eps of (2/3) de / (D1 + D2 exp(D3 K e / SIGY))`.
+/// D = 1 is found by quadrature (10^5 midpoint steps, independent of the solver); the element
+/// erodes within two steps of that time (the solver sums each step's increment over the
+/// failure strain at its end: the sum lags the integral by less than one increment).
+#[test]
+fn johnson_cook_damage_follows_the_triaxiality() {
+    let (d1, d2, d3) = (0.005, 0.02, -0.1);
+    let g = E / (2.0 * (1.0 + NU));
+    let k = E / (3.0 * (1.0 - 2.0 * NU));
+    let eps_y = SIGY / (2.0 * g);
+    let (mut damage, mut e, de) = (0.0, eps_y, 1.0e-7);
+    while damage < 1.0 {
+        let mid = e + 0.5 * de;
+        damage += (2.0 / 3.0) * de / (d1 + d2 * (d3 * k * mid / SIGY).exp());
+        e += de;
+    }
+    let t_star = L * (e.exp() - 1.0) / V;
+    let mat = format!(
+        "*MAT_JOHNSON_COOK\n1, 7800., {g}, , {NU}\n{SIGY}, 0., 0., 0., 1., 0., 0., 1.\n\
+         0., 0., 0., 0., {d1}, {d2}, {d3}, 0.\n0.\n"
+    );
+    let (t, dt) = uniaxial_strain_erosion(&mat);
+    eprintln!("damage 1 at {t:.6e} s, quadrature {t_star:.6e} s (eps {e:.5}), step {dt:.3e} s");
+    assert!(
+        (t - t_star).abs() <= 2.0 * dt,
+        "eroded at {t:e}, quadrature {t_star:e} (dt {dt:e})"
+    );
 }
 
 /// A block of 3 x 2 x 2 elements squeezed by an initial velocity field (its halves moving
@@ -276,6 +322,15 @@ fn refusals() {
         assert_eq!(e.field.as_deref(), Some(field), "{e}");
         assert!(e.to_string().contains(want), "want '{want}' in: {e}");
     }
+    // Johnson-Cook damage is read with EFMIN, and not at all with EROD 1
+    let jc = "*MAT_JOHNSON_COOK\n1, 7800., 7.7e10, , 0.3\n2.0e8, 0., 0., 0., 1., 0., 0., 1.\n\
+              0., 0., 0., 0., 0.1, 0.2, -1.5, 0.01\n0.5, , EROD, 0.02\n";
+    let m = model(&base(&jc.replace("EROD", "0"), "1", ""));
+    let d = m.erosion[0].rule.johnson_cook.expect("damage");
+    assert_eq!((d.d, d.efmin), ([0.1, 0.2, -1.5, 0.01, 0.5], 0.02));
+    assert!(model(&base(&jc.replace("EROD", "1"), "1", ""))
+        .erosion
+        .is_empty());
     // a criterion equal to EXCL is not used; 1234 excludes SIGVM here
     let m = model(&base(
         el,

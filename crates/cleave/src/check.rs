@@ -165,6 +165,12 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
             add("max principal stress >=", r.max_principal);
             add("von Mises stress >=", r.max_von_mises);
             add("time >=", r.failure_time);
+            if let Some(d) = r.johnson_cook {
+                what.push(format!(
+                    "Johnson-Cook damage 1 (D1..D5 {:?}, EFMIN {:e})",
+                    d.d, d.efmin
+                ));
+            }
             let ncs = if r.criteria() > 1 {
                 format!(" ({} of the *MAT_ADD_EROSION criteria at once)", r.ncs)
             } else {

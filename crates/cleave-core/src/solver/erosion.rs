@@ -18,6 +18,8 @@ pub(super) struct Erosion {
     candidates: Vec<u32>,
     /// [`crate::topology::face_neighbours`], when the model has contact (else empty).
     neighbours: Vec<[(u32, u8); 6]>,
+    /// Some rule accumulates Johnson-Cook damage.
+    damage: bool,
 }
 
 impl Erosion {
@@ -46,16 +48,50 @@ impl Erosion {
         } else {
             crate::topology::face_neighbours(model)
         };
+        let damage = model.erosion.iter().any(|d| d.rule.johnson_cook.is_some());
         Some(Self {
             rule,
             candidates,
             neighbours,
+            damage,
         })
     }
 
     fn rule_of<'a>(&self, model: &'a Model, e: u32) -> &'a ErosionRule {
         &model.erosion[self.rule[e as usize] as usize].rule
     }
+}
+
+/// Johnson-Cook damage of the step ([`crate::erosion::JcDamage`]): each live element whose rule
+/// has it adds its plastic strain increment over the failure strain at its stress, rate and
+/// temperature.
+fn accumulate_damage(er: &Erosion, model: &Model, st: &mut crate::state::State) {
+    let dt = st.dt_prev;
+    let (stress, eroded) = (&st.stress, &st.eroded);
+    st.hist
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(1024)
+        .for_each(|(k, h)| {
+            let r = er.rule[k];
+            if r == u32::MAX || eroded[k] {
+                return;
+            }
+            let def = &model.erosion[r as usize];
+            let Some(d) = def.rule.johnson_cook else {
+                return;
+            };
+            let crate::model::MaterialKind::JohnsonCook(jc) = &model.materials[def.material].kind
+            else {
+                return;
+            };
+            let dep = h.eps_p - h.damage_eps_p;
+            if dep > 0.0 {
+                let rate = if dt > 0.0 { dep / dt } else { 0.0 };
+                h.damage += dep / d.failure_strain(jc, &stress[k], rate, h.heat);
+                h.damage_eps_p = h.eps_p;
+            }
+        });
 }
 
 impl Solver<'_> {
@@ -68,17 +104,20 @@ impl Solver<'_> {
         let Some(er) = &mut self.erosion else {
             return;
         };
-        let (model, st) = (self.model, &self.state);
+        let model = self.model;
+        if er.damage {
+            accumulate_damage(er, model, &mut self.state);
+        }
+        let st = &self.state;
         let failed: Vec<u32> = er
             .candidates
             .par_iter()
             .copied()
             .filter(|&e| {
                 let k = e as usize;
+                let h = &st.hist[k];
                 !st.eroded[k]
-                    && er
-                        .rule_of(model, e)
-                        .fails(&st.stress[k], st.hist[k].eps_p, st.t)
+                    && (h.damage >= 1.0 || er.rule_of(model, e).fails(&st.stress[k], h.eps_p, st.t))
             })
             .collect();
         if failed.is_empty() {

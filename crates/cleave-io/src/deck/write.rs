@@ -267,9 +267,19 @@ fn finite_or_blank(v: f64) -> F {
 /// state (what `*MAT_098` cannot say; the EOS is written after it with the material's id, and
 /// its parts name it), else `*MAT_SIMPLIFIED_JOHNSON_COOK` (which carries the caps SIGMAX,
 /// SIGSAT).
-fn johnson_cook(o: &mut String, mat: &Material, jc: &JohnsonCook) {
+/// `*MAT_015` (with temperature, an EOS or damage) or else `*MAT_098`; the erosion rule's
+/// damage goes on `*MAT_015`'s D1-D5 and EFMIN, its plastic strain on `*MAT_098`'s PSFAIL.
+/// Returns whether the plastic strain at failure was written.
+fn johnson_cook(
+    o: &mut String,
+    mat: &Material,
+    jc: &JohnsonCook,
+    erosion: Option<&cleave_core::erosion::ErosionRule>,
+) -> bool {
     let hardening = [F::R(jc.a), F::R(jc.b), F::R(jc.n), F::R(jc.c)];
-    if jc.t_melt.is_finite() || jc.rho_cp.is_finite() || jc.eos.is_some() {
+    let damage = erosion.and_then(|r| r.johnson_cook);
+    let fail = erosion.and_then(|r| r.plastic_strain);
+    if jc.t_melt.is_finite() || jc.rho_cp.is_finite() || jc.eos.is_some() || damage.is_some() {
         simple(
             o,
             "*MAT_JOHNSON_COOK",
@@ -300,11 +310,29 @@ fn johnson_cook(o: &mut String, mat: &Material, jc: &JohnsonCook) {
             F::R(jc.eps0),
         ]);
         card(o, &f, &W10);
-        names(o, &["cp"], &W10);
-        card(o, &[finite_or_blank(jc.rho_cp / mat.density)], &W10);
+        let cp = finite_or_blank(jc.rho_cp / mat.density);
+        match damage {
+            None => {
+                names(o, &["cp"], &W10);
+                card(o, &[cp], &W10);
+            }
+            Some(d) => {
+                names(
+                    o,
+                    &["cp", "pc", "spall", "it", "d1", "d2", "d3", "d4"],
+                    &W10,
+                );
+                let mut f = vec![cp, F::B, F::B, F::B];
+                f.extend(d.d[..4].iter().map(|&v| F::R(v)));
+                card(o, &f, &W10);
+                names(o, &["d5", "c2/p", "erod", "efmin"], &W10);
+                card(o, &[F::R(d.d[4]), F::B, F::B, F::R(d.efmin)], &W10);
+            }
+        }
         if let Some(eos) = jc.eos {
             equation_of_state(o, mat.id, &eos);
         }
+        false
     } else {
         simple(
             o,
@@ -324,12 +352,13 @@ fn johnson_cook(o: &mut String, mat: &Material, jc: &JohnsonCook) {
         );
         let mut f = hardening.to_vec();
         f.extend([
-            F::B,
+            fail.map_or(F::B, F::R),
             finite_or_blank(jc.sig_max),
             finite_or_blank(jc.sig_sat),
             F::R(jc.eps0),
         ]);
         card(o, &f, &W10);
+        true
     }
 }
 
@@ -537,6 +566,10 @@ fn properties(o: &mut String, m: &Model) {
     for (k, mat) in m.materials.iter().enumerate() {
         let erosion = m.erosion.iter().find(|d| d.material == k).map(|d| &d.rule);
         let fail = erosion.and_then(|r| r.plastic_strain);
+        let mut fail_written = matches!(
+            mat.kind,
+            MaterialKind::PlasticKinematic { .. } | MaterialKind::PiecewiseLinear(_)
+        );
         let common = [
             F::I(mat.id),
             F::R(mat.density),
@@ -566,7 +599,7 @@ fn properties(o: &mut String, m: &Model) {
                     card(o, &[F::B, F::B, F::R(fs)], &W10);
                 }
             }
-            MaterialKind::JohnsonCook(jc) => johnson_cook(o, mat, &jc),
+            MaterialKind::JohnsonCook(jc) => fail_written = johnson_cook(o, mat, &jc, erosion),
             MaterialKind::PiecewiseLinear(ref p) => piecewise(o, mat, p, fail),
             MaterialKind::Rigid { cmo, con1, con2 } => {
                 simple(o, "*MAT_RIGID", &["mid", "ro", "e", "pr"], &common);
@@ -578,15 +611,10 @@ fn properties(o: &mut String, m: &Model) {
                 );
             }
         }
-        if fail.is_some()
-            && !matches!(
-                mat.kind,
-                MaterialKind::PlasticKinematic { .. } | MaterialKind::PiecewiseLinear(_)
-            )
-        {
+        if fail.is_some() && !fail_written {
             let _ = writeln!(
                 o,
-                "$ cleave: material {} erodes at a plastic strain, which only *MAT_003 and *MAT_024 cards hold; not written",
+                "$ cleave: material {} erodes at a plastic strain, which this card does not hold; not written",
                 mat.id
             );
         }

@@ -192,12 +192,18 @@ impl Builder<'_> {
                 }
             };
             if s.from_material {
-                def.rule.plastic_strain = s.rule.plastic_strain;
+                if s.rule.plastic_strain.is_some() {
+                    def.rule.plastic_strain = s.rule.plastic_strain;
+                }
+                if s.rule.johnson_cook.is_some() {
+                    def.rule.johnson_cook = s.rule.johnson_cook;
+                }
             } else if def.rule.criteria() > 0 || def.rule.ncs > 0 {
                 return bad(format!("material {} already has a *MAT_ADD_EROSION", s.mid));
             } else {
                 def.rule = ErosionRule {
                     plastic_strain: def.rule.plastic_strain,
+                    johnson_cook: def.rule.johnson_cook,
                     ..s.rule.clone()
                 };
             }

@@ -84,6 +84,7 @@ pub fn add_erosion(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErr
         failure_time,
         ncs: 1,
         plastic_strain: None,
+        johnson_cook: None,
     };
     let n = rule.criteria() as i64;
     if n == 0 {

@@ -1,10 +1,11 @@
 //! `*MAT_JOHNSON_COOK` (`*MAT_015`) and `*MAT_SIMPLIFIED_JOHNSON_COOK` (`*MAT_098`) (LS-DYNA
 //! Keyword Manual, Vol. II), read into [`JohnsonCook`]. What cleave does not model is an
-//! error, not a silent change of the physics: Johnson-Cook damage (D1-D5), the other rate
-//! forms (RATEOP), a spall pressure cutoff. `*MAT_098` PSFAIL and `*MAT_010` FS erode the
-//! element at that plastic strain ([`cleave_core::erosion`]). VP may be 0 or 1: the rate is always the plastic one (VP 1,
+//! error, not a silent change of the physics: the other rate forms (RATEOP), a spall pressure
+//! cutoff. Johnson-Cook damage (D1-D5), `*MAT_098` PSFAIL and `*MAT_010` FS erode the element
+//! ([`cleave_core::erosion`]). VP may be 0 or 1: the rate is always the plastic one (VP 1,
 //! [`JohnsonCook`]).
 
+use cleave_core::erosion::{ErosionRule, JcDamage};
 use cleave_core::material::JohnsonCook;
 use cleave_core::model::MaterialKind;
 
@@ -12,7 +13,7 @@ use super::control::{non_negative, unsupported, warn_ignored};
 use super::Reader;
 use crate::deck::error::DeckError;
 use crate::deck::fields::{Card, W10};
-use crate::deck::raw::{RawDeck, RawMaterial};
+use crate::deck::raw::{RawDeck, RawErosion, RawMaterial};
 
 /// A cap whose blank or 0 means none.
 fn cap(c: &Card<'_>, i: usize, name: &str) -> Result<f64, DeckError> {
@@ -127,9 +128,10 @@ fn poisson(c: &Card<'_>, i: usize) -> Result<f64, DeckError> {
 ///   must agree with G to 1e-3.
 /// - Thermal softening when TM > TR (M blank or 0: 1); the temperature rises adiabatically
 ///   by the plastic work over RO CP (CP blank or 0: no heating, T stays TR).
-/// - Not modelled (errors when set): RATEOP other than 0, the spall cutoff PC, the damage
-///   D1..D5 (element erosion). DTF, IT, C2/P, EROD, EFMIN, NUMINT are ignored with a warning
-///   when set (cleave's return always iterates, IT 1).
+/// - Damage D1..D5 with EFMIN (blank: 1e-6): the element erodes when the Johnson-Cook damage
+///   reaches 1 ([`cleave_core::erosion::JcDamage`]); EROD 1 turns erosion off.
+/// - Not modelled (errors when set): RATEOP other than 0, the spall cutoff PC. DTF, IT, C2/P,
+///   NUMINT are ignored with a warning when set (cleave's return always iterates, IT 1).
 pub fn johnson_cook(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.required(W10, "MID RO G E PR DTF VP RATEOP")?;
     let mid = c.id(0, "MID")?;
@@ -190,14 +192,32 @@ pub fn johnson_cook(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
     unsupported(&c3, 1, "PC", "a spall pressure cutoff")?;
     warn_ignored(&c3, 2, "SPALL", "no spall model", deck);
     warn_ignored(&c3, 3, "IT", "the return always iterates", deck);
+    let mut d = [0.0; 5];
     for (i, name) in [(4, "D1"), (5, "D2"), (6, "D3"), (7, "D4")] {
-        unsupported(&c3, i, name, "Johnson-Cook damage (element erosion)")?;
+        d[i - 4] = c3.f64_or(i, name, 0.0)?;
     }
+    let (mut erod, mut efmin) = (0, 1e-6);
     if let Some(c4) = r.next(W10)? {
-        unsupported(&c4, 0, "D5", "Johnson-Cook damage (element erosion)")?;
-        for (i, name) in [(1, "C2/P"), (2, "EROD"), (3, "EFMIN"), (4, "NUMINT")] {
-            warn_ignored(&c4, i, name, "not used without damage", deck);
+        d[4] = c4.f64_or(0, "D5", 0.0)?;
+        warn_ignored(&c4, 1, "C2/P", "the rate form of RATEOP 0 is used", deck);
+        erod = c4.code(2, "EROD", 0, 0, 1)?;
+        efmin = c4.f64_nz(3, "EFMIN", 1e-6)?;
+        if efmin < 0.0 {
+            return Err(c4.field_err("EFMIN", format!("{efmin} must not be negative")));
         }
+        warn_ignored(&c4, 4, "NUMINT", "a solid element has one point", deck);
+    }
+    if d.iter().any(|&v| v != 0.0) && erod == 0 {
+        // Johnson-Cook damage: the element erodes when it reaches 1
+        deck.erosions.push(RawErosion {
+            src: r.src(c3.line),
+            mid,
+            rule: ErosionRule {
+                johnson_cook: Some(JcDamage { d, efmin }),
+                ..Default::default()
+            },
+            from_material: true,
+        });
     }
     let jc = JohnsonCook {
         a,

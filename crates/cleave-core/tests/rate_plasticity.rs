@@ -138,6 +138,7 @@ fn uniaxial_stress_follows_the_hardening_curve_and_cowper_symonds() {
         c: 40.4,
         p: 5.0,
         lcss: None,
+        table: None,
     };
     let mat = Material {
         id: 1,

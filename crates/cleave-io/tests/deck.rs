@@ -1054,6 +1054,7 @@ fn round_trip_model() -> Model {
                     c: 40.4,
                     p: 5.0,
                     lcss: None,
+                    table: None,
                 }),
             },
         ],
@@ -1385,6 +1386,69 @@ fn johnson_cook_cards_are_read() {
     }
 }
 
+/// `*MAT_024` with LCSS a table of hardening curves by strain rate: `*DEFINE_TABLE` (its
+/// curves the ones that follow it, values scaled by SFA and offset by OFFA) and
+/// `*DEFINE_TABLE_2D` (curves named) read to the same table; a first value below 0 makes it a
+/// table of log rates; the deck writer's table reads back to the same model; errors name
+/// the card.
+#[test]
+fn piecewise_linear_plasticity_takes_a_rate_table() {
+    let mat = |text: &str| with("*MAT_ELASTIC\n1, 7800., 2.0e11, 0.3", text);
+    let table = |m: &Model| match &m.materials[0].kind {
+        MaterialKind::PiecewiseLinear(p) => p.clone(),
+        k => panic!("{k:?}"),
+    };
+    let curves =
+        "*DEFINE_CURVE\n21\n0., 2.5e8\n0.1, 3.0e8\n*DEFINE_CURVE\n22\n0., 3.5e8\n0.1, 4.5e8\n";
+    let m024 = "*MAT_024\n1, 7800., 2.0e11, 0.3\n0., 0., 30\n";
+    let plain = parse(&mat(&format!(
+        "*DEFINE_TABLE\n30, 10., 1.\n0.1\n99.9\n{curves}{m024}"
+    )));
+    let p = table(&plain);
+    let t = p.table.clone().expect("a table");
+    assert_eq!((t.values.clone(), t.log), (vec![2.0, 1000.0], false));
+    assert_eq!(t.curves[1].0, 22);
+    assert_eq!(&*t.curves[1].1, &[[0.0, 3.5e8], [0.1, 4.5e8]]);
+    assert_eq!(p.points, t.curves[0].1);
+    let two_d = parse(&mat(&format!(
+        "{curves}*DEFINE_TABLE_2D\n30, 10., 1.\n0.1, 21\n99.9, 22\n{m024}"
+    )));
+    assert_eq!(table(&two_d), p);
+    let log = parse(&mat(&format!(
+        "*DEFINE_TABLE_2D\n30\n-2.0, 21\n3.0, 22\n{curves}{m024}"
+    )));
+    assert!(table(&log).table.unwrap().log);
+    // written and read back
+    let back = parse(&write_deck(&plain));
+    assert_eq!(table(&back), p);
+    for (t, want) in [
+        (
+            format!("*DEFINE_TABLE\n30\n0.1\n99.9\n{}{m024}", &curves[..curves.find("*DEFINE_CURVE\n22").unwrap()]),
+            "*DEFINE_TABLE 30 (line 33) has 2 values, so the 2 keywords after it must be its *DEFINE_CURVEs; 1 found here",
+        ),
+        (
+            format!("*DEFINE_TABLE\n30\n5.\n1.\n{curves}{m024}"),
+            "value 1 is not greater than the previous one (5)",
+        ),
+        (
+            format!("*DEFINE_TABLE_2D\n21\n0.1, 21\n99.9, 22\n{curves}{m024}"),
+            "table 21 has the id of the curve",
+        ),
+        (
+            format!("*DEFINE_TABLE_2D\n30\n0.1, 21\n99.9, 22\n{curves}*MAT_024\n1, 7800., 2.0e11, 0.3\n40., 5., 30\n"),
+            "the rate effect of a table LCSS (30) is in its curves",
+        ),
+        (
+            format!("*DEFINE_TABLE_2D\n30\n0.1, 21\n99.9, 23\n{curves}{m024}"),
+            "curve 23 is not defined",
+        ),
+    ] {
+        let e = err(&mat(&t));
+        assert!(e.to_string().contains(want), "want '{want}' in: {e}");
+        assert!(e.line.is_some(), "{e}");
+    }
+}
+
 /// `*MAT_PIECEWISE_LINEAR_PLASTICITY`: the hardening curve from LCSS (a `*DEFINE_CURVE`,
 /// scaled), from EPS/ES, or from SIGY and ETAN, Cowper-Symonds C and P; errors name the field.
 #[test]
@@ -1427,7 +1491,7 @@ fn piecewise_linear_plasticity_is_read() {
         (
             "*MAT_024\n1, 7800., 2.0e11, 0.3, 4.0e8\n, , 99",
             "LCSS",
-            "curve 99 is not defined",
+            "curve or table 99 is not defined",
         ),
         (
             &format!(
@@ -1694,6 +1758,51 @@ fn include_errors_name_the_file() {
         (inc_name.as_str(), Some("*INCLUDE_TRANSFORM")),
         "{e}"
     );
+}
+
+/// Cards ANSYS Workbench and LS-PrePost write that change nothing in a structural run of solids
+/// are read past with a warning: `*CONTROL_SOLUTION` SOLN 0, `*CONTROL_SHELL`,
+/// `*DEFINE_COORDINATE_SYSTEM` (no card cleave reads takes a local system);
+/// `*PARAMETER_DUPLICATION` DFLAG says which of two definitions of a name holds (without it
+/// a name defined twice stays an error). SOLN 1 (thermal) is an error naming the field.
+#[test]
+fn workbench_cards_that_change_nothing_are_read_past() {
+    let extra = "*CONTROL_SOLUTION\n0, 0, 0\n*CONTROL_SHELL\n20., 0, -1, 0, 2, 2, 1, 1\n\
+                 *DEFINE_COORDINATE_SYSTEM\n7, 0., 0., 0., 1., 0., 0.\n0., 1., 0.\n";
+    let d = parse_deck(&with("*END", &format!("{extra}*END")), "t.k").unwrap();
+    assert_eq!(d.model.materials, parse(BASE).materials);
+    for k in [
+        "*CONTROL_SOLUTION",
+        "*CONTROL_SHELL",
+        "*DEFINE_COORDINATE_SYSTEM",
+    ] {
+        assert!(
+            d.warnings.iter().any(|w| w.contains(k)),
+            "{k}: {:?}",
+            d.warnings
+        );
+    }
+    let e = err(&with("*END", "*CONTROL_SOLUTION\n1\n*END"));
+    assert_eq!(e.field.as_deref(), Some("SOLN"), "{e}");
+    // a parameter defined twice: an error, or the first or last as DFLAG says
+    let twice = "*PARAMETER\nR rho, 1000.\n*PARAMETER\nR rho, 7800.\n";
+    let deck = |dflag: &str| {
+        with(
+            "*MAT_ELASTIC\n1, 7800.",
+            &format!("{twice}{dflag}*MAT_ELASTIC\n1, &rho"),
+        )
+    };
+    assert!(err(&deck("")).message.contains("defined twice"));
+    assert_eq!(
+        parse(&deck("*PARAMETER_DUPLICATION\n1\n")).materials[0].density,
+        1000.0
+    );
+    assert_eq!(
+        parse(&deck("*PARAMETER_DUPLICATION\n4\n")).materials[0].density,
+        7800.0
+    );
+    let e = err(&deck("*PARAMETER_DUPLICATION\n5\n"));
+    assert_eq!(e.field.as_deref(), Some("DFLAG"), "{e}");
 }
 
 /// `*PARAMETER` and `*PARAMETER_EXPRESSION`: BASE with some of its numbers replaced by

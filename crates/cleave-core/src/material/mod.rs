@@ -15,7 +15,7 @@ mod return_map;
 pub use elastic::update_elastic;
 pub use eos::{Eos, EosState};
 pub use johnson_cook::{update_johnson_cook, JohnsonCook};
-pub use piecewise::{update_piecewise, PiecewiseLinear};
+pub use piecewise::{update_piecewise, PiecewiseLinear, RateTable};
 pub use plastic::update_plastic_kinematic;
 
 use crate::math::Sym3;

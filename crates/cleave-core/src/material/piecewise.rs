@@ -12,6 +12,11 @@
 //!   E ETAN / (E - ETAN).
 //! - eps_dot is the plastic strain rate, solved for in the return as for Johnson-Cook
 //!   ([`super::JohnsonCook`]): LS-DYNA's viscoplastic form (VP 1).
+//! - With a table of hardening curves by strain rate (LCSS a `*DEFINE_TABLE`, [`RateTable`])
+//!   the yield stress interpolates linearly between the curves of the two rates around
+//!   eps_dot (in the natural log of the rate when the table's values are log rates), holds the
+//!   first and last curves outside their range, and Cowper-Symonds is not applied (as
+//!   LS-DYNA).
 
 use std::sync::Arc;
 
@@ -27,8 +32,72 @@ pub struct PiecewiseLinear {
     /// Cowper-Symonds C (1/s) and P; C = 0: no rate effect.
     pub c: f64,
     pub p: f64,
-    /// The deck curve (LCSS) the points came from, if any (the writer refers to it again).
+    /// The deck curve or table (LCSS) the points came from, if any (the writer refers to it
+    /// again).
     pub lcss: Option<i64>,
+    /// The hardening curves by strain rate when LCSS is a table (`points` is then its first
+    /// curve).
+    pub table: Option<Arc<RateTable>>,
+}
+
+/// Hardening curves by plastic strain rate (`*DEFINE_TABLE` for `*MAT_024` LCSS).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RateTable {
+    /// The table's values, strictly increasing: strain rates (1/s), or their natural logs
+    /// when `log` (LS-DYNA reads a table whose first value is negative so).
+    pub values: Vec<f64>,
+    pub log: bool,
+    /// The curve of each value (deck id, points as `PiecewiseLinear::points`).
+    pub curves: Vec<(i64, Arc<[[f64; 2]]>)>,
+}
+
+impl RateTable {
+    /// The yield stress at plastic strain `eps_p` and rate `rate`, with its slopes in eps_p
+    /// and in the rate.
+    pub fn hardening(&self, eps_p: f64, rate: f64) -> (f64, f64, f64) {
+        let v = &self.values;
+        let (at, d_at) = if self.log {
+            if rate > 0.0 {
+                (rate.ln(), 1.0 / rate)
+            } else {
+                (f64::NEG_INFINITY, 0.0)
+            }
+        } else {
+            (rate, 1.0)
+        };
+        let h = |k: usize| hardening_of(&self.curves[k].1, eps_p);
+        if v.len() == 1 || at <= v[0] {
+            let (y, s) = h(0);
+            return (y, s, 0.0);
+        }
+        if at >= v[v.len() - 1] {
+            let (y, s) = h(v.len() - 1);
+            return (y, s, 0.0);
+        }
+        let k = v.partition_point(|&x| x <= at).clamp(1, v.len() - 1);
+        let w = (at - v[k - 1]) / (v[k] - v[k - 1]);
+        let ((a, sa), (b, sb)) = (h(k - 1), h(k));
+        (
+            (1.0 - w) * a + w * b,
+            (1.0 - w) * sa + w * sb,
+            (b - a) / (v[k] - v[k - 1]) * d_at,
+        )
+    }
+}
+
+/// The hardening h(eps_p) of the curve `pts` and its slope: interpolated, extrapolated with
+/// the last segment's slope past the end, never below 0.
+fn hardening_of(pts: &[[f64; 2]], eps_p: f64) -> (f64, f64) {
+    if pts.len() == 1 {
+        return (pts[0][1], 0.0);
+    }
+    // the segment holding eps_p, the last one past the end
+    let k = pts
+        .partition_point(|p| p[0] <= eps_p)
+        .clamp(1, pts.len() - 1);
+    let (a, b) = (pts[k - 1], pts[k]);
+    let slope = (b[1] - a[1]) / (b[0] - a[0]);
+    ((a[1] + slope * (eps_p - a[0])).max(0.0), slope)
 }
 
 impl PiecewiseLinear {
@@ -70,19 +139,9 @@ impl PiecewiseLinear {
         Ok(())
     }
 
-    /// The hardening h(eps_p) and its slope.
+    /// The hardening h(eps_p) of `points` and its slope.
     pub fn hardening(&self, eps_p: f64) -> (f64, f64) {
-        let pts = &self.points;
-        if pts.len() == 1 {
-            return (pts[0][1], 0.0);
-        }
-        // the segment holding eps_p, the last one past the end
-        let k = pts
-            .partition_point(|p| p[0] <= eps_p)
-            .clamp(1, pts.len() - 1);
-        let (a, b) = (pts[k - 1], pts[k]);
-        let slope = (b[1] - a[1]) / (b[0] - a[0]);
-        ((a[1] + slope * (eps_p - a[0])).max(0.0), slope)
+        hardening_of(&self.points, eps_p)
     }
 
     /// The rate factor 1 + (rate / C)^(1/P) and its slope in the rate.
@@ -96,7 +155,10 @@ impl PiecewiseLinear {
 
     /// The flow stress (Pa) at plastic strain `eps_p` and plastic strain rate `rate` (1/s).
     pub fn flow_stress(&self, eps_p: f64, rate: f64) -> f64 {
-        self.hardening(eps_p).0 * self.rate_factor(rate).0
+        match &self.table {
+            Some(t) => t.hardening(eps_p, rate).0,
+            None => self.hardening(eps_p).0 * self.rate_factor(rate).0,
+        }
     }
 }
 
@@ -112,11 +174,15 @@ pub fn update_piecewise(
     hist: &mut History,
 ) {
     let flow = |x: f64| {
-        let (h, h_slope) = law.hardening(hist.eps_p + x);
         let rate = if dt > 0.0 { x / dt } else { 0.0 };
+        let per_dt = if dt > 0.0 { 1.0 / dt } else { 0.0 };
+        if let Some(t) = &law.table {
+            let (h, h_slope, h_rate) = t.hardening(hist.eps_p + x, rate);
+            return (h, h_slope + h_rate * per_dt);
+        }
+        let (h, h_slope) = law.hardening(hist.eps_p + x);
         let (r, r_slope) = law.rate_factor(rate);
-        let dr_dx = if dt > 0.0 { r_slope / dt } else { 0.0 };
-        (h * r, h_slope * r + h * dr_dx)
+        (h * r, h_slope * r + h * r_slope * per_dt)
     };
     if let Some((x, _)) = radial_return(lambda, g, sigma, d_eps, flow) {
         hist.eps_p += x;
@@ -134,7 +200,25 @@ mod tests {
             c,
             p,
             lcss: None,
+            table: None,
         }
+    }
+
+    /// 2000 steps of isochoric stretching at `rate` (steps `dt`) of steel (E 210 GPa, PR 0.3)
+    /// with `l`: the von Mises stress, the history, the last step's plastic rate and G.
+    fn stretch(l: &PiecewiseLinear, rate: f64, dt: f64) -> (f64, History, f64, f64) {
+        let (e, nu) = (210e9, 0.3);
+        let g = e / (2.0 * (1.0 + nu));
+        let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        let r = rate * dt;
+        let d = [r, -0.5 * r, -0.5 * r, 0.0, 0.0, 0.0];
+        let (mut s, mut h) = ([0.0; 6], History::default());
+        let mut before = 0.0;
+        for _ in 0..2000 {
+            before = h.eps_p;
+            update_piecewise(lambda, g, l, &mut s, &d, dt, &mut h);
+        }
+        (von_mises(&s), h, (h.eps_p - before) / dt, g)
     }
 
     /// The curve is interpolated, extrapolated with its last slope past the end, and the
@@ -166,25 +250,81 @@ mod tests {
     /// 3.4e-3).
     #[test]
     fn isochoric_stretch_follows_curve_and_rate() {
-        let (e, nu) = (210e9, 0.3);
-        let g = e / (2.0 * (1.0 + nu));
-        let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
         let l = law(vec![[0.0, 250e6], [0.05, 320e6], [0.5, 450e6]], 40.4, 5.0);
-        let (rate, dt) = (1e3, 1e-7);
-        let r = rate * dt;
-        let d = [r, -0.5 * r, -0.5 * r, 0.0, 0.0, 0.0];
-        let (mut s, mut h) = ([0.0; 6], History::default());
-        let mut before = 0.0;
-        for _ in 0..2000 {
-            before = h.eps_p;
-            update_piecewise(lambda, g, &l, &mut s, &d, dt, &mut h);
-        }
-        let q = von_mises(&s);
-        let plastic_rate = (h.eps_p - before) / dt;
+        let rate = 1e3;
+        let (q, h, plastic_rate, g) = stretch(&l, rate, 1e-7);
         assert!((plastic_rate / rate - 1.0).abs() < 5e-3, "{plastic_rate}");
         let expect = l.flow_stress(h.eps_p, plastic_rate);
         assert!((q - expect).abs() < 1e-9 * q, "{q} vs {expect}");
         assert!((h.eps_p + q / (3.0 * g) - 0.2).abs() < 1e-9);
         assert!(l.rate_factor(rate).0 > 1.9, "{:?}", l.rate_factor(rate));
+    }
+
+    /// A table of three curves by strain rate: between two values the yield stress is the
+    /// linear blend of their curves (in the rate, or in its log for a log table), with the
+    /// slopes of that blend; outside the range the end curves hold.
+    #[test]
+    fn rate_table_interpolates_between_curves() {
+        let flat = |y: f64, k: f64| -> Arc<[[f64; 2]]> { vec![[0.0, y], [1.0, y + k]].into() };
+        let t = RateTable {
+            values: vec![1.0, 11.0, 1011.0],
+            log: false,
+            curves: vec![
+                (1, flat(200e6, 100e6)),
+                (2, flat(300e6, 100e6)),
+                (3, flat(500e6, 300e6)),
+            ],
+        };
+        // at rate 6 and eps_p 0.5: halfway between 250 and 350 MPa
+        let (y, dy, dr) = t.hardening(0.5, 6.0);
+        assert!(
+            (y - 300e6).abs() < 1e-6 && (dy - 100e6).abs() < 1e-6,
+            "{y} {dy}"
+        );
+        assert!((dr - 1e7).abs() < 1e-6, "{dr}");
+        assert_eq!(t.hardening(0.5, 0.1).0, 250e6);
+        assert_eq!(t.hardening(0.5, 1e6).0, 650e6);
+        let log = RateTable {
+            values: vec![0.0, 1000f64.ln()],
+            log: true,
+            curves: t.curves[..2].to_vec(),
+        };
+        // rate sqrt(1000): halfway in ln rate
+        let (y, _, dr) = log.hardening(0.0, 1000f64.sqrt());
+        assert!((y - 250e6).abs() < 1e-3, "{y}");
+        assert!(
+            (dr - 100e6 / 1000f64.ln() / 1000f64.sqrt()).abs() < 1e-6,
+            "{dr}"
+        );
+    }
+
+    /// Isochoric stretching at 100/s with a table of curves at 1/s and 1000/s (in ln rate): the
+    /// von Mises stress is the table's yield stress at the plastic strain and plastic rate
+    /// (1e-9), between the two curves.
+    #[test]
+    fn isochoric_stretch_follows_the_table() {
+        let slow: Arc<[[f64; 2]]> = vec![[0.0, 250e6], [0.05, 320e6], [0.5, 450e6]].into();
+        let fast: Arc<[[f64; 2]]> = vec![[0.0, 350e6], [0.1, 450e6], [0.5, 600e6]].into();
+        let l = PiecewiseLinear {
+            table: Some(
+                RateTable {
+                    values: vec![0.0, 1000f64.ln()],
+                    log: true,
+                    curves: vec![(1, slow.clone()), (2, fast.clone())],
+                }
+                .into(),
+            ),
+            ..law(slow.to_vec(), 0.0, 1.0)
+        };
+        let (q, h, plastic_rate, _) = stretch(&l, 100.0, 1e-6);
+        let expect = l.flow_stress(h.eps_p, plastic_rate);
+        assert!((q - expect).abs() < 1e-9 * q, "{q} vs {expect}");
+        let (a, b) = (
+            hardening_of(&slow, h.eps_p).0,
+            hardening_of(&fast, h.eps_p).0,
+        );
+        let w = plastic_rate.ln() / 1000f64.ln();
+        assert!((q - ((1.0 - w) * a + w * b)).abs() < 1e-9 * q);
+        assert!(q > a && q < b, "{a} < {q} < {b}");
     }
 }

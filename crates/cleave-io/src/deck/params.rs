@@ -11,8 +11,9 @@
 //! - `_LOCAL`: the name holds only in the file it is defined in (an included file), and there
 //!   it hides a global one of the same name.
 //! - Names are case-insensitive. Defining a name twice in one scope is an error naming both
-//!   lines (LS-DYNA can be told to keep the first or the last; a deck that does so relies on
-//!   an order cleave would have to guess).
+//!   lines, unless the deck says which definition holds with `*PARAMETER_DUPLICATION` DFLAG:
+//!   1 or 3 keep the first (LS-DYNA warns with 1), 2 or 4 the last. (Without that card LS-DYNA
+//!   keeps the first with a warning; cleave asks the deck to say so rather than guess.)
 
 use std::collections::HashMap;
 
@@ -34,12 +35,29 @@ pub enum Value {
 pub struct Params {
     global: HashMap<String, (Value, String)>,
     local: HashMap<(String, String), (Value, String)>,
+    /// `*PARAMETER_DUPLICATION` DFLAG (0: no such card, a name defined twice is an error).
+    duplication: i64,
 }
 
 impl Params {
     /// Reads every parameter keyword of `blocks`, in order.
     pub fn read(blocks: &[Block<'_>]) -> Result<Self, DeckError> {
         let mut p = Self::default();
+        for b in blocks
+            .iter()
+            .filter(|b| b.keyword == "*PARAMETER_DUPLICATION")
+        {
+            if let Some(l) = b.lines.iter().find(|l| !l.is_blank()) {
+                let c = Card::new(&b.file, &b.keyword, *l, W10)?;
+                let v = c.i64_or(0, "DFLAG", 1)?;
+                if !(1..=4).contains(&v) {
+                    return Err(c.field_err("DFLAG", format!("{v} is not one of 1..4")));
+                }
+                p.duplication = v;
+            } else {
+                p.duplication = 1;
+            }
+        }
         for b in blocks {
             let local = b.keyword.ends_with("_LOCAL");
             match b.keyword.trim_end_matches("_LOCAL") {
@@ -111,6 +129,24 @@ impl Params {
 
     fn define(&mut self, c: &Card<'_>, name: &str, v: Value, local: bool) -> Result<(), DeckError> {
         let at = format!("{}:{}", c.file, c.line);
+        let key = (c.file.to_string(), name.to_string());
+        let defined = if local {
+            self.local.contains_key(&key)
+        } else {
+            self.global.contains_key(name)
+        };
+        if defined && matches!(self.duplication, 1 | 3) {
+            // *PARAMETER_DUPLICATION: the first definition holds
+            return Ok(());
+        }
+        if defined && matches!(self.duplication, 2 | 4) {
+            if local {
+                self.local.insert(key, (v, at));
+            } else {
+                self.global.insert(name.to_string(), (v, at));
+            }
+            return Ok(());
+        }
         let old = if local {
             self.local
                 .insert((c.file.to_string(), name.to_string()), (v, at))

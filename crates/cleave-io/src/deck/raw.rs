@@ -159,6 +159,24 @@ pub struct RawCurve {
     pub curve: Curve,
 }
 
+/// `*DEFINE_TABLE` / `*DEFINE_TABLE_2D`: values (scaled by SFA, offset by OFFA), each with its
+/// line, and their curves.
+#[derive(Clone, Debug)]
+pub struct RawTable {
+    pub src: Src,
+    pub id: i64,
+    pub values: Vec<(f64, usize)>,
+    pub curves: TableCurves,
+}
+
+/// The curves of a table: the `*DEFINE_CURVE`s that follow it in the deck, one per value
+/// (`*DEFINE_TABLE`; the index of the first in `RawDeck::curves`), or named (`_2D`).
+#[derive(Clone, Debug)]
+pub enum TableCurves {
+    Following(usize),
+    Ids(Vec<i64>),
+}
+
 /// A set: its id and its members (deck ids, or 4 node ids per segment), each with its line.
 #[derive(Clone, Debug)]
 pub struct RawSet<T> {
@@ -326,6 +344,7 @@ pub struct RawDeck {
     pub eos: Vec<RawEos>,
     pub separations: Vec<RawSeparation>,
     pub erosions: Vec<RawErosion>,
+    pub tables: Vec<RawTable>,
     pub curves: Vec<RawCurve>,
     pub node_sets: Vec<RawSet<i64>>,
     pub part_sets: Vec<RawSet<i64>>,

@@ -275,6 +275,7 @@ fn offset(d: &mut RawDeck, o: &Offsets) {
         eos,
         separations,
         erosions,
+        tables,
         curves,
         node_sets,
         part_sets,
@@ -330,6 +331,12 @@ fn offset(d: &mut RawDeck, o: &Offsets) {
     curves
         .iter_mut()
         .for_each(|c| add(&mut c.curve.id, o.curve));
+    for t in tables {
+        add(&mut t.id, o.curve);
+        if let super::raw::TableCurves::Ids(ids) = &mut t.curves {
+            ids.iter_mut().for_each(|c| add(c, o.curve));
+        }
+    }
     for s in node_sets {
         add(&mut s.id, o.set);
         s.members.iter_mut().for_each(|(n, _)| add(n, o.node));
@@ -444,6 +451,7 @@ fn merge(d: &mut RawDeck, s: RawDeck) {
         eos,
         separations,
         erosions,
+        tables,
         curves,
         node_sets,
         part_sets,
@@ -478,6 +486,14 @@ fn merge(d: &mut RawDeck, s: RawDeck) {
     d.eos.extend(eos);
     d.separations.extend(separations);
     d.erosions.extend(erosions);
+    // a table's following curves are now after the deck's
+    let first = d.curves.len();
+    d.tables.extend(tables.into_iter().map(|mut t| {
+        if let super::raw::TableCurves::Following(k) = &mut t.curves {
+            *k += first;
+        }
+        t
+    }));
     d.curves.extend(curves);
     d.node_sets.extend(node_sets);
     d.part_sets.extend(part_sets);

@@ -478,6 +478,14 @@ fn piecewise(o: &mut String, mat: &Material, p: &PiecewiseLinear, fail: Option<f
         (F::B, F::B)
     };
     card(o, &[c, pp, p.lcss.map_or(F::B, F::I)], &W10);
+    if let (Some(id), Some(t)) = (p.lcss, &p.table) {
+        // the table, naming its curves (written with the others)
+        simple(o, "*DEFINE_TABLE_2D", &["tbid"], &[F::I(id)]);
+        names(o, &["value", "lcid"], &[20, 20]);
+        for (v, (lcid, _)) in t.values.iter().zip(&t.curves) {
+            card(o, &[F::R(*v), F::I(*lcid)], &[20, 20]);
+        }
+    }
     if p.lcss.is_none() {
         if p.points.len() > 8 {
             let _ = writeln!(

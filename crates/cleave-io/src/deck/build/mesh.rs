@@ -4,7 +4,7 @@ use cleave_core::curve::Curve;
 use cleave_core::element::shape::canonical;
 use cleave_core::element::{first_bad_corner, Shape};
 use cleave_core::erosion::{ErosionDef, ErosionRule};
-use cleave_core::material::PiecewiseLinear;
+use cleave_core::material::{PiecewiseLinear, RateTable};
 use cleave_core::math::Vec3;
 use cleave_core::model::{
     GivenInertia, HourglassDef, Material, MaterialKind, Model, NodeSet, Part, PartInertia, PartSet,
@@ -13,7 +13,7 @@ use cleave_core::model::{
 
 use super::{Builder, Ids};
 use crate::deck::error::DeckError;
-use crate::deck::raw::{RawMaterial, RawSet};
+use crate::deck::raw::{RawMaterial, RawSet, TableCurves};
 
 impl Builder<'_> {
     /// Fills the mesh, the property tables and the sets; returns the id maps.
@@ -28,6 +28,20 @@ impl Builder<'_> {
             elems: self.index(&raw.elems, "element", |e| (e.id, &e.src))?,
             ..Ids::default()
         };
+        // tables and curves share LS-DYNA's load-curve ids
+        self.index::<_, usize>(&raw.tables, "table", |t| (t.id, &t.src))?;
+        for t in &raw.tables {
+            if let Some(&k) = ids.curves.get(&t.id) {
+                let c = &raw.curves[k].src;
+                return Err(self.err(
+                    &t.src,
+                    format!(
+                        "table {} has the id of the curve at {}:{} (tables and curves share one set of ids)",
+                        t.id, c.file, c.line
+                    ),
+                ));
+            }
+        }
         m.node_ids = raw.nodes.iter().map(|n| n.id).collect();
         m.x0 = raw.nodes.iter().map(|n| n.x).collect();
         m.v0 = vec![[0.0; 3]; raw.nodes.len()].into();
@@ -220,15 +234,52 @@ impl Builder<'_> {
         ids: &Ids,
     ) -> Result<MaterialKind, DeckError> {
         let mut kind = s.kind.clone();
+        let lcss_err = |m: String| self.err(&s.src, m).with_field("LCSS");
+        // the hardening points of curve `k`, checked
+        let points = |k: usize| -> Result<Vec<[f64; 2]>, DeckError> {
+            let c = &curves[k];
+            let pts: Vec<[f64; 2]> = c.t.iter().zip(&c.y).map(|(&x, &y)| [x, y]).collect();
+            PiecewiseLinear::check(&pts).map_err(|m| lcss_err(format!("curve {}: {m}", c.id)))?;
+            Ok(pts)
+        };
         if let MaterialKind::PiecewiseLinear(ref mut p) = kind {
             if let Some(id) = p.lcss {
-                let c = &curves[self.find(&ids.curves, id, &s.src, "LCSS", "curve")?];
-                let pts: Vec<[f64; 2]> = c.t.iter().zip(&c.y).map(|(&x, &y)| [x, y]).collect();
-                PiecewiseLinear::check(&pts).map_err(|m| {
-                    self.err(&s.src, format!("LCSS curve {id}: {m}"))
-                        .with_field("LCSS")
-                })?;
-                p.points = pts.into();
+                match self.raw.tables.iter().find(|t| t.id == id) {
+                    None => {
+                        let k = self.find(&ids.curves, id, &s.src, "LCSS", "curve or table")?;
+                        p.points = points(k)?.into();
+                    }
+                    Some(t) => {
+                        if p.c > 0.0 {
+                            return Err(self
+                                .err(&s.src, format!("C = {}: the rate effect of a table LCSS ({id}) is in its curves; leave C and P blank", p.c))
+                                .with_field("C"));
+                        }
+                        let n = t.values.len();
+                        let ks: Vec<usize> = match &t.curves {
+                            TableCurves::Following(k) => {
+                                // the reader checked that they follow it
+                                (*k..k + n).collect()
+                            }
+                            TableCurves::Ids(lcids) => lcids
+                                .iter()
+                                .map(|&c| self.find(&ids.curves, c, &t.src, "LCID", "curve"))
+                                .collect::<Result<_, _>>()?,
+                        };
+                        let mut table_curves = Vec::with_capacity(n);
+                        for &k in &ks {
+                            table_curves.push((curves[k].id, points(k)?.into()));
+                        }
+                        let values: Vec<f64> = t.values.iter().map(|v| v.0).collect();
+                        let table = RateTable {
+                            log: values[0] < 0.0,
+                            values,
+                            curves: table_curves,
+                        };
+                        p.points = table.curves[0].1.clone();
+                        p.table = Some(table.into());
+                    }
+                }
             }
         }
         Ok(kind)

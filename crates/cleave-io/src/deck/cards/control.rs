@@ -54,6 +54,34 @@ const NOTHING_FOR_CLEAVE: &[&str] = &[
     "*CONTROL_REMOVE_ADDITIONAL_DATA",
 ];
 
+/// Reads past the keyword's cards with the warning `KEYWORD: note` at its line.
+fn read_past(r: &mut Reader<'_>, deck: &mut RawDeck, note: &str) -> Result<(), DeckError> {
+    deck.warnings.push(format!(
+        "{}:{}: {}: {note}",
+        r.file,
+        r.line_of_keyword(),
+        r.keyword
+    ));
+    r.ignore_rest();
+    Ok(())
+}
+
+/// A card whose first field `field` switches on an analysis cleave does not run: 0 (blank) is
+/// read past with the warning `note`, any other value is an error, `refusal` saying why.
+fn zero_or_refuse(
+    r: &mut Reader<'_>,
+    deck: &mut RawDeck,
+    field: &str,
+    note: &str,
+    refusal: &str,
+) -> Result<(), DeckError> {
+    let c = r.card_or_defaults(W10)?;
+    match c.i64_or(0, field, 0)? {
+        0 => read_past(r, deck, note),
+        v => Err(c.field_err(field, format!("{v}: {refusal}"))),
+    }
+}
+
 /// Dispatches the `*CONTROL_` and `*DATABASE_` keywords.
 pub fn control_or_database(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     match r.keyword {
@@ -72,69 +100,49 @@ pub fn control_or_database(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(),
             history(r, deck)
         }
         "*CONTROL_SOLID" => solid(r, deck),
-        "*CONTROL_ACCURACY" => {
-            deck.warnings.push(format!(
-                "{}:{}: *CONTROL_ACCURACY: cleave's stress update is always objective and second order (OSU 1); invariant node numbering (INN) is not applied, ignored",
-                r.file,
-                r.line_of_keyword()
-            ));
-            r.ignore_rest();
-            Ok(())
-        }
-        "*CONTROL_IMPLICIT_GENERAL" => implicit_general(r, deck),
-        k if k.starts_with("*CONTROL_IMPLICIT_") => {
-            deck.warnings.push(format!(
-                "{}:{}: {k}: implicit solver settings, ignored (cleave runs explicit dynamics; *CONTROL_IMPLICIT_GENERAL with IMFLAG 1 is an error)",
-                r.file,
-                r.line_of_keyword()
-            ));
-            r.ignore_rest();
-            Ok(())
-        }
+        // SOLN NLQ ISNAN LCINT: SOLN 0 is a structural analysis, all cleave does
+        "*CONTROL_SOLUTION" => zero_or_refuse(
+            r,
+            deck,
+            "SOLN",
+            "SOLN 0 (structural), ignored",
+            "thermal and coupled analyses are not supported (cleave is structural: SOLN 0)",
+        ),
+        "*CONTROL_SHELL" => read_past(
+            r,
+            deck,
+            "shell settings, ignored (cleave has solid elements only)",
+        ),
+        "*CONTROL_ACCURACY" => read_past(
+            r,
+            deck,
+            "cleave's stress update is always objective and second order (OSU 1); invariant node numbering (INN) is not applied, ignored",
+        ),
+        // IMFLAG 0 (blank) is an explicit run; any other (an implicit or a switching analysis)
+        // is an error: cleave is an explicit code
+        "*CONTROL_IMPLICIT_GENERAL" => zero_or_refuse(
+            r,
+            deck,
+            "IMFLAG",
+            "IMFLAG 0, an explicit run; ignored",
+            "implicit analysis is not supported (cleave integrates explicitly in time); set IMFLAG 0 or remove the *CONTROL_IMPLICIT_ cards",
+        ),
+        k if k.starts_with("*CONTROL_IMPLICIT_") => read_past(
+            r,
+            deck,
+            "implicit solver settings, ignored (cleave runs explicit dynamics; *CONTROL_IMPLICIT_GENERAL with IMFLAG 1 is an error)",
+        ),
         k if NOTHING_FOR_CLEAVE.contains(&k) || k.starts_with("*CONTROL_MPP_") => {
-            deck.warnings.push(format!(
-                "{}:{}: {k}: changes nothing cleave computes, ignored",
-                r.file,
-                r.line_of_keyword()
-            ));
-            r.ignore_rest();
-            Ok(())
+            read_past(r, deck, "changes nothing cleave computes, ignored")
         }
         k if k.starts_with("*DATABASE_") => {
-            deck.warnings.push(format!(
-                "{}:{}: {k}: output request not supported, ignored",
-                r.file,
-                r.line_of_keyword()
-            ));
-            r.ignore_rest();
-            Ok(())
+            read_past(r, deck, "output request not supported, ignored")
         }
         k => Err(DeckError::at(
             r.file,
             r.line_of_keyword(),
             Some(k),
             "keyword not supported (see the supported keyword list in the README)",
-        )),
-    }
-}
-
-/// `*CONTROL_IMPLICIT_GENERAL`: `IMFLAG DT0 ...`. IMFLAG 0 (blank) is an explicit run, read
-/// past with a warning; any other (an implicit or a switching analysis) is an error: cleave is
-/// an explicit code.
-fn implicit_general(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
-    let c = r.card_or_defaults(W10)?;
-    match c.i64_or(0, "IMFLAG", 0)? {
-        0 => {
-            deck.warnings.push(format!(
-                "{}:{}: *CONTROL_IMPLICIT_GENERAL: IMFLAG 0, an explicit run; ignored",
-                c.file, c.line
-            ));
-            r.ignore_rest();
-            Ok(())
-        }
-        v => Err(c.field_err(
-            "IMFLAG",
-            format!("{v}: implicit analysis is not supported (cleave integrates explicitly in time); set IMFLAG 0 or remove the *CONTROL_IMPLICIT_ cards"),
         )),
     }
 }

@@ -1,6 +1,10 @@
 //! `*DEFINE_CURVE` (LS-DYNA Keyword Manual, Vol. I): card 1 `LCID SIDR SFA SFO OFFA OFFO
 //! DATTYP LCINT` in 10-character fields, then one point per card, `A1 O1` in 20+20.
 //! The stored curve has (SFA a + OFFA, SFO o + OFFO); SFA, SFO blank or 0 mean 1.
+//! `*DEFINE_TABLE`: card 1 `TBID SFA OFFA`, then one value per card (20 characters); its
+//! curves are the `*DEFINE_CURVE`s that follow it in the deck, one per value, in order.
+//! `*DEFINE_TABLE_2D`: the same card 1, then `VALUE LCID` per card (20 + 20): the curves
+//! named. Values are scaled (SFA VALUE + OFFA) and must increase.
 
 use cleave_core::curve::Curve;
 
@@ -8,7 +12,7 @@ use super::control::warn_ignored;
 use super::Reader;
 use crate::deck::error::DeckError;
 use crate::deck::fields::W10;
-use crate::deck::raw::{RawCurve, RawDeck};
+use crate::deck::raw::{RawCurve, RawDeck, RawTable, TableCurves};
 
 const POINT: &[usize] = &[20, 20];
 
@@ -63,6 +67,47 @@ pub fn define_curve(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
     deck.curves.push(RawCurve {
         src: r.src(c.line),
         curve,
+    });
+    Ok(())
+}
+
+const VALUE: &[usize] = &[20, 20];
+
+/// Reads a table (`two_d`: `*DEFINE_TABLE_2D`, each value with its curve's id).
+pub fn define_table(r: &mut Reader<'_>, deck: &mut RawDeck, two_d: bool) -> Result<(), DeckError> {
+    let c = r.required(W10, "TBID SFA OFFA")?;
+    let id = c.id(0, "TBID")?;
+    let sfa = c.f64_nz(1, "SFA", 1.0)?;
+    let offa = c.f64_or(2, "OFFA", 0.0)?;
+    let mut values: Vec<(f64, usize)> = Vec::new();
+    let mut ids = Vec::new();
+    while let Some(p) = r.next_nonblank(VALUE)? {
+        let v = sfa * p.f64_or(0, "VALUE", 0.0)? + offa;
+        if let Some(&(prev, _)) = values.last() {
+            if v <= prev {
+                return Err(p.field_err(
+                    "VALUE",
+                    format!("table {id}: value {v} is not greater than the previous one ({prev}); values must increase"),
+                ));
+            }
+        }
+        if two_d {
+            ids.push(p.id(1, "LCID")?);
+        }
+        values.push((v, p.line));
+    }
+    if values.is_empty() {
+        return Err(c.err(format!("table {id} has no values")));
+    }
+    deck.tables.push(RawTable {
+        src: r.src(c.line),
+        id,
+        values,
+        curves: if two_d {
+            TableCurves::Ids(ids)
+        } else {
+            TableCurves::Following(deck.curves.len())
+        },
     });
     Ok(())
 }

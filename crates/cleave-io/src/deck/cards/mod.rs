@@ -31,8 +31,23 @@ use super::raw::{RawDeck, Src};
 /// `params` are the whole deck's (`Params::read`).
 pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<RawDeck, DeckError> {
     let mut deck = RawDeck::default();
+    // a `*DEFINE_TABLE` read and how many of its curves are still to come (they must follow
+    // it: its id, values, line)
+    let mut table_curves: Option<(i64, usize, usize, usize)> = None;
     for &block in blocks {
         let kw = block.keyword.as_str();
+        if let Some((id, n, left, line)) = table_curves {
+            if kw.starts_with("*DEFINE_CURVE") {
+                table_curves = (left > 1).then_some((id, n, left - 1, line));
+            } else if kw != "*COMMENT" {
+                return Err(DeckError::at(
+                    &block.file,
+                    block.line,
+                    Some(kw),
+                    format!("*DEFINE_TABLE {id} (line {line}) has {n} values, so the {n} keywords after it must be its *DEFINE_CURVEs; {} found here (use *DEFINE_TABLE_2D to name the curves instead)", n - left),
+                ));
+            }
+        }
         let (base, titled) = match kw.strip_suffix("_TITLE") {
             Some(b)
                 if b.starts_with("*MAT_")
@@ -42,7 +57,10 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
                     || b.starts_with("*BOUNDARY_")
                     || b.starts_with("*CONTACT_")
                     || b == "*DEFINE_CURVE"
-                    || b == "*DEFINE_TRANSFORMATION" =>
+                    || b == "*DEFINE_TRANSFORMATION"
+                    || b == "*DEFINE_TABLE"
+                    || b == "*DEFINE_TABLE_2D"
+                    || b.starts_with("*DEFINE_COORDINATE_") =>
             {
                 (b, true)
             }
@@ -62,8 +80,20 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
         }
         match base {
             "*KEYWORD" | "*COMMENT" => continue,
+            "*DEFINE_COORDINATE_SYSTEM"
+            | "*DEFINE_COORDINATE_NODES"
+            | "*DEFINE_COORDINATE_VECTOR" => {
+                // no card cleave reads takes a local system (their CID fields are errors when
+                // set), so a system is read past
+                deck.warnings.push(format!(
+                    "{}:{}: {kw}: local coordinate systems are not used by any card cleave reads, ignored",
+                    block.file, block.line
+                ));
+                r.ignore_rest();
+            }
             // read before every other card (`Params::read`)
             "*PARAMETER"
+            | "*PARAMETER_DUPLICATION"
             | "*PARAMETER_LOCAL"
             | "*PARAMETER_EXPRESSION"
             | "*PARAMETER_EXPRESSION_LOCAL" => continue,
@@ -105,6 +135,13 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
             }
             "*SET_PART_LIST_GENERATE" => sets::part_generate(&mut r, &mut deck)?,
             "*DEFINE_CURVE" => curve::define_curve(&mut r, &mut deck)?,
+            "*DEFINE_TABLE" => {
+                curve::define_table(&mut r, &mut deck, false)?;
+                let t = deck.tables.last().expect("just read");
+                let n = t.values.len();
+                table_curves = Some((t.id, n, n, block.line));
+            }
+            "*DEFINE_TABLE_2D" => curve::define_table(&mut r, &mut deck, true)?,
             "*DEFINE_TRANSFORMATION" => transform::define_transformation(&mut r, &mut deck)?,
             "*INCLUDE_TRANSFORM" => transform::include_transform(&mut r, &mut deck, block.group)?,
             "*INITIAL_VELOCITY_GENERATION" => loads::velocity_generation(&mut r, &mut deck)?,
@@ -163,6 +200,17 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
             }
         }
         r.finish()?;
+    }
+    if let (Some((id, n, left, line)), Some(b)) = (table_curves, blocks.last()) {
+        return Err(DeckError::at(
+            &b.file,
+            line,
+            Some("*DEFINE_TABLE"),
+            format!(
+                "table {id} has {n} values but only {} *DEFINE_CURVE follow it",
+                n - left
+            ),
+        ));
     }
     Ok(deck)
 }

@@ -119,6 +119,7 @@ pub fn piecewise_linear(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
             c: rate_c,
             p: if rate_c > 0.0 { rate_p } else { 1.0 },
             lcss,
+            table: None,
         }),
         shear_only: None,
     });

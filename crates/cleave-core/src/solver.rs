@@ -545,8 +545,10 @@ impl<'m> Solver<'m> {
             // it has made degenerate (a node at 1e300 puts every face in one search cell)
             return Err(self.bad_time_step(dt_crit, dt_elem));
         }
-        self.erode_elements();
         self.average_nodal_pressure();
+        // after the pressure averaging, which reads the step's stresses of the elements that
+        // erode now (their forces of this step stand)
+        self.erode_elements();
         self.add_loads();
         let t1 = Instant::now();
         self.check_interfaces();
@@ -674,7 +676,13 @@ impl<'m> Solver<'m> {
         if let Some(np) = &mut self.nodal_pressure {
             // ELFORM 13: the volume change averaged over the nodes, before the material update
             let (x, v) = (&self.state.x, &self.state.v);
-            np.average_volume_change(|n| x[n as usize], |n| v[n as usize], self.state.dt_prev);
+            let eroded = &self.state.eroded;
+            np.average_volume_change(
+                |n| x[n as usize],
+                |n| v[n as usize],
+                self.state.dt_prev,
+                eroded,
+            );
         }
         self.step_sri_elements();
         let Self {

@@ -153,13 +153,18 @@ impl NodalPressure {
     /// Part 1: each element's own increment `theta_e = tr(J_v J_mid^-1) dt` and weight V_mid
     /// at positions `x` (t^n) and velocities `v` (t^(n-1/2)), then the node and element means.
     /// An element inverted at mid-step gets weight 0 (the element pass reports it).
+    ///
+    /// `eroded[e]` marks elements eroded ([`crate::erosion`]; an empty slice: none): they take
+    /// no part in the averages (weight 0) and get no pressure correction.
     pub fn average_volume_change(
         &mut self,
         x: impl Fn(u32) -> Vec3 + Sync,
         v: impl Fn(u32) -> Vec3 + Sync,
         dt: f64,
+        eroded: &[bool],
     ) {
         let Self {
+            elems,
             nodes_of,
             vol,
             theta,
@@ -167,8 +172,13 @@ impl NodalPressure {
         } = self;
         nodes_of
             .par_iter()
+            .zip(elems.par_iter())
             .zip(vol.par_iter_mut().zip(theta.par_iter_mut()))
-            .for_each(|(ns, (w, th))| {
+            .for_each(|((ns, &e), (w, th))| {
+                if eroded.get(e as usize).is_some_and(|&d| d) {
+                    (*w, *th) = (0.0, 0.0);
+                    return;
+                }
                 let xe = ns.map(&x);
                 let ve = ns.map(&v);
                 (*w, *th) = tet4::volume_increment(&xe, &ve, dt).unwrap_or((0.0, 0.0));
@@ -206,14 +216,20 @@ impl NodalPressure {
             nodes_of,
             p_tilde,
             corr,
+            vol: weight,
             ..
         } = self;
         nodes_of
             .par_iter()
             .zip(p_tilde.par_iter())
             .zip(p.par_iter())
-            .zip(corr.par_iter_mut())
-            .for_each(|(((ns, &pt), &pe), c)| {
+            .zip(corr.par_iter_mut().zip(weight.par_iter()))
+            .for_each(|(((ns, &pt), &pe), (c, &w))| {
+                if w == 0.0 {
+                    // out of the averages (eroded, or flat at the mid-step)
+                    *c = [[0.0; 3]; 4];
+                    return;
+                }
                 let xe = ns.map(&x);
                 *c = match tet4::gradients(&xe) {
                     Some((vol, b)) => b.map(|ba| {
@@ -292,7 +308,7 @@ mod tests {
             let p = m.x[n as usize];
             [p[0] * p[0], p[1] * p[2], -p[2] + p[0] * p[1]]
         };
-        np.average_volume_change(|n| m.x[n as usize], v, dt);
+        np.average_volume_change(|n| m.x[n as usize], v, dt, &[]);
         // direct
         let mut num = vec![0.0; nn];
         let mut den = vec![0.0; nn];
@@ -325,7 +341,7 @@ mod tests {
         // a linear field: the average is each element's own
         let a = [[0.3, 0.1, 0.0], [0.2, -0.4, 0.1], [0.0, 0.3, 0.2]];
         let lin = |n: u32| mat_vec(&a, m.x[n as usize]);
-        np.average_volume_change(|n| m.x[n as usize], lin, dt);
+        np.average_volume_change(|n| m.x[n as usize], lin, dt, &[]);
         for e in 0..m.conn.len() {
             let c = &m.conn[e];
             let ns = [c[0], c[1], c[2], c[4]];

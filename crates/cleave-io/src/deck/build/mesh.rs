@@ -328,19 +328,6 @@ impl Builder<'_> {
                     ),
                 ));
             }
-            if elform == 13
-                && m.erosion
-                    .iter()
-                    .any(|d| d.material == m.parts[part].material)
-            {
-                return Err(self.err(
-                    &nsrc,
-                    format!(
-                        "part {} has ELFORM 13 and a material that erodes: the nodal pressure averaging does not skip eroded elements yet; use ELFORM 10",
-                        m.parts[part].id
-                    ),
-                ));
-            }
             if elform == 13 && !m.separations.is_empty() {
                 return Err(self.err(
                     &nsrc,

@@ -65,6 +65,10 @@ impl Schedule {
     }
 }
 
+/// How far the energy ratio may stray from 1 before a run warns ([`RunOutput::energy_warning`]):
+/// 5%, where LS-DYNA users start to distrust a run.
+pub const ENERGY_DRIFT: f64 = 0.05;
+
 /// One row of the energy history kept for the plot.
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct EnergyRow {
@@ -506,6 +510,23 @@ impl<'m> RunOutput<'m> {
         self.flush()?;
         self.fracture.finish()?;
         self.plot_energy()
+    }
+
+    /// A warning when the energy ratio (total energy over initial energy plus external work,
+    /// glstat's `energy_ratio`) strayed from 1 by more than [`ENERGY_DRIFT`] at some output
+    /// time: the discrete system then creates or loses energy, and its results are suspect.
+    pub fn energy_warning(&self) -> Option<String> {
+        let worst = self
+            .energy
+            .iter()
+            .filter(|r| r.ratio.is_finite())
+            .max_by(|a, b| (a.ratio - 1.0).abs().total_cmp(&(b.ratio - 1.0).abs()))?;
+        ((worst.ratio - 1.0).abs() > ENERGY_DRIFT).then(|| {
+            format!(
+                "the energy ratio reached {:.4} at t = {:e} (total energy over the initial energy plus the external work; 1 when energy is conserved): energy was created or lost numerically, so the results are suspect; see energy.png (time step, hourglass energy, a material driven beyond its range)",
+                worst.ratio, worst.t
+            )
+        })
     }
 
     fn plot_energy(&self) -> std::io::Result<()> {

@@ -280,6 +280,14 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let loop_seconds = loop_start.elapsed().as_secs_f64();
     out.finish()
         .map_err(|e| io_failure("cannot write output in", &dir, e))?;
+    if let Some(w) = out.energy_warning() {
+        if !a.quiet {
+            eprintln!("warning: {w}");
+        }
+        if let Some(st) = &mut out.status {
+            st.warnings.push(w);
+        }
+    }
     let state = match &result {
         Ok(()) if solver.is_finished() => "finished",
         Ok(()) => "interrupted",

@@ -33,4 +33,5 @@ pub mod separation;
 pub mod setup;
 pub mod solver;
 pub mod state;
+pub mod tied;
 pub mod topology;

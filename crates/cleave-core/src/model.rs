@@ -52,6 +52,8 @@ pub struct Model {
     pub pressure_loads: Vec<PressureLoad>,
     pub rigid_walls: Vec<RigidWall>,
     pub contacts: Vec<ContactDef>,
+    /// Tied contacts (`*CONTACT_TIED_...`, [`crate::tied`]).
+    pub tied: Vec<TiedDef>,
     pub separations: Vec<SeparationDef>,
     /// Element erosion per material (`*MAT_024` FAIL, `*MAT_003` FS, `*MAT_ADD_EROSION`).
     pub erosion: Vec<crate::erosion::ErosionDef>,
@@ -354,6 +356,23 @@ pub enum ContactSurface {
     PartSet(usize),
     Part(usize),
     SegmentSet(usize),
+}
+
+/// `*CONTACT_TIED_SURFACE_TO_SURFACE` / `_NODES_TO_SURFACE`: the slave side's nodes follow
+/// the master side's faces ([`crate::tied`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TiedDef {
+    /// Ordinal (1-based) of the contact among the deck's contacts.
+    pub id: i64,
+    pub slave: TiedSlave,
+    pub master: ContactSurface,
+}
+
+/// The slave side of a tied contact: the nodes of a surface, or a node set (SSTYP 4).
+#[derive(Clone, Debug, PartialEq)]
+pub enum TiedSlave {
+    Surface(ContactSurface),
+    NodeSet(usize),
 }
 
 /// `*CONTACT_AUTOMATIC_SINGLE_SURFACE` / `*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE`.

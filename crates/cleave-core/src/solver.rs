@@ -65,6 +65,7 @@ use crate::state::{Energies, RigidState, State};
 
 mod erosion;
 mod restart;
+mod tied;
 
 /// The hourglass control and bulk viscosity of each part: its `*HOURGLASS` (HGID), else the
 /// `*CONTROL_HOURGLASS` and `*CONTROL_BULK_VISCOSITY` values.
@@ -250,6 +251,8 @@ pub struct Solver<'m> {
     sri: Option<SriElements>,
     /// Element erosion, when a material erodes.
     erosion: Option<erosion::Erosion>,
+    /// The slave nodes of tied contacts and the face points they follow ([`crate::tied`]).
+    ties: Vec<crate::tied::Tie>,
     /// Time spent in each phase.
     pub times: PhaseTimes,
 }
@@ -315,7 +318,7 @@ impl<'m> Solver<'m> {
             "element chunk colouring has a clash"
         );
         let chunk_sums = vec![ElemChunkSum::default(); colouring.chunks()];
-        Ok(Self {
+        let mut solver = Self {
             model,
             setup,
             state,
@@ -343,8 +346,11 @@ impl<'m> Solver<'m> {
             loads: Loads::default(),
             sri,
             erosion: erosion::Erosion::new(model),
+            ties: Vec::new(),
             times: PhaseTimes::default(),
-        })
+        };
+        solver.set_up_ties()?;
+        Ok(solver)
     }
 
     /// Run a split model with its interfaces: each step the intact ones are checked for
@@ -556,6 +562,7 @@ impl<'m> Solver<'m> {
         self.add_cohesive_forces();
         let t3 = Instant::now();
         self.add_contact_forces();
+        self.transfer_tied_forces();
         let t4 = Instant::now();
         let dt_new = self.next_time_step(dt_crit, dt_elem)?;
         let dt_mid = 0.5 * (self.state.dt_prev + dt_new);
@@ -566,6 +573,7 @@ impl<'m> Solver<'m> {
         let mut work = self.update_rigid_bodies(dt_mid, dt_new);
         work += self.apply_constraints(dt_new);
         work += self.apply_rigid_walls(dt_mid, dt_new);
+        self.move_tied_nodes();
         let body_work = self.record_kinetic_energy()?;
         // NOTE: an impulse J of this step changes v^(n+1/2), which the kinetic energy at t^n
         // (1/2 m v^(n-1/2).v^(n+1/2)) and at t^(n+1) both contain: its work is booked as

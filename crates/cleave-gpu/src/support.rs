@@ -25,7 +25,7 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
     if !model.erosion.is_empty() {
         return Some("element erosion (FAIL, FS, *MAT_ADD_EROSION)".into());
     }
-    if !model.contacts.is_empty() {
+    if !model.contacts.is_empty() || !model.tied.is_empty() {
         return Some("contact (*CONTACT_...)".into());
     }
     if model.rigid_walls.len() > crate::layout::MAX_WALLS {

@@ -1249,6 +1249,7 @@ fn round_trip_model() -> Model {
                 seed: 123_456_789,
             },
         }],
+        tied: Vec::new(),
         erosion: vec![
             cleave_core::erosion::ErosionDef {
                 material: 2,

@@ -184,6 +184,17 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
         }
     }
     println!("contacts    {}", m.contacts.len());
+    if !m.tied.is_empty() {
+        let ties = cleave_core::tied::Ties::new(m).map_err(Failure::Input)?;
+        println!(
+            "tied        {} contact(s): {} slave nodes tied",
+            m.tied.len(),
+            ties.ties.len()
+        );
+        for (id, n) in ties.untied.iter().filter(|u| u.1 > 0) {
+            println!("  contact {id}: {n} slave node(s) find no master face and stay free");
+        }
+    }
     println!("rigid walls {}", m.rigid_walls.len());
     println!("rigid bodies {}", setup.rigid.len());
     for b in &setup.rigid {

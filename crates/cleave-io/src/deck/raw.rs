@@ -281,6 +281,9 @@ pub struct RawContact {
     pub single_surface: bool,
     /// NODES_TO_SURFACE: the slave side's nodes against the master side's faces only.
     pub one_way: bool,
+    /// `*CONTACT_TIED_...`: the slave nodes follow the master faces (a node-set slave, type 4,
+    /// allowed).
+    pub tied: bool,
     pub slave: RawSurface,
     pub master: Option<RawSurface>,
     pub fs: f64,

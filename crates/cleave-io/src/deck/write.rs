@@ -13,7 +13,7 @@ use cleave_core::element::shape::{shape_of, Shape};
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear};
 use cleave_core::model::{
     ContactSurface, Hourglass, Material, MaterialKind, Model, MotionTarget, PenaltyRule,
-    StrengthDist, Vad,
+    StrengthDist, TiedSlave, Vad,
 };
 
 /// One field of a card.
@@ -974,6 +974,24 @@ fn interactions(o: &mut String, m: &Model, wall_sets: &[i64]) {
         );
         names(o, &["fs", "fd", "dc"], &W10);
         card(o, &[F::R(c.fs), F::R(c.fd), F::R(c.dc)], &W10);
+    }
+    for t in &m.tied {
+        let ((sid, styp), kw) = match &t.slave {
+            TiedSlave::NodeSet(k) => (
+                (F::I(m.node_sets[*k].id), F::I(4)),
+                "*CONTACT_TIED_NODES_TO_SURFACE",
+            ),
+            TiedSlave::Surface(side) => {
+                (surface(m, Some(side)), "*CONTACT_TIED_SURFACE_TO_SURFACE")
+            }
+        };
+        let (mid, mtyp) = surface(m, Some(&t.master));
+        simple(
+            o,
+            kw,
+            &["ssid", "msid", "sstyp", "mstyp"],
+            &[sid, mid, styp, mtyp],
+        );
     }
 }
 

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use cleave_core::math::{cross, sub, Vec3};
 use cleave_core::model::{
     BodyLoad, ContactDef, ContactSurface, ExtraNodes, MaterialKind, Model, MotionTarget,
-    NodalRigidBody, NodeLoad, PrescribedMotion, PressureLoad, RigidWall, Spc,
+    NodalRigidBody, NodeLoad, PrescribedMotion, PressureLoad, RigidWall, Spc, TiedDef, TiedSlave,
 };
 
 use super::mesh::dedup;
@@ -187,6 +187,30 @@ impl Builder<'_> {
             });
         }
         for (k, c) in raw.contacts.iter().enumerate() {
+            if c.tied {
+                let slave = if c.slave.typ == 4 {
+                    let id = c.slave.id.unwrap_or(0);
+                    TiedSlave::NodeSet(self.find(&ids.node_sets, id, &c.src, "SSID", "node set")?)
+                } else {
+                    TiedSlave::Surface(self.surface(&c.slave, &c.src, ids)?)
+                };
+                let master = match &c.master {
+                    Some(s) => self.surface(s, &c.src, ids)?,
+                    None => ContactSurface::All,
+                };
+                if !m.separations.is_empty() {
+                    return Err(self.err(
+                        &c.src,
+                        "tied contact in a deck with *MAT_ADD_SEPARATION is not supported yet (the split nodes would need ties of their own)",
+                    ));
+                }
+                m.tied.push(TiedDef {
+                    id: k as i64 + 1,
+                    slave,
+                    master,
+                });
+                continue;
+            }
             let slave = self.surface(&c.slave, &c.src, ids)?;
             let master = match &c.master {
                 None => None,

@@ -101,14 +101,39 @@ pub fn contact(
     single_surface: bool,
     one_way: bool,
 ) -> Result<(), DeckError> {
+    contact_cards(r, deck, single_surface, one_way, false)
+}
+
+/// `*CONTACT_TIED_SURFACE_TO_SURFACE` / `*CONTACT_TIED_NODES_TO_SURFACE`: card 1 as for the
+/// automatic contacts, the slave side also a node set (SSTYP 4); the friction card and the
+/// further ones are not used (a tied node does not slide).
+pub fn tied(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    contact_cards(r, deck, false, true, true)
+}
+
+fn contact_cards(
+    r: &mut Reader<'_>,
+    deck: &mut RawDeck,
+    single_surface: bool,
+    one_way: bool,
+    tied: bool,
+) -> Result<(), DeckError> {
     let c = r.required(W10, "SSID MSID SSTYP MSTYP SBOXID MBOXID SPR MPR")?;
-    if one_way && c.i64_or(2, "SSTYP", 0)? == 4 {
+    if !tied && one_way && c.i64_or(2, "SSTYP", 0)? == 4 {
         return Err(c.field_err(
             "SSTYP",
             "4 (a node set) not supported yet for the slave side of NODES_TO_SURFACE: give the slave as parts (2 part set, 3 part) or a segment set (0); their surface nodes are checked".to_string(),
         ));
     }
-    let slave = surface(&c, 0, 2, ["SSID", "SSTYP"])?;
+    let slave = if tied && c.i64_or(2, "SSTYP", 0)? == 4 {
+        RawSurface {
+            id: Some(c.id(0, "SSID")?),
+            typ: 4,
+            field: "SSID",
+        }
+    } else {
+        surface(&c, 0, 2, ["SSID", "SSTYP"])?
+    };
     let master = if single_surface {
         warn_ignored(
             &c,
@@ -124,7 +149,7 @@ pub fn contact(
     must_be_blank(&c, 4, "SBOXID", "a box is")?;
     must_be_blank(&c, 5, "MBOXID", "a box is")?;
     let (mut fs, mut fd, mut dc) = (0.0, 0.0, 0.0);
-    if let Some(c2) = r.next(W10)? {
+    if let Some(c2) = r.next(W10).map(|c| c.filter(|_| !tied))? {
         fs = c2.f64_or(0, "FS", 0.0)?;
         fd = c2.f64_or(1, "FD", 0.0)?;
         dc = c2.f64_or(2, "DC", 0.0)?;
@@ -146,6 +171,7 @@ pub fn contact(
         src: r.src(c.line),
         single_surface,
         one_way,
+        tied,
         slave,
         master,
         fs,

@@ -557,6 +557,25 @@ fn duplicate_ids_name_both_lines() {
 }
 
 #[test]
+fn an_element_stretched_beyond_any_mesh_is_rejected() {
+    // node 7's z typed as 1.0e10 for 1.0: element 1 (its line) spans 1e10 in z and 1 in x
+    let t = with("7, 0., 0., 1.", "7, 0., 0., 1.0e10");
+    let e = err(&t);
+    assert_eq!(e.line, Some(line_of(&t, "1, 1, 1, 2, 5, 4")), "{e}");
+    assert!(
+        e.message.contains("element 1: its longest edge (1.000e10, nodes 1 and 7) is more than 1e6 times its shortest (1.000e0)"),
+        "{e}"
+    );
+    // a long thin element of aspect 1e5 is taken
+    parse(
+        &with("7, 0., 0., 1.", "7, 0., 0., 1.0e5")
+            .replace("11, 1., 1., 1.", "11, 1., 1., 1.0e5")
+            .replace("8, 1., 0., 1.", "8, 1., 0., 1.0e5")
+            .replace("10, 0., 1., 1.", "10, 0., 1., 1.0e5"),
+    );
+}
+
+#[test]
 fn inverted_element_is_rejected() {
     let t = with(
         "1, 1, 1, 2, 5, 4, 7, 8, 11, 10",

@@ -195,7 +195,65 @@ const MATERIALS: &[&str] = &[
     "*MAT_SIMPLIFIED_JOHNSON_COOK\n1, 7830., 2.0e11, 0.3\n7.92e8, 5.1e8, 0.26, 0.014, , , , 1.0",
     "*DEFINE_CURVE\n17, 0, 1., 1.0e6\n0., 250.\n0.1, 300.\n*MAT_PIECEWISE_LINEAR_PLASTICITY\n1, 7800., 2.0e11, 0.3, 1.0e8\n40.4, 5., 17",
     "*MAT_ELASTIC\n1,7800.0,2.0e11,0.3\n*MAT_ADD_SEPARATION\n1, 3, 1.0e6, 1.0, 100.0\n*INITIAL_VELOCITY\n\n1.0, 0., 0.",
+    "*MAT_PIECEWISE_LINEAR_PLASTICITY\n1, 7800., 2.0e11, 0.3, 1.0e8, 1.0e9, 0.05\n*MAT_ADD_EROSION\n1, , 5.0e9, , , , , 1\n-1.0e8, 3.0e8, 4.0e8, , , , , 1.0e-3",
+    "*MAT_JOHNSON_COOK\n1, 7830., 8.18e10, , 0.29\n7.92e8, 5.1e8, 0.26, 0.014, 1.03, 1793., 294., 1.0\n477., , , , 0.05, 3.44, -2.12, 0.002\n0.61, , 0, 1.0e-6",
+    "*DEFINE_TABLE\n31, 1., 0.\n1.0\n100.\n*DEFINE_CURVE\n21\n0., 2.5e8\n0.1, 3.0e8\n*DEFINE_CURVE\n22\n0., 3.5e8\n0.1, 4.5e8\n*MAT_024\n1, 7800., 2.0e11, 0.3\n0., 0., 31",
 ];
+
+/// What the tied and transformed-include seed adds to `common::BASE`: a block tied on the
+/// bar's top, and a piece read through `*INCLUDE_TRANSFORM` (offsets, a translation and a
+/// mirror).
+const TIED_AND_TRANSFORMED: &str = "\
+*PART
+cap
+2,1,1
+*NODE
+101,0.0,0.0,0.01
+102,0.01,0.0,0.01
+103,0.01,0.01,0.01
+104,0.0,0.01,0.01
+105,0.0,0.0,0.02
+106,0.01,0.0,0.02
+107,0.01,0.01,0.02
+108,0.0,0.01,0.02
+*ELEMENT_SOLID
+101,2,101,102,103,104,105,106,107,108
+*CONTACT_TIED_SURFACE_TO_SURFACE
+2,1,3,3
+*DEFINE_TRANSFORMATION
+3
+TRANSL,0.0,0.05,0.0
+MIRROR,0.0,0.0,0.0,0.0,-1.0,0.0
+*INCLUDE_TRANSFORM
+piece.k
+1000,1000,1000,1000,1000,1000,1000
+1000
+1.0,1.0,1.0
+3
+";
+
+/// The file [`TIED_AND_TRANSFORMED`] includes.
+const PIECE: &str = "*KEYWORD
+*PART
+piece
+1,1,1
+*SECTION_SOLID
+1,1
+*MAT_ELASTIC
+1,2700.,7.0e10,0.33
+*NODE
+1,0.0,0.0,0.0
+2,0.01,0.0,0.0
+3,0.01,0.01,0.0
+4,0.0,0.01,0.0
+5,0.0,0.0,0.01
+6,0.01,0.0,0.01
+7,0.01,0.01,0.01
+8,0.0,0.01,0.01
+*ELEMENT_SOLID
+1,1,1,2,3,4,5,6,7,8
+*END
+";
 
 /// The seeds, in a fixed order (a case's number picks among them).
 fn seeds(dir: &Path) -> Vec<Seed> {
@@ -220,6 +278,14 @@ fn seeds(dir: &Path) -> Vec<Seed> {
         }
         out.push(text(&format!("BASE with material {}", i + 1), t, 5));
     }
+    out.push(Seed {
+        name: "BASE with a tied block and a transformed include".into(),
+        text: common::BASE
+            .replacen("*END", &format!("{TIED_AND_TRANSFORMED}*END"), 1)
+            .into_bytes(),
+        beside: vec![("piece.k".into(), PIECE.as_bytes().to_vec())],
+        weight: 5,
+    });
     out.push(Seed {
         name: "examples/brazilian-disc".into(),
         text: read("examples/brazilian-disc/brazilian-disc.k"),

@@ -338,6 +338,17 @@ impl Builder<'_> {
                 ));
             }
             let x: [Vec3; 8] = conn.map(|i| m.x0[i as usize]);
+            if let Some((long, short, a, b)) = stretched(&x) {
+                return Err(self.err(
+                    &e.src,
+                    format!(
+                        "element {}: its longest edge ({long:.3e}, nodes {} and {}) is more than {MAX_ASPECT:.0e} times its shortest ({short:.3e}): check the node coordinates",
+                        e.id,
+                        m.node_ids[conn[a] as usize],
+                        m.node_ids[conn[b] as usize],
+                    ),
+                ));
+            }
             if let Some((k, j)) = first_bad_corner(shape, &x) {
                 let node = m.node_ids[conn[k] as usize];
                 return Err(self.err(
@@ -474,4 +485,43 @@ impl Builder<'_> {
 pub fn dedup<T: Copy + Eq + std::hash::Hash>(v: Vec<T>) -> Vec<T> {
     let mut seen = std::collections::HashSet::with_capacity(v.len());
     v.into_iter().filter(|x| seen.insert(*x)).collect()
+}
+
+/// The largest ratio of an element's longest edge to its shortest that a deck may give: far
+/// beyond any mesh (a sliver of 1e6 is already meaningless), and where one node's coordinate
+/// has gone astray (a typo, `-1.25e10` for `-0.0125`), which would otherwise make the element's
+/// faces span the whole model in the contact search.
+pub const MAX_ASPECT: f64 = 1e6;
+
+/// `Some((longest, shortest, a, b))` when the element's edges (of its stored hexahedral
+/// layout; the collapsed ones of wedges and tetrahedra left out) differ by more than
+/// [`MAX_ASPECT`]; `a`, `b` are the corners of the longest edge.
+fn stretched(x: &[Vec3; 8]) -> Option<(f64, f64, usize, usize)> {
+    const EDGES: [(usize, usize); 12] = [
+        (0, 1),
+        (1, 2),
+        (2, 3),
+        (3, 0),
+        (4, 5),
+        (5, 6),
+        (6, 7),
+        (7, 4),
+        (0, 4),
+        (1, 5),
+        (2, 6),
+        (3, 7),
+    ];
+    let len = |(a, b): (usize, usize)| cleave_core::math::norm(cleave_core::math::sub(x[a], x[b]));
+    let (mut long, mut at) = (0.0, (0, 0));
+    let mut short = f64::INFINITY;
+    for e in EDGES {
+        let l = len(e);
+        if l > long {
+            (long, at) = (l, e);
+        }
+        if l > 0.0 && l < short {
+            short = l;
+        }
+    }
+    (long > MAX_ASPECT * short).then_some((long, short, at.0, at.1))
 }

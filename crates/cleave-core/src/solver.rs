@@ -298,6 +298,11 @@ impl<'m> Solver<'m> {
             } else {
                 vec![false; ne]
             },
+            damage: if model.erosion.iter().any(|d| d.rule.johnson_cook.is_some()) {
+                vec![[0.0; 2]; ne]
+            } else {
+                Vec::new()
+            },
         };
         let nodal_pressure = NodalPressure::new(
             &model.conn,

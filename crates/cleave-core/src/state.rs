@@ -93,4 +93,8 @@ pub struct State {
     /// erodes.
     #[serde(default)]
     pub eroded: Vec<bool>,
+    /// Per element, its Johnson-Cook damage and the plastic strain that damage has counted
+    /// ([`crate::erosion::JcDamage`]); empty when no material accumulates it.
+    #[serde(default)]
+    pub damage: Vec<[f64; 2]>,
 }

@@ -40,12 +40,6 @@ pub struct History {
     /// hourglass forces, what it takes away when it erodes ([`crate::erosion`]).
     #[serde(default)]
     pub work: f64,
-    /// Johnson-Cook damage ([`crate::erosion::JcDamage`]), and the plastic strain it has
-    /// counted so far.
-    #[serde(default)]
-    pub damage: f64,
-    #[serde(default)]
-    pub damage_eps_p: f64,
 }
 
 /// A material law with its parameters precomputed for the kernel.

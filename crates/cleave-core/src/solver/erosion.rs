@@ -67,12 +67,12 @@ impl Erosion {
 /// temperature.
 fn accumulate_damage(er: &Erosion, model: &Model, st: &mut crate::state::State) {
     let dt = st.dt_prev;
-    let (stress, eroded) = (&st.stress, &st.eroded);
-    st.hist
+    let (stress, eroded, hist) = (&st.stress, &st.eroded, &st.hist);
+    st.damage
         .par_iter_mut()
         .enumerate()
         .with_min_len(1024)
-        .for_each(|(k, h)| {
+        .for_each(|(k, dmg)| {
             let r = er.rule[k];
             if r == u32::MAX || eroded[k] {
                 return;
@@ -85,11 +85,12 @@ fn accumulate_damage(er: &Erosion, model: &Model, st: &mut crate::state::State) 
             else {
                 return;
             };
-            let dep = h.eps_p - h.damage_eps_p;
+            let h = &hist[k];
+            let dep = h.eps_p - dmg[1];
             if dep > 0.0 {
                 let rate = if dt > 0.0 { dep / dt } else { 0.0 };
-                h.damage += dep / d.failure_strain(jc, &stress[k], rate, h.heat);
-                h.damage_eps_p = h.eps_p;
+                dmg[0] += dep / d.failure_strain(jc, &stress[k], rate, h.heat);
+                dmg[1] = h.eps_p;
             }
         });
 }
@@ -117,7 +118,8 @@ impl Solver<'_> {
                 let k = e as usize;
                 let h = &st.hist[k];
                 !st.eroded[k]
-                    && (h.damage >= 1.0 || er.rule_of(model, e).fails(&st.stress[k], h.eps_p, st.t))
+                    && (st.damage.get(k).is_some_and(|d| d[0] >= 1.0)
+                        || er.rule_of(model, e).fails(&st.stress[k], h.eps_p, st.t))
             })
             .collect();
         if failed.is_empty() {

@@ -181,37 +181,12 @@ fn visit(
                     let mut children = Vec::new();
                     for (line, name) in names(b) {
                         let at = |m: String| DeckError::at(&file, line, Some(kw), m);
-                        if chain.len() > MAX_DEPTH {
-                            return Err(at(format!(
-                                "includes nest deeper than {MAX_DEPTH} files"
-                            )));
-                        }
-                        let path = resolve(&name, &here, search).map_err(at)?;
-                        let shown = path.display().to_string();
-                        let key = canonical(&path);
-                        if let Some(k) = chain.iter().position(|f| canonical(Path::new(f)) == key) {
-                            return Err(at(format!(
-                                "'{name}' includes itself: {} -> {shown}",
-                                chain[k..].join(" -> ")
-                            )));
-                        }
-                        let bytes = std::fs::read(&path)
-                            .map_err(|e| at(format!("cannot read '{shown}': {e}")))?;
-                        if is_msh(&path) {
-                            sources.push(msh_source(&bytes, &shown)?);
-                            children.push(sources.len() - 1);
-                            continue;
-                        }
-                        sources.push(Source {
-                            file: shown.clone(),
-                            text: String::from_utf8_lossy(&bytes).into_owned(),
-                            includes: Vec::new(),
-                        });
-                        let child = sources.len() - 1;
-                        chain.push(shown);
-                        visit(child, in_xform, chain, main_dir, search, sources)?;
-                        chain.pop();
-                        children.push(child);
+                        let walk = Walk {
+                            here: &here,
+                            in_xform,
+                            main_dir,
+                        };
+                        children.push(walk.include(&name, at, chain, search, sources)?);
                     }
                     includes.push((b.line, children));
                 }
@@ -232,34 +207,12 @@ fn visit(
                     .next() else {
                         return Err(at(b.line, "missing card (the file name)".into()));
                     };
-                    if chain.len() > MAX_DEPTH {
-                        return Err(at(line, format!("includes nest deeper than {MAX_DEPTH} files")));
-                    }
-                    let path = resolve(&name, &here, search).map_err(|m| at(line, m))?;
-                    let shown = path.display().to_string();
-                    let key = canonical(&path);
-                    if let Some(k) = chain.iter().position(|f| canonical(Path::new(f)) == key) {
-                        return Err(at(
-                            line,
-                            format!("'{name}' includes itself: {} -> {shown}", chain[k..].join(" -> ")),
-                        ));
-                    }
-                    let bytes = std::fs::read(&path)
-                        .map_err(|e| at(line, format!("cannot read '{shown}': {e}")))?;
-                    if is_msh(&path) {
-                        sources.push(msh_source(&bytes, &shown)?);
-                        includes.push((b.line, vec![sources.len() - 1]));
-                        continue;
-                    }
-                    sources.push(Source {
-                        file: shown.clone(),
-                        text: String::from_utf8_lossy(&bytes).into_owned(),
-                        includes: Vec::new(),
-                    });
-                    let child = sources.len() - 1;
-                    chain.push(shown);
-                    visit(child, true, chain, main_dir, search, sources)?;
-                    chain.pop();
+                    let walk = Walk {
+                        here: &here,
+                        in_xform: true,
+                        main_dir,
+                    };
+                    let child = walk.include(&name, |m| at(line, m), chain, search, sources)?;
                     includes.push((b.line, vec![child]));
                 }
                 "*INCLUDE_PATH" | "*INCLUDE_PATH_RELATIVE" => {
@@ -287,6 +240,56 @@ fn visit(
     }
     sources[i].text = text;
     Ok(())
+}
+
+/// Where an include is read from: the including file's directory, whether it is read
+/// through an `*INCLUDE_TRANSFORM`, the main deck's directory.
+struct Walk<'a> {
+    here: &'a Path,
+    in_xform: bool,
+    main_dir: &'a Path,
+}
+
+impl Walk<'_> {
+    /// Reads the file `name` (and what it includes) into `sources`; returns its index. `at`
+    /// makes an error at the name's line. Errors: nesting too deep, a file not found, one that
+    /// includes itself, one that cannot be read.
+    fn include(
+        &self,
+        name: &str,
+        at: impl Fn(String) -> DeckError,
+        chain: &mut Vec<String>,
+        search: &mut Vec<PathBuf>,
+        sources: &mut Vec<Source>,
+    ) -> Result<usize, DeckError> {
+        if chain.len() > MAX_DEPTH {
+            return Err(at(format!("includes nest deeper than {MAX_DEPTH} files")));
+        }
+        let path = resolve(name, self.here, search).map_err(&at)?;
+        let shown = path.display().to_string();
+        let key = canonical(&path);
+        if let Some(k) = chain.iter().position(|f| canonical(Path::new(f)) == key) {
+            return Err(at(format!(
+                "'{name}' includes itself: {} -> {shown}",
+                chain[k..].join(" -> ")
+            )));
+        }
+        let bytes = std::fs::read(&path).map_err(|e| at(format!("cannot read '{shown}': {e}")))?;
+        if is_msh(&path) {
+            sources.push(msh_source(&bytes, &shown)?);
+            return Ok(sources.len() - 1);
+        }
+        sources.push(Source {
+            file: shown.clone(),
+            text: String::from_utf8_lossy(&bytes).into_owned(),
+            includes: Vec::new(),
+        });
+        let child = sources.len() - 1;
+        chain.push(shown);
+        visit(child, self.in_xform, chain, self.main_dir, search, sources)?;
+        chain.pop();
+        Ok(child)
+    }
 }
 
 /// True for a Gmsh mesh: a name ending in `.msh` (any case).

@@ -1289,7 +1289,9 @@ fn round_trip_model() -> Model {
                 rule: cleave_core::erosion::ErosionRule {
                     plastic_strain: Some(0.35),
                     min_pressure: Some(-1.0e9),
-                    ncs: 1,
+                    max_principal_strain: Some(0.3),
+                    volumetric_strain: Some(-0.2),
+                    ncs: 2,
                     ..Default::default()
                 },
             },

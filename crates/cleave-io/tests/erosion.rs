@@ -95,6 +95,29 @@ fn plastic_strain_at_failure_erodes_at_the_analytic_time() {
     }
 }
 
+/// The strain criteria of `*MAT_ADD_EROSION` on the same element (elastic): its strain is
+/// eps = ln(1 + V t / L) along x and 0 across, so MXEPS erodes it at eps = MXEPS, VOLEPS at
+/// eps = VOLEPS (ln V/V0 = eps) and EFFEPS at eps = 3/2 EFFEPS (the deviator's effective
+/// strain is 2/3 eps): each at the first step at or after its analytic time.
+#[test]
+fn strain_criteria_erode_at_the_analytic_time() {
+    for (card2, card1_tail, eps) in [
+        (", , , 0.01", "", 0.01),
+        ("", ", , , 0.012", 0.012),
+        ("", ", , 0.008", 1.5 * 0.008),
+    ] {
+        let mat = format!(
+            "*MAT_ELASTIC\n1, 7800., {E}, {NU}\n*MAT_ADD_EROSION\n1, , {card1_tail}\n{card2}\n"
+        );
+        let t_star = L * (f64::exp(eps) - 1.0) / V;
+        let (t, dt) = uniaxial_strain_erosion(&mat);
+        assert!(
+            t >= t_star * (1.0 - 1e-9) && t <= t_star + dt * 1.001,
+            "{mat}: eroded at {t:e}, analytic {t_star:e} (dt {dt:e})"
+        );
+    }
+}
+
 /// Johnson-Cook damage with a triaxiality term (`*MAT_015` D1 0.005, D2 0.02, D3 -0.1): in the
 /// same uniaxial strain the mean stress is K eps (K the bulk modulus) and the von Mises stress
 /// SIGY once yielding, so s* = K eps / SIGY and the damage is
@@ -281,9 +304,9 @@ fn refusals() {
     let el = "*MAT_ELASTIC\n1, 7800., 2.0e11, 0.3\n";
     for (deck, field, want) in [
         (
-            base(el, "1", "*MAT_ADD_EROSION\n1, , , 0.1\n"),
-            "MNEPS",
-            "a principal strain is not supported as an erosion criterion",
+            base(el, "1", "*MAT_ADD_EROSION\n1\n, , , , 0.1\n"),
+            "EPSSH",
+            "a shear strain is not supported as an erosion criterion",
         ),
         (
             base(el, "1", "*MAT_ADD_EROSION\n1, , 1.0e9, , , , , 2\n"),

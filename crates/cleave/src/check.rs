@@ -165,6 +165,10 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
             add("max principal stress >=", r.max_principal);
             add("von Mises stress >=", r.max_von_mises);
             add("time >=", r.failure_time);
+            add("max principal strain >=", r.max_principal_strain);
+            add("min principal strain <=", r.min_principal_strain);
+            add("effective strain >=", r.effective_strain);
+            add("volumetric strain reaching", r.volumetric_strain);
             if let Some(d) = r.johnson_cook {
                 what.push(format!(
                     "Johnson-Cook damage 1 (D1..D5 {:?}, EFMIN {:e})",

@@ -195,7 +195,7 @@ const MATERIALS: &[&str] = &[
     "*MAT_SIMPLIFIED_JOHNSON_COOK\n1, 7830., 2.0e11, 0.3\n7.92e8, 5.1e8, 0.26, 0.014, , , , 1.0",
     "*DEFINE_CURVE\n17, 0, 1., 1.0e6\n0., 250.\n0.1, 300.\n*MAT_PIECEWISE_LINEAR_PLASTICITY\n1, 7800., 2.0e11, 0.3, 1.0e8\n40.4, 5., 17",
     "*MAT_ELASTIC\n1,7800.0,2.0e11,0.3\n*MAT_ADD_SEPARATION\n1, 3, 1.0e6, 1.0, 100.0\n*INITIAL_VELOCITY\n\n1.0, 0., 0.",
-    "*MAT_PIECEWISE_LINEAR_PLASTICITY\n1, 7800., 2.0e11, 0.3, 1.0e8, 1.0e9, 0.05\n*MAT_ADD_EROSION\n1, , 5.0e9, , , , , 1\n-1.0e8, 3.0e8, 4.0e8, , , , , 1.0e-3",
+    "*MAT_PIECEWISE_LINEAR_PLASTICITY\n1, 7800., 2.0e11, 0.3, 1.0e8, 1.0e9, 0.05\n*MAT_ADD_EROSION\n1, , 5.0e9, , , , , 1\n-1.0e8, 3.0e8, 4.0e8, 0.5, , , , 1.0e-3",
     "*MAT_JOHNSON_COOK\n1, 7830., 8.18e10, , 0.29\n7.92e8, 5.1e8, 0.26, 0.014, 1.03, 1793., 294., 1.0\n477., , , , 0.05, 3.44, -2.12, 0.002\n0.61, , 0, 1.0e-6",
     "*DEFINE_TABLE\n31, 1., 0.\n1.0\n100.\n*DEFINE_CURVE\n21\n0., 2.5e8\n0.1, 3.0e8\n*DEFINE_CURVE\n22\n0., 3.5e8\n0.1, 4.5e8\n*MAT_024\n1, 7800., 2.0e11, 0.3\n0., 0., 31",
 ];

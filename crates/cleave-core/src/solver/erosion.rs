@@ -5,7 +5,9 @@ use rayon::prelude::*;
 
 use super::Solver;
 use crate::contact::surface::FaceId;
-use crate::erosion::ErosionRule;
+use crate::element::hex8::jacobian_at;
+use crate::erosion::{principal_log_strains, ErosionRule};
+use crate::math::{inverse, Mat3, Vec3};
 use crate::model::Model;
 
 /// The elements that may erode and, when the model has contact, the face neighbours whose
@@ -20,7 +22,12 @@ pub(super) struct Erosion {
     neighbours: Vec<[(u32, u8); 6]>,
     /// Some rule accumulates Johnson-Cook damage.
     damage: bool,
+    /// Per element, the inverse of its reference Jacobian at the centre, when some rule has a
+    /// strain criterion (else empty): F = J(x) J(x0)^-1 ([`crate::erosion::principal_log_strains`]).
+    ref_inv: Vec<Mat3>,
 }
+
+const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 impl Erosion {
     /// `None` when no material of `model` erodes.
@@ -49,11 +56,26 @@ impl Erosion {
             crate::topology::face_neighbours(model)
         };
         let damage = model.erosion.iter().any(|d| d.rule.johnson_cook.is_some());
+        let ref_inv = if model.erosion.iter().any(|d| d.rule.needs_strain()) {
+            model
+                .conn
+                .iter()
+                .map(|c| {
+                    let x0: [Vec3; 8] = c.map(|n| model.x0[n as usize]);
+                    // an element with a singular reference Jacobian is refused when the deck
+                    // is read; the identity keeps the strain finite regardless
+                    inverse(&jacobian_at(&x0, [0.0; 3])).unwrap_or(IDENTITY)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Some(Self {
             rule,
             candidates,
             neighbours,
             damage,
+            ref_inv,
         })
     }
 
@@ -110,6 +132,10 @@ impl Solver<'_> {
             accumulate_damage(er, model, &mut self.state);
         }
         let st = &self.state;
+        let strain = |k: usize| {
+            let x: [Vec3; 8] = model.conn[k].map(|n| st.x[n as usize]);
+            principal_log_strains(&jacobian_at(&x, [0.0; 3]), &er.ref_inv[k])
+        };
         let failed: Vec<u32> = er
             .candidates
             .par_iter()
@@ -119,7 +145,9 @@ impl Solver<'_> {
                 let h = &st.hist[k];
                 !st.eroded[k]
                     && (st.damage.get(k).is_some_and(|d| d[0] >= 1.0)
-                        || er.rule_of(model, e).fails(&st.stress[k], h.eps_p, st.t))
+                        || er
+                            .rule_of(model, e)
+                            .fails(&st.stress[k], h.eps_p, st.t, || strain(k)))
             })
             .collect();
         if failed.is_empty() {

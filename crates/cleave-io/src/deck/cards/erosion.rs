@@ -35,7 +35,7 @@ fn refused(c: &Card<'_>, i: usize, name: &str, what: &str, excl: f64) -> Result<
         None => Ok(()),
         Some(v) => Err(c.field_err(
             name,
-            format!("{v}: {what} is not supported as an erosion criterion (cleave takes MXPRES, MNPRES, SIGP1, SIGVM and FAILTM); leave it blank, 0 or EXCL"),
+            format!("{v}: {what} is not supported as an erosion criterion (cleave takes MXPRES, MNPRES, SIGP1, SIGVM, FAILTM, MXEPS, MNEPS, EFFEPS and VOLEPS); leave it blank, 0 or EXCL"),
         )),
     }
 }
@@ -43,24 +43,24 @@ fn refused(c: &Card<'_>, i: usize, name: &str, what: &str, excl: f64) -> Result<
 /// `*MAT_ADD_EROSION`: card 1 `MID EXCL MXPRES MNEPS EFFEPS VOLEPS NUMFIP NCS`, card 2
 /// `MNPRES SIGP1 SIGVM MXEPS EPSSH SIGTH IMPULSE FAILTM`; further cards (damage, forming
 /// limits, ...) must be blank. A criterion blank, 0 or equal to EXCL is not used. Taken:
-/// MXPRES, MNPRES, SIGP1, SIGVM, FAILTM and NCS (1 to the number of criteria given);
-/// strain criteria (MNEPS, EFFEPS, VOLEPS, MXEPS, EPSSH) and Tuler-Butcher (SIGTH,
-/// IMPULSE) are errors. NUMFIP is not used: a one-point element has one point, and an ELFORM 2
+/// MXPRES, MNPRES, SIGP1, SIGVM, FAILTM, the logarithmic-strain criteria MXEPS, MNEPS, EFFEPS,
+/// VOLEPS, and NCS (1 to the number of criteria given); the shear strain EPSSH and
+/// Tuler-Butcher (SIGTH, IMPULSE) are errors. NUMFIP is not used: a one-point element has one point, and an ELFORM 2
 /// element is checked on the mean of its points' stresses.
 pub fn add_erosion(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c1 = r.required(W10, "MID EXCL MXPRES MNEPS EFFEPS VOLEPS NUMFIP NCS")?;
     let mid = c1.id(0, "MID")?;
     let excl = c1.f64_or(1, "EXCL", 0.0)?;
     let max_pressure = criterion(&c1, 2, "MXPRES", excl)?;
-    refused(&c1, 3, "MNEPS", "a principal strain", excl)?;
-    refused(&c1, 4, "EFFEPS", "an effective strain", excl)?;
-    refused(&c1, 5, "VOLEPS", "a volumetric strain", excl)?;
+    let min_principal_strain = criterion(&c1, 3, "MNEPS", excl)?;
+    let effective_strain = criterion(&c1, 4, "EFFEPS", excl)?;
+    let volumetric_strain = criterion(&c1, 5, "VOLEPS", excl)?;
     let ncs = c1.i64_or(7, "NCS", 1)?;
     let c2 = r.card_or_defaults(W10)?;
     let min_pressure = criterion(&c2, 0, "MNPRES", excl)?;
     let max_principal = criterion(&c2, 1, "SIGP1", excl)?;
     let max_von_mises = criterion(&c2, 2, "SIGVM", excl)?;
-    refused(&c2, 3, "MXEPS", "a principal strain", excl)?;
+    let max_principal_strain = criterion(&c2, 3, "MXEPS", excl)?;
     refused(&c2, 4, "EPSSH", "a shear strain", excl)?;
     refused(&c2, 5, "SIGTH", "the Tuler-Butcher threshold", excl)?;
     refused(&c2, 6, "IMPULSE", "the Tuler-Butcher impulse", excl)?;
@@ -82,6 +82,10 @@ pub fn add_erosion(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErr
         max_principal,
         max_von_mises,
         failure_time,
+        max_principal_strain,
+        min_principal_strain,
+        effective_strain,
+        volumetric_strain,
         ncs: 1,
         plastic_strain: None,
         johnson_cook: None,

@@ -8,7 +8,9 @@
 //!   `x(xi, eta) = sum_a N_a(xi, eta) x_a` by Gauss-Newton from the centre. The node is tied to
 //!   the face when the projection lies on it (`|xi|, |eta| <= 1 + 1e-6`) within [`TOLERANCE`]
 //!   of its shorter diagonal. A slave node that finds no face stays free; the count is
-//!   reported (`Ties::untied`).
+//!   reported (`Ties::untied`). Each slave node is tested against every master face's box
+//!   (slaves times faces box tests, once per run: fine for interfaces of thousands of faces;
+//!   much larger ones would want a spatial grid).
 //! - **Constraint** (kinematic, [`crate::solver::Solver`]): the slave node's mass goes to the
 //!   face's nodes with the weights `N_a(xi, eta)` (`m_a += N_a m_s`, `m_s = 0`), and so does
 //!   its force after each force assembly (`f_a += N_a f_s`). After the velocity update its

@@ -26,19 +26,21 @@ impl Solver<'_> {
         }
         let m = self.model;
         let id = |n: u32| m.node_ids[n as usize];
-        let constrained: Vec<u32> = (self.setup.spc.iter().map(|s| s.0))
-            .chain(
-                self.setup
-                    .node_motion
-                    .iter()
-                    .filter_map(|p| match p.target {
-                        MotionTarget::Node(n) => Some(n),
-                        _ => None,
-                    }),
-            )
-            .collect();
+        // a mask, not a list: a lookup per tie
+        let mut constrained = vec![false; m.num_nodes()];
+        let moved = self
+            .setup
+            .node_motion
+            .iter()
+            .filter_map(|p| match p.target {
+                MotionTarget::Node(n) => Some(n),
+                _ => None,
+            });
+        for n in self.setup.spc.iter().map(|s| s.0).chain(moved) {
+            constrained[n as usize] = true;
+        }
         for t in &ties.ties {
-            if constrained.contains(&t.slave) {
+            if constrained[t.slave as usize] {
                 return Err(SolverError::Setup(format!(
                     "node {} is a tied contact's slave node and has an SPC or a prescribed motion: constrain the face it is tied to instead",
                     id(t.slave)

@@ -90,8 +90,8 @@ pub struct ExampleArgs {
     /// Override the end time.
     #[arg(long = "end-time")]
     pub end_time: Option<f64>,
-    /// Mesh size, where the example has several (ball-impact: 256, 425, 648, 2800, 8775 or
-    /// 20000 elements in the ball; fragmenting-bar: any number of elements along the bar,
+    /// Mesh size, where the example has several (ball-impact: 256, 425, 648, 2800, 8775,
+    /// 20000, 160000 or 1097440 elements in the ball; fragmenting-bar: any number of elements along the bar,
     /// 20 per characteristic length).
     #[arg(long)]
     pub elements: Option<usize>,

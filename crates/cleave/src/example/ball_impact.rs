@@ -2,7 +2,8 @@
 //!
 //! - Ball: diameter 10 mm, centred at the origin, an O-grid hexahedral sphere
 //!   ([`ogrid_sphere`]) of one of the paper's six sizes (Table II: 256, 425, 648, 2800, 8775,
-//!   20000 elements with 321, 520, 779, 3137, 9504, 21271 nodes).
+//!   20000 elements with 321, 520, 779, 3137, 9504, 21271 nodes), or one of two larger ones
+//!   of the same family for scaling runs ([`LARGE_BALL_SIZES`]: 160,000 and 1,097,440).
 //! - Alumina (Table I): `*MAT_ELASTIC` E 366 GPa, rho 3960 kg/m^3, nu 0.22, with
 //!   `*MAT_ADD_SEPARATION` MODEL 1 SIGMAX 310 MPa (the tensile strength): an interface fails
 //!   when the normal stress across it reaches 310 MPa.
@@ -33,6 +34,12 @@ pub const BALL_SIZES: [(usize, usize, usize, usize); 6] = [
     (8775, 9504, 15, 4),
     (20000, 21271, 20, 5),
 ];
+/// Larger balls of the same O-grid family as the paper's 20000 (n = 4 m), for measuring how
+/// fragmenting runs scale on many cores (issue 34): m = 10 gives 160,000 elements, m = 19 the
+/// first size of the family past a million, 1,097,440. Elements `n^3 + 6 n^2 m`, nodes
+/// `(n + 1)^3 + m (6 n^2 + 2)`.
+pub const LARGE_BALL_SIZES: [(usize, usize, usize, usize); 2] =
+    [(160_000, 164_941, 40, 10), (1_097_440, 1_115_035, 76, 19)];
 pub const DEFAULT_ELEMENTS: usize = 2800;
 /// The paper's simulated time.
 pub const END_TIME: f64 = 10e-3;
@@ -57,11 +64,16 @@ pub const SLSFAC: f64 = 0.2;
 /// Gap between the ball and the plate (m).
 pub const GAP: f64 = 1e-4;
 
-/// The ball-impact model with a ball of `elements` elements (one of [`BALL_SIZES`]) and the
-/// end time `end_time`; an error message for any other size.
+/// Every ball size: the paper's six, then the large ones.
+fn all_sizes() -> impl Iterator<Item = &'static (usize, usize, usize, usize)> {
+    BALL_SIZES.iter().chain(LARGE_BALL_SIZES.iter())
+}
+
+/// The ball-impact model with a ball of `elements` elements (one of [`BALL_SIZES`] or
+/// [`LARGE_BALL_SIZES`]) and the end time `end_time`; an error message for any other size.
 pub fn ball_impact(elements: usize, end_time: f64) -> Result<Model, String> {
-    let Some(&(_, _, n, m)) = BALL_SIZES.iter().find(|s| s.0 == elements) else {
-        let allowed: Vec<String> = BALL_SIZES.iter().map(|s| s.0.to_string()).collect();
+    let Some(&(_, _, n, m)) = all_sizes().find(|s| s.0 == elements) else {
+        let allowed: Vec<String> = all_sizes().map(|s| s.0.to_string()).collect();
         return Err(format!(
             "--elements {elements}: ball-impact has meshes of {} elements only",
             allowed.join(", ")
@@ -153,4 +165,29 @@ pub fn ball_impact(elements: usize, end_time: f64) -> Result<Model, String> {
         history_solids: vec![lowest, centre],
     };
     Ok(model)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every listed size is what the O-grid builds: n^3 + 6 n^2 m elements and
+    /// (n + 1)^3 + m (6 n^2 + 2) nodes, and the large ones keep the family's n = 4 m.
+    #[test]
+    fn listed_sizes_are_what_the_mesh_builds() {
+        for &(elements, nodes, n, m) in all_sizes() {
+            let s = ogrid_sphere(RADIUS, n, m);
+            assert_eq!(s.conn.len(), elements, "n={n} m={m}");
+            assert_eq!(s.x.len(), nodes, "n={n} m={m}");
+        }
+        for &(_, _, n, m) in &LARGE_BALL_SIZES {
+            assert_eq!(n, 4 * m);
+        }
+    }
+
+    #[test]
+    fn other_sizes_are_refused_with_the_list() {
+        let e = ball_impact(1_000_000, 1e-6).err().expect("not a listed size");
+        assert!(e.contains("160000, 1097440"), "{e}");
+    }
 }

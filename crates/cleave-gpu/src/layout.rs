@@ -1,24 +1,37 @@
 //! The model as the GPU reads it: flat arrays built once on the host.
 //!
-//! - `par` (f64): the materials (`MAT_STRIDE` values each: density, Lame lambda, shear modulus,
-//!   wave speed, step speed, law 0 elastic / 1 bilinear plastic, SIGY, Hp, beta), then the
-//!   curves (n, abscissae, ordinates), the body loads (axis, curve offset or -1, SF) and the
+//! - `par` (f64): the material slots (`MAT_STRIDE` values each: density, Lame lambda, shear
+//!   modulus, wave speed, step speed, law 0 elastic / 1 bilinear plastic, SIGY, Hp, beta, then
+//!   the element controls of the part: hourglass form 0 viscous / 1 stiffness, QH, Q1, Q2), then
+//!   the curves (n, abscissae, ordinates), the body loads (axis, curve offset or -1, SF), the
+//!   node actions (`NODE_STRIDE` values each, see [`NODE_STRIDE`]) and the planar rigid walls
+//!   (a point, the unit normal, FRIC);
+//! - `emat`: each element's material slot. A slot is one material with one part's controls
+//!   (its `*HOURGLASS`, else the global cards: `cleave_core::solver::kernel_controls`), so parts
+//!   that share a material but not their hourglass control get slots of their own;
 //! - `nptr`/`ninc`: for each node, its element corners `8 e + a` in element order (the order
 //!   its forces are summed in, so the sum is the same bits every run);
-//!   prescribed nodal motions (axis, VAD 0 velocity / 1 displacement, SF, curve offset, the
-//!   node's initial coordinate on the axis) and the planar rigid walls (a point, the unit
-//!   normal, FRIC);
 //! - `nflag`: the SPC bits of each node (1 x, 2 y, 4 z), and 8 << w for each rigid wall w
 //!   that stops it;
-//! - `mptr`: for each node, its prescribed motions (in the deck's order).
+//! - `mptr`: for each node, its node actions: its concentrated loads and the pressure segments
+//!   it carries (in the order the CPU adds them: `cleave_core::loads`), then its prescribed
+//!   motions (in the deck's order).
 
 use cleave_core::material::SolidLaw;
 use cleave_core::math::{norm, scale, sub};
-use cleave_core::model::{Model, MotionTarget, Vad};
+use cleave_core::model::{Hourglass, Model, MotionTarget, Vad};
 use cleave_core::setup::Setup;
+use cleave_core::solver::kernel_controls;
 
-/// Values per material in `par`.
-pub const MAT_STRIDE: usize = 10;
+/// Values per material slot in `par`.
+pub const MAT_STRIDE: usize = 13;
+/// Values per node action in `par` (at `mot_off + NODE_STRIDE k`), the first its kind:
+/// - 0, a prescribed motion: axis, VAD 0 velocity / 1 displacement, SF, curve offset, the
+///   node's initial coordinate on the axis;
+/// - 1, a concentrated load (`*LOAD_NODE`): axis, SF, curve offset;
+/// - 2, a pressure segment (`*LOAD_SEGMENT`) the node carries: SF, curve offset, birth time,
+///   then its nodes N1 N2 N3 N4 (a triangle `N1 N2 N3 N3`).
+pub const NODE_STRIDE: usize = 8;
 /// The most rigid walls (the bits of `nflag` above the SPC's, the ledger's partial sums).
 pub const MAX_WALLS: usize = 8;
 
@@ -44,15 +57,44 @@ impl Layout {
     pub fn new(model: &Model, setup: &Setup) -> Self {
         let nn = model.num_nodes();
         let mut par = Vec::new();
-        // the materials, then again with the free-element step for the lone elements
-        for p in setup.params.iter().chain(&setup.loose_params) {
+        // the material slots: each element's material (again with the free-element step for
+        // the lone elements) with its part's controls, in the order the elements first use them
+        let controls = kernel_controls(model);
+        let mut slots: Vec<(u32, usize)> = Vec::new();
+        let mut emat = Vec::with_capacity(model.num_elements());
+        for (e, (&m, &lone)) in setup.elem_mat.iter().zip(&setup.lone).enumerate() {
+            let base = m + if lone { setup.params.len() as u32 } else { 0 };
+            let part = model.elem_part[e] as usize;
+            // parts with equal controls share a slot
+            let class = controls
+                .iter()
+                .position(|c| *c == controls[part])
+                .unwrap_or(part);
+            let key = (base, class);
+            let slot = match slots.iter().position(|k| *k == key) {
+                Some(k) => k,
+                None => {
+                    slots.push(key);
+                    slots.len() - 1
+                }
+            };
+            emat.push(slot as u32);
+        }
+        let all: Vec<_> = setup.params.iter().chain(&setup.loose_params).collect();
+        for &(base, class) in &slots {
             let mut m = [0.0; MAT_STRIDE];
-            if let Some(p) = p {
+            if let Some(p) = all[base as usize] {
                 m[..5].copy_from_slice(&[p.density, p.lambda, p.shear, p.wave_speed, p.step_speed]);
                 if let SolidLaw::PlasticKinematic { sigy, hp, beta } = p.law {
                     m[5..9].copy_from_slice(&[1.0, sigy, hp, beta]);
                 }
             }
+            let c = &controls[class];
+            let form = match c.hourglass {
+                Hourglass::Viscous => 0.0,
+                Hourglass::Stiffness => 1.0,
+            };
+            m[9..].copy_from_slice(&[form, c.qh, c.q1, c.q2]);
             par.extend_from_slice(&m);
         }
         let mut curve_off = Vec::with_capacity(model.curves.len());
@@ -67,27 +109,50 @@ impl Layout {
             par.extend_from_slice(&[b.axis as f64, b.curve.map_or(-1.0, |c| curve_off[c]), b.sf]);
         }
         let mot_off = par.len() as u32;
-        let mut motions: Vec<(u32, usize)> = (setup.node_motion.iter().enumerate())
-            .filter_map(|(k, m)| match m.target {
-                MotionTarget::Node(n) => Some((n, k)),
-                _ => None,
-            })
-            .collect();
-        motions.sort_by_key(|&(n, _)| n); // stable: a node's motions stay in the deck's order
-        let mut mptr = vec![0u32; nn + 1];
-        for &(n, k) in &motions {
-            let m = &setup.node_motion[k];
-            mptr[n as usize + 1] += 1;
-            par.extend_from_slice(&[
-                m.axis as f64,
-                match m.vad {
+        // (node, action) in the order each node runs them: loads first (node loads, then
+        // pressure segments, as `Loads::apply` adds them), then prescribed motions; the sort is
+        // stable, so a node's actions keep that order
+        let mut actions: Vec<(u32, [f64; NODE_STRIDE])> = Vec::new();
+        for l in &model.node_loads {
+            let mut a = [0.0; NODE_STRIDE];
+            a[..4].copy_from_slice(&[1.0, l.axis as f64, l.sf, curve_off[l.curve]]);
+            actions.push((l.node, a));
+        }
+        for l in &model.pressure_loads {
+            let pts = if l.nodes[3] == l.nodes[2] { 3 } else { 4 };
+            let mut a = [2.0, l.sf, curve_off[l.curve], l.at, 0.0, 0.0, 0.0, 0.0];
+            for (k, &n) in l.nodes.iter().enumerate() {
+                a[4 + k] = n as f64;
+            }
+            for &n in &l.nodes[..pts] {
+                actions.push((n, a));
+            }
+        }
+        for m in &setup.node_motion {
+            if let MotionTarget::Node(n) = m.target {
+                let vad = match m.vad {
                     Vad::Velocity => 0.0,
                     Vad::Displacement => 1.0,
-                },
-                m.sf,
-                curve_off[m.curve],
-                model.x0[n as usize][m.axis],
-            ]);
+                };
+                let x0 = model.x0[n as usize][m.axis];
+                let a = [
+                    0.0,
+                    m.axis as f64,
+                    vad,
+                    m.sf,
+                    curve_off[m.curve],
+                    x0,
+                    0.0,
+                    0.0,
+                ];
+                actions.push((n, a));
+            }
+        }
+        actions.sort_by_key(|&(n, _)| n);
+        let mut mptr = vec![0u32; nn + 1];
+        for (n, a) in &actions {
+            mptr[*n as usize + 1] += 1;
+            par.extend_from_slice(a);
         }
         for i in 0..nn {
             mptr[i + 1] += mptr[i];
@@ -137,9 +202,7 @@ impl Layout {
             mot_off,
             wall_off,
             conn: model.conn.iter().flatten().copied().collect(),
-            emat: (setup.elem_mat.iter().zip(&setup.lone))
-                .map(|(&m, &lone)| m + if lone { setup.params.len() as u32 } else { 0 })
-                .collect(),
+            emat,
             nptr,
             ninc,
             nflag,

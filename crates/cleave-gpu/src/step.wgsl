@@ -1,6 +1,7 @@
 // The explicit step of cleave on a GPU: one-point hexahedra (Flanagan-Belytschko hourglass
 // control, bulk viscosity, Hughes-Winget objective update, elastic and bilinear plastic
-// materials), the time step, the central-difference update with body loads, SPC and
+// materials, each part's hourglass control and bulk viscosity), the time step, the
+// central-difference update with body loads, concentrated and pressure loads, SPC and
 // prescribed nodal motion, and the energy ledger. A port of the CPU step (cleave-core:
 // element/kernel.rs, element/hex8.rs, material/, solver.rs), operation for operation; the
 // Rust doc comments there carry the formulas and their sources.
@@ -23,7 +24,7 @@ struct Params {
     n_body: u32,
     body_off: u32,
     mot_off: u32,
-    hourglass: u32,
+    pad0: u32,
     n_walls: u32,
     wall_off: u32,
     // values each node adds up for the ledger: 6 (kinetic energy, momentum, the work of the
@@ -74,9 +75,6 @@ const TSSFAC: u32 = 18u;
 const DT_INIT: u32 = 19u;
 const DT_MIN: u32 = 20u;
 const END_TIME: u32 = 21u;
-const Q1: u32 = 22u;
-const Q2: u32 = 23u;
-const QH: u32 = 24u;
 const DT_MID: u32 = 26u;
 const W_HALF: u32 = 27u;
 const DT_CRIT: u32 = 28u;
@@ -90,7 +88,8 @@ const DT_ELEM: u32 = 4u;
 const PENDING_X: u32 = 5u;
 const FINISHED: u32 = 6u;
 
-const MAT_STRIDE: u32 = 10u;
+const MAT_STRIDE: u32 = 13u;
+const NODE_STRIDE: u32 = 8u;
 const BIG: f64 = 1.7976931348623157e308lf;
 
 fn halted() -> bool {
@@ -281,12 +280,18 @@ struct Mat {
     sigy: f64,
     hp: f64,
     beta: f64,
+    // the part's element controls: hourglass form (0 viscous, 1 stiffness), QH, Q1, Q2
+    hg: f64,
+    qh: f64,
+    q1: f64,
+    q2: f64,
 }
 
 fn material(m: u32) -> Mat {
     let o = m * MAT_STRIDE;
     return Mat(par[o], par[o + 1u], par[o + 2u], par[o + 3u], par[o + 4u], par[o + 5u],
-               par[o + 6u], par[o + 7u], par[o + 8u]);
+               par[o + 6u], par[o + 7u], par[o + 8u], par[o + 9u], par[o + 10u], par[o + 11u],
+               par[o + 12u]);
 }
 
 struct Point {
@@ -362,8 +367,9 @@ fn element(e: u32) -> ElemOut {
     }
     let m = material(emat[e]);
     let dt_prev = cf[DT_PREV];
-    let q1 = cf[Q1];
-    let q2 = cf[Q2];
+    let q1 = m.q1;
+    let q2 = m.q2;
+    let stiff = m.hg > 0.5lf;
     let jn = centre_jacobian(x);
     let detn = det3(jn);
     if (!positive(detn)) {
@@ -446,14 +452,14 @@ fn element(e: u32) -> ElemOut {
         }
     }
     var coef: f64;
-    if (prm.hourglass == 1u) {
+    if (stiff) {
         var bb = 0.0lf;
         for (var a = 0u; a < 8u; a = a + 1u) {
             bb = bb + (b[a][0] * b[a][0] + b[a][1] * b[a][1] + b[a][2] * b[a][2]);
         }
-        coef = cf[QH] * (m.lambda + 2.0lf * m.shear) * vol * bb / 8.0lf * dt_prev;
+        coef = m.qh * (m.lambda + 2.0lf * m.shear) * vol * bb / 8.0lf * dt_prev;
     } else {
-        coef = cf[QH] * m.density * m.wave_speed * l_vol * l_vol / 4.0lf;
+        coef = m.qh * m.density * m.wave_speed * l_vol * l_vol / 4.0lf;
     }
     var de_hg = 0.0lf;
     for (var al = 0u; al < 4u; al = al + 1u) {
@@ -465,7 +471,7 @@ fn element(e: u32) -> ElemOut {
             let k = 12u * e + 3u * al + i;
             let old = hgf[k];
             var fnew = coef * qd[i];
-            if (prm.hourglass == 1u) {
+            if (stiff) {
                 fnew = old + coef * qd[i];
             }
             hgf[k] = fnew;
@@ -728,6 +734,38 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
                 f = f + vec3<f64>(fe_hi[o], fe_hi[o + 1u], fe_hi[o + 2u]);
             }
         }
+        let t = cf[T];
+        // the node's concentrated loads and pressure segments at t^n (loads.rs), summed apart
+        // for their work
+        var fl = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+        for (var k = mptr[n]; k < mptr[n + 1u]; k = k + 1u) {
+            let o = prm.mot_off + NODE_STRIDE * k;
+            let kind = par[o];
+            if (kind < 0.5lf) {
+                continue;
+            }
+            if (kind < 1.5lf) {
+                fl[u32(par[o + 1u])] = fl[u32(par[o + 1u])] + par[o + 2u] * curve_eval(u32(par[o + 3u]), t);
+                continue;
+            }
+            var p = 0.0lf;
+            if (t >= par[o + 3u]) {
+                p = par[o + 1u] * curve_eval(u32(par[o + 2u]), t);
+            }
+            if (p != 0.0lf) {
+                let n3 = u32(par[o + 6u]);
+                let n4 = u32(par[o + 7u]);
+                var pts = 4.0lf;
+                if (n4 == n3) {
+                    pts = 3.0lf;
+                }
+                let x1 = ld(0u, u32(par[o + 4u]));
+                let x2 = ld(0u, u32(par[o + 5u]));
+                let area = cross(ld(0u, n3) - x1, ld(0u, n4) - x2) * 0.5lf;
+                fl = fl + area * (-p / pts);
+            }
+        }
+        f = f + fl;
         let dt_mid = cf[DT_MID];
         let dp = cf[DT_PREV];
         let dt = cf[DT];
@@ -740,8 +778,12 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
             dv = f * (dt_mid / m);
         }
         var v = ld(1u, n);
+        // the loads' impulse F dt_mid: half its work on v^(n-1/2) now, half on v^(n+1/2) as
+        // updated (before the constraints) at the next step, as the CPU books it
+        acc[4] = acc[4] + 0.5lf * dot(fl, v) * dt_mid;
         var vn = v + dv * (2.0lf * w2);
         v = v + dv;
+        acc[5] = acc[5] + 0.5lf * dot(fl, v) * dt_mid;
         let w = cf[W_HALF];
         // SPC, then the prescribed motions of the node in the deck's order
         let flags = nflag[n];
@@ -759,16 +801,18 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
             acc[4] = acc[4] + r.now;
             acc[5] = acc[5] + r.later;
         }
-        let t = cf[T];
         for (var k = mptr[n]; k < mptr[n + 1u]; k = k + 1u) {
-            let o = prm.mot_off + 5u * k;
-            let axis = u32(par[o]);
-            let c = u32(par[o + 3u]);
+            let o = prm.mot_off + NODE_STRIDE * k;
+            if (par[o] > 0.5lf) {
+                continue;
+            }
+            let axis = u32(par[o + 1u]);
+            let c = u32(par[o + 4u]);
             var vc = v;
-            if (par[o + 1u] < 0.5lf) {
-                vc[axis] = par[o + 2u] * curve_eval(c, t + 0.5lf * dt);
+            if (par[o + 2u] < 0.5lf) {
+                vc[axis] = par[o + 3u] * curve_eval(c, t + 0.5lf * dt);
             } else {
-                let goal = par[o + 4u] + par[o + 2u] * curve_eval(c, t + dt);
+                let goal = par[o + 5u] + par[o + 3u] * curve_eval(c, t + dt);
                 vc[axis] = (goal - xs[3u * n + axis]) / dt;
             }
             let r = constrain(m, w, v, vn, vc);

@@ -13,7 +13,6 @@ use std::time::Instant;
 
 use cleave_core::error::SolverError;
 use cleave_core::math::Vec3;
-use cleave_core::model::Hourglass;
 use cleave_core::solver::{Observer, RunError, Solver};
 use wgpu::util::DeviceExt;
 
@@ -37,9 +36,6 @@ mod cf {
     pub const DT_INIT: usize = 19;
     pub const DT_MIN: usize = 20;
     pub const END_TIME: usize = 21;
-    pub const Q1: usize = 22;
-    pub const Q2: usize = 23;
-    pub const QH: usize = 24;
     pub const WALL_FORCE: usize = 32;
     pub const LEN: usize = 64;
 }
@@ -70,7 +66,7 @@ struct Params {
     n_body: u32,
     body_off: u32,
     mot_off: u32,
-    hourglass: u32,
+    pad0: u32,
     n_walls: u32,
     wall_off: u32,
     n_part: u32,
@@ -109,9 +105,6 @@ fn control_block(solver: &Solver) -> [f64; cf::LEN] {
     f[cf::DT_INIT] = c.dt_init;
     f[cf::DT_MIN] = c.dt_min;
     f[cf::END_TIME] = c.end_time;
-    f[cf::Q1] = c.q1;
-    f[cf::Q2] = c.q2;
-    f[cf::QH] = c.qh;
     f
 }
 
@@ -212,10 +205,7 @@ impl GpuStepper {
             n_body: lay.n_body,
             body_off: lay.body_off,
             mot_off: lay.mot_off,
-            hourglass: match model.control.hourglass {
-                Hourglass::Viscous => 0,
-                Hourglass::Stiffness => 1,
-            },
+            pad0: 0,
             n_walls: model.rigid_walls.len() as u32,
             wall_off: lay.wall_off,
             n_part: n_part as u32,

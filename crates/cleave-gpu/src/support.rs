@@ -1,9 +1,10 @@
 //! What the GPU step does not run yet: a deck that asks for it is refused by name.
 //!
 //! Runs on the GPU: one-point hexahedra (ELFORM 1) with viscous or stiffness hourglass
-//! control and bulk viscosity, `*MAT_ELASTIC` and `*MAT_PLASTIC_KINEMATIC`, the time step
-//! (TSSFAC, DTINIT, DTMIN, ENDTIM), `*LOAD_BODY`, SPC and `*BOUNDARY_PRESCRIBED_MOTION_NODE`/
-//! `_SET`, up to 8 `*RIGIDWALL_PLANAR`, the energy ledger, and every output (states and histories are read back at their
+//! control and bulk viscosity (global or each part's `*HOURGLASS`), `*MAT_ELASTIC` and
+//! `*MAT_PLASTIC_KINEMATIC`, the time step (TSSFAC, DTINIT, DTMIN, ENDTIM), `*LOAD_BODY`,
+//! `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`,
+//! up to 8 `*RIGIDWALL_PLANAR`, the energy ledger, and every output (states and histories are read back at their
 //! times).
 
 use cleave_core::element::Shape;
@@ -34,17 +35,8 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
             crate::layout::MAX_WALLS
         ));
     }
-    if model.parts.iter().any(|p| p.hourglass.is_some()) {
-        return Some("a part's own hourglass control (*HOURGLASS, HGID on *PART)".into());
-    }
     if !setup.rigid.is_empty() {
         return Some("rigid bodies (*MAT_RIGID, *CONSTRAINED_NODAL_RIGID_BODY)".into());
-    }
-    if !model.node_loads.is_empty() {
-        return Some("concentrated loads (*LOAD_NODE_...)".into());
-    }
-    if !model.pressure_loads.is_empty() {
-        return Some("pressure loads (*LOAD_SEGMENT...)".into());
     }
     if setup
         .node_motion

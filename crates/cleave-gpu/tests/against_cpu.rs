@@ -15,7 +15,8 @@ use cleave_core::curve::Curve;
 use cleave_core::math::Vec3;
 use cleave_core::mesh::box_model;
 use cleave_core::model::{
-    BodyLoad, Hourglass, Material, MaterialKind, Model, MotionTarget, PrescribedMotion, Spc, Vad,
+    BodyLoad, Hourglass, HourglassDef, Material, MaterialKind, Model, MotionTarget, NodeLoad, Part,
+    PrescribedMotion, PressureLoad, Spc, Vad,
 };
 use cleave_core::solver::{Observer, Solver};
 use cleave_gpu::{Gpu, GpuStepper};
@@ -175,9 +176,91 @@ fn compare(a: &Row, b: &Row) -> [f64; 4] {
     ]
 }
 
+/// The block of [`block`] with its upper half a part of its own under `*HOURGLASS` (the other
+/// form, its own QH, Q1, Q2), and instead of the prescribed motion on the top: a concentrated
+/// load down on each top node, a pressure on the top face's quadrilaterals that starts at a
+/// birth time, and one triangle `N1 N2 N3 N3` pressed from the side.
+fn loaded_block(hourglass: Hourglass) -> Model {
+    let mut m = block(hourglass);
+    m.prescribed.clear();
+    let other = match hourglass {
+        Hourglass::Viscous => Hourglass::Stiffness,
+        Hourglass::Stiffness => Hourglass::Viscous,
+    };
+    m.hourglass.push(HourglassDef {
+        id: 7,
+        hourglass: other,
+        qh: 0.08,
+        q1: 1.2,
+        q2: 0.1,
+    });
+    let mut upper = m.parts[0].clone();
+    upper.id = 2;
+    upper.hourglass = Some(0);
+    m.parts.push(Part { ..upper });
+    for e in 0..m.num_elements() {
+        let zc: f64 = m.conn[e].iter().map(|&n| m.x0[n as usize][2]).sum::<f64>() / 8.0;
+        if zc > 0.03 {
+            m.elem_part[e] = 1;
+        }
+    }
+    let node = |x: f64, y: f64, z: f64| -> u32 {
+        (m.x0
+            .iter()
+            .position(|p| (p[0] - x).abs() + (p[1] - y).abs() + (p[2] - z).abs() < 1e-9))
+        .expect("a grid node") as u32
+    };
+    let h = 0.01;
+    let mut loads = Vec::new();
+    let mut segments = Vec::new();
+    for i in 0..=3 {
+        for j in 0..=3 {
+            let (x, y) = (i as f64 * h, j as f64 * h);
+            loads.push(NodeLoad {
+                node: node(x, y, 0.06),
+                axis: 2,
+                curve: 0,
+                sf: -2e4 * (1.0 + i as f64),
+            });
+            if i < 3 && j < 3 {
+                let n = [
+                    node(x, y, 0.06),
+                    node(x + h, y, 0.06),
+                    node(x + h, y + h, 0.06),
+                    node(x, y + h, 0.06),
+                ];
+                segments.push(PressureLoad {
+                    nodes: n,
+                    curve: 0,
+                    sf: 2e8 * (1.0 + j as f64),
+                    at: 2e-6,
+                });
+            }
+        }
+    }
+    // a triangle on the side x = 0, pressing along +x
+    segments.push(PressureLoad {
+        nodes: [
+            node(0.0, 0.0, 0.04),
+            node(0.0, 0.01, 0.04),
+            node(0.0, 0.0, 0.05),
+            node(0.0, 0.0, 0.05),
+        ],
+        curve: 0,
+        sf: 3e8,
+        at: 0.0,
+    });
+    m.node_loads = loads;
+    m.pressure_loads = segments;
+    m
+}
+
 fn check(hourglass: Hourglass) {
+    compare_runs(block(hourglass), &format!("{hourglass:?}"));
+}
+
+fn compare_runs(m: Model, name: &str) {
     let Some(g) = gpu() else { return };
-    let m = block(hourglass);
     let every = m.control.end_time / 7.0;
     let cpu = run_cpu(&m, every);
     let (gpu1, g) = run_gpu(g, &m, every);
@@ -194,7 +277,7 @@ fn check(hourglass: Hourglass) {
             worst[k] = worst[k].max(d[k]);
         }
     }
-    eprintln!("{hourglass:?}: largest relative differences GPU - CPU: x {:.1e}, v {:.1e}, stress {:.1e}, energies {:.1e}", worst[0], worst[1], worst[2], worst[3]);
+    eprintln!("{name}: largest relative differences GPU - CPU: x {:.1e}, v {:.1e}, stress {:.1e}, energies {:.1e}", worst[0], worst[1], worst[2], worst[3]);
     assert!(worst.iter().all(|&d| d < 1e-10), "{worst:?}");
     // the block yields: the plastic branch ran
     let last = cpu.last().unwrap();
@@ -213,4 +296,25 @@ fn viscous_hourglass_matches_the_cpu() {
 #[test]
 fn stiffness_hourglass_matches_the_cpu() {
     check(Hourglass::Stiffness);
+}
+
+#[test]
+fn loads_and_part_hourglass_match_the_cpu() {
+    for hourglass in [Hourglass::Viscous, Hourglass::Stiffness] {
+        let m = loaded_block(hourglass);
+        // the loads move the block: without them (CPU) the top's velocities differ by more
+        // than a tenth of the largest
+        let every = m.control.end_time / 7.0;
+        let mut bare = m.clone();
+        bare.node_loads.clear();
+        bare.pressure_loads.clear();
+        let (a, b) = (run_cpu(&m, every), run_cpu(&bare, every));
+        let d = compare(a.last().unwrap(), b.last().unwrap());
+        assert!(
+            d[1] > 0.1,
+            "the loads change the velocities by {:e} only",
+            d[1]
+        );
+        compare_runs(m, &format!("loads, part {hourglass:?}"));
+    }
 }

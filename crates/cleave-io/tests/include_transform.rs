@@ -232,6 +232,11 @@ fn refusals_name_the_card() {
             "*CONTROL_TIMESTEP: not supported in a file read through *INCLUDE_TRANSFORM (a global setting",
         ),
         (
+            format!("{head}{}*END\n", include_transform("frame.k", 100, 0)),
+            "frame.k",
+            "*DEFINE_COORDINATE_SYSTEM: not supported in a file read through *INCLUDE_TRANSFORM (its points and ids are not moved and offset",
+        ),
+        (
             format!("{head}{}*END\n", include_transform("nested.k", 100, 0)),
             "nested.k",
             "an *INCLUDE_TRANSFORM inside a file read through another one is not supported",
@@ -245,6 +250,14 @@ fn refusals_name_the_card() {
     std::fs::write(
         d.join("ctl.k"),
         block(0.0, 0.01).replace("*END", "*CONTROL_TIMESTEP\n1.0e-7\n*END"),
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("frame.k"),
+        block(0.0, 0.01).replace(
+            "*END",
+            "*DEFINE_COORDINATE_SYSTEM\n5, 0., 0., 0., 1., 0., 0.\n0., 1., 0.\n*END",
+        ),
     )
     .unwrap();
     std::fs::write(

@@ -243,6 +243,8 @@ pub struct RawNodeLoad {
     pub id: i64,
     pub set: bool,
     pub axis: usize,
+    /// CID: the axis is the local system's (blank: global).
+    pub cid: Option<i64>,
     pub lcid: i64,
     pub sf: f64,
 }
@@ -333,6 +335,24 @@ pub struct RawIncludeXform {
     pub tranid: Option<(i64, usize)>,
 }
 
+/// A local coordinate system (`*DEFINE_COORDINATE_...`): its axes as rows (local x, y, z in
+/// global components); `None` for one that follows nodes (`_NODES`), which no field may use.
+#[derive(Clone, Debug)]
+pub struct RawFrame {
+    pub src: Src,
+    pub id: i64,
+    pub axes: Option<[[f64; 3]; 3]>,
+}
+
+/// A CID field that cleave reads in global axes only: the system it names must have the
+/// global axes (checked in the build).
+#[derive(Clone, Debug)]
+pub struct GlobalFrameUse {
+    pub src: Src,
+    pub field: &'static str,
+    pub cid: i64,
+}
+
 /// Everything read from the deck.
 #[derive(Clone, Debug, Default)]
 pub struct RawDeck {
@@ -360,6 +380,9 @@ pub struct RawDeck {
     pub init_vel: Vec<RawInitVel>,
     pub body_loads: Vec<RawBodyLoad>,
     pub node_loads: Vec<RawNodeLoad>,
+    /// `*DEFINE_COORDINATE_...` systems, and the fields that need theirs to be global.
+    pub frames: Vec<RawFrame>,
+    pub global_frames: Vec<GlobalFrameUse>,
     pub pressures: Vec<RawPressure>,
     pub walls: Vec<RawWall>,
     pub contacts: Vec<RawContact>,

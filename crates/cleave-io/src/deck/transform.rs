@@ -213,6 +213,8 @@ fn check_keywords(group: &[&Block<'_>], map: Option<&Affine>) -> Result<(), Deck
         let k = base(&b.keyword);
         let why = if k.starts_with("*CONTROL_") || k.starts_with("*DATABASE_") {
             Some("a global setting: put it in the main deck")
+        } else if k.starts_with("*DEFINE_COORDINATE_") {
+            Some("its points and ids are not moved and offset: put it in the main deck")
         } else if map.is_some()
             && (k.starts_with("*RIGIDWALL_")
                 || k == "*INITIAL_VELOCITY_GENERATION"
@@ -288,6 +290,10 @@ fn offset(d: &mut RawDeck, o: &Offsets) {
         init_vel,
         body_loads,
         node_loads,
+        // a transformed include may not define systems (`check_keywords`); the CID fields
+        // that name the main deck's keep their ids
+        frames: _,
+        global_frames: _,
         pressures,
         walls,
         contacts,
@@ -464,6 +470,8 @@ fn merge(d: &mut RawDeck, s: RawDeck) {
         init_vel,
         body_loads,
         node_loads,
+        frames,
+        global_frames,
         pressures,
         walls,
         contacts,
@@ -506,6 +514,8 @@ fn merge(d: &mut RawDeck, s: RawDeck) {
     d.init_vel.extend(init_vel);
     d.body_loads.extend(body_loads);
     d.node_loads.extend(node_loads);
+    d.frames.extend(frames);
+    d.global_frames.extend(global_frames);
     d.pressures.extend(pressures);
     d.walls.extend(walls);
     d.contacts.extend(contacts);

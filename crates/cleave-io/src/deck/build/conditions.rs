@@ -20,6 +20,7 @@ impl Builder<'_> {
     /// error.
     fn loads(&self, m: &mut Model, ids: &Ids) -> Result<(), DeckError> {
         let raw = self.raw;
+        let frames = self.frames()?;
         for l in &raw.node_loads {
             let curve = self.find(&ids.curves, l.lcid, &l.src, "LCID", "curve")?;
             let nodes = if l.set {
@@ -28,13 +29,27 @@ impl Builder<'_> {
             } else {
                 vec![self.find(&ids.nodes, l.id, &l.src, "NID", "node")?]
             };
+            // along a local axis: one load per global component it has (SF times the
+            // component), so the force is SF curve(t) times the local axis
+            let parts: Vec<(usize, f64)> = match l.cid {
+                None => vec![(l.axis, l.sf)],
+                Some(cid) => {
+                    let axes = self.frame(&frames, cid, &l.src, "CID")?;
+                    (0..3)
+                        .filter(|&a| axes[l.axis][a] != 0.0)
+                        .map(|a| (a, l.sf * axes[l.axis][a]))
+                        .collect()
+                }
+            };
             for node in nodes {
-                m.node_loads.push(NodeLoad {
-                    node,
-                    axis: l.axis,
-                    curve,
-                    sf: l.sf,
-                });
+                for &(axis, sf) in &parts {
+                    m.node_loads.push(NodeLoad {
+                        node,
+                        axis,
+                        curve,
+                        sf,
+                    });
+                }
             }
         }
         for p in &raw.pressures {

@@ -6,6 +6,7 @@
 
 mod conditions;
 mod eos;
+mod frames;
 mod mesh;
 
 use std::collections::HashMap;

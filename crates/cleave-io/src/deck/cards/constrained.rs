@@ -66,7 +66,7 @@ fn nodal_rigid_body(
             if inertia {
                 return Err(c.field_err(
                     "CID",
-                    "a local coordinate system for the inertia tensor is not supported (*DEFINE_COORDINATE is not read); give the tensor in global axes and leave CID blank",
+                    "a local coordinate system for the inertia tensor is not supported; give the tensor in global axes and leave CID blank",
                 ));
             }
             warn_ignored(

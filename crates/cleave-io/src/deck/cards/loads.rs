@@ -9,18 +9,27 @@ use super::Reader;
 use crate::deck::error::DeckError;
 use crate::deck::fields::{Card, W10};
 use crate::deck::raw::{
-    RawBodyLoad, RawDeck, RawInitVel, RawMotion, RawNodeLoad, RawPressure, RawSpc, Target,
+    GlobalFrameUse, RawBodyLoad, RawDeck, RawInitVel, RawMotion, RawNodeLoad, RawPressure, RawSpc,
+    Target,
 };
 
-/// A coordinate-system field (CID, ICID) must be blank or 0: only global axes are supported.
-fn global_only(c: &Card<'_>, i: usize, name: &str) -> Result<(), DeckError> {
-    match c.ref_id(i, name)? {
-        None => Ok(()),
-        Some(id) => Err(c.field_err(
-            name,
-            format!("coordinate system {id}: local coordinate systems are not supported; leave it blank"),
-        )),
+/// A coordinate-system field (CID, ICID) that cleave reads in global axes: blank, 0, or a
+/// system whose axes are the global ones (checked in the build, where every system is known).
+fn global_only(
+    r: &Reader<'_>,
+    c: &Card<'_>,
+    i: usize,
+    name: &'static str,
+    deck: &mut RawDeck,
+) -> Result<(), DeckError> {
+    if let Some(cid) = c.ref_id(i, name)? {
+        deck.global_frames.push(GlobalFrameUse {
+            src: r.src(c.line),
+            field: name,
+            cid,
+        });
     }
+    Ok(())
 }
 
 /// `*INITIAL_VELOCITY_GENERATION`, pairs of cards:
@@ -59,7 +68,7 @@ pub fn velocity_generation(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(),
             "slave nodes of rigid bodies are treated as any node",
             deck,
         );
-        global_only(&c, 7, "ICID")?;
+        global_only(r, &c, 7, "ICID", deck)?;
         let c2 = r.required(W10, "XC YC ZC NX NY NZ PHASE IRIGID")?;
         let centre = [
             c2.f64_or(0, "XC", 0.0)?,
@@ -162,7 +171,7 @@ pub fn velocity(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError>
             "rigid parts take their nodes' velocities",
             deck,
         );
-        global_only(&c, 4, "ICID")?;
+        global_only(r, &c, 4, "ICID", deck)?;
         let v_card = r.required(W10, "VX VY VZ VXR VYR VZR")?;
         let v = [
             v_card.f64_or(0, "VX", 0.0)?,
@@ -185,11 +194,11 @@ pub fn velocity(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError>
 }
 
 /// `*BOUNDARY_SPC_NODE` / `_SET`: one card each, `NID|NSID CID DOFX DOFY DOFZ DOFRX DOFRY
-/// DOFRZ` (each DOF 0 free, 1 fixed; CID must be blank).
+/// DOFRZ` (each DOF 0 free, 1 fixed; CID blank or a system with the global axes).
 pub fn spc(r: &mut Reader<'_>, deck: &mut RawDeck, set: bool) -> Result<(), DeckError> {
     while let Some(c) = r.next_nonblank(W10)? {
         let id = c.id(0, if set { "NSID" } else { "NID" })?;
-        global_only(&c, 1, "CID")?;
+        global_only(r, &c, 1, "CID", deck)?;
         let mut dof = [false; 6];
         for (k, name) in ["DOFX", "DOFY", "DOFZ", "DOFRX", "DOFRY", "DOFRZ"]
             .iter()
@@ -271,7 +280,7 @@ pub fn body(r: &mut Reader<'_>, deck: &mut RawDeck, axis: usize) -> Result<(), D
     let lcid = c.ref_id(0, "LCID")?;
     let sf = c.f64_nz(1, "SF", 1.0)?;
     warn_ignored(&c, 2, "LCIDDR", "dynamic relaxation is not supported", deck);
-    global_only(&c, 6, "CID")?;
+    global_only(r, &c, 6, "CID", deck)?;
     deck.body_loads.push(RawBodyLoad {
         src: r.src(c.line),
         axis,
@@ -283,8 +292,9 @@ pub fn body(r: &mut Reader<'_>, deck: &mut RawDeck, axis: usize) -> Result<(), D
 
 /// `*LOAD_NODE_POINT` / `*LOAD_NODE_SET`: one card each, `NID|NSID DOF LCID SF CID M1 M2 M3`:
 /// the force `SF * curve(t)` along DOF 1, 2 or 3 (x, y, z) on the node, or on each node of the
-/// set. LCID is required; SF blank or 0 means 1. DOF 4 (a follower force) and 5 to 8 (moments)
-/// are errors (solid elements have no rotations), and so is a local CID.
+/// set. LCID is required; SF blank or 0 means 1. With a CID the DOF is the local system's axis
+/// (`*DEFINE_COORDINATE_...`). DOF 4 (a follower force) and 5 to 8 (moments) are errors (solid
+/// elements have no rotations).
 pub fn node_load(r: &mut Reader<'_>, deck: &mut RawDeck, set: bool) -> Result<(), DeckError> {
     let what = if set { "NSID" } else { "NID" };
     while let Some(c) = r.next_nonblank(W10)? {
@@ -301,12 +311,13 @@ pub fn node_load(r: &mut Reader<'_>, deck: &mut RawDeck, set: bool) -> Result<()
         };
         let lcid = c.id(2, "LCID")?;
         let sf = c.f64_nz(3, "SF", 1.0)?;
-        global_only(&c, 4, "CID")?;
+        let cid = c.ref_id(4, "CID")?;
         deck.node_loads.push(RawNodeLoad {
             src: r.src(c.line),
             id,
             set,
             axis,
+            cid,
             lcid,
             sf,
         });

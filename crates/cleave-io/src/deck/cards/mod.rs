@@ -9,6 +9,7 @@ mod control;
 mod curve;
 mod eos;
 mod erosion;
+mod frames;
 mod interaction;
 mod johnson_cook;
 mod loads;
@@ -80,17 +81,9 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
         }
         match base {
             "*KEYWORD" | "*COMMENT" => continue,
-            "*DEFINE_COORDINATE_SYSTEM"
-            | "*DEFINE_COORDINATE_NODES"
-            | "*DEFINE_COORDINATE_VECTOR" => {
-                // no card cleave reads takes a local system (their CID fields are errors when
-                // set), so a system is read past
-                deck.warnings.push(format!(
-                    "{}:{}: {kw}: local coordinate systems are not used by any card cleave reads, ignored",
-                    block.file, block.line
-                ));
-                r.ignore_rest();
-            }
+            "*DEFINE_COORDINATE_SYSTEM" => frames::system(&mut r, &mut deck)?,
+            "*DEFINE_COORDINATE_VECTOR" => frames::vector(&mut r, &mut deck)?,
+            "*DEFINE_COORDINATE_NODES" => frames::nodes(&mut r, &mut deck)?,
             // read before every other card (`Params::read`)
             "*PARAMETER"
             | "*PARAMETER_DUPLICATION"

@@ -610,6 +610,26 @@ fn inverted_element_is_rejected() {
         d.model.conn[0][2], d.model.conn[0][3],
         "stored N1 N2 N3 N3 N4.."
     );
+    // the same tetrahedron with N5..N8 blank (LS-PrePost's 4-node form), in free format and
+    // in fixed 8-column fields, reads the same
+    for tet4 in [
+        "1, 1, 1, 2, 4, 7",
+        "       1       1       1       2       4       7",
+    ] {
+        let t4 = with("1, 1, 1, 2, 5, 4, 7, 8, 11, 10", tet4);
+        assert_eq!(
+            parse_deck(&t4, "t.k").unwrap().model.conn,
+            d.model.conn,
+            "{tet4}"
+        );
+    }
+    // some of N5..N8 blank but not all: an error naming the first
+    let t = with(
+        "1, 1, 1, 2, 5, 4, 7, 8, 11, 10",
+        "       1       1       1       2       4       7       7",
+    );
+    let e = err(&t);
+    assert_eq!(e.field.as_deref(), Some("N6"), "{e}");
     let t = with(
         "1, 1, 1, 2, 5, 4, 7, 8, 11, 10",
         "1, 1, 2, 1, 4, 7, 7, 7, 7, 7",

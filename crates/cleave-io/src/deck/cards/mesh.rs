@@ -32,16 +32,18 @@ pub fn node(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
 /// `*ELEMENT_SOLID`, 8-character fields, each element in either form:
 /// one card `EID PID N1..N8`, or two cards `EID PID` / `N1..N10` (N9, N10 blank: only 8-node
 /// hexahedra). Fixed format: a first card blank beyond column 16 is the two-card form; free
-/// format: 2 values is the two-card form, 10 values the one-card form.
+/// format: 2 values is the two-card form, 10 values the one-card form. N5..N8 all blank (6
+/// values in free format) is a 4-node tetrahedron, as LS-PrePost writes it: read as
+/// `N1 N2 N3 N4 N4 N4 N4 N4`.
 pub fn element_solid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     while let Some(c1) = r.next_nonblank(ELEM)? {
         let two_card = if c1.free {
             match c1.count() {
                 2 => true,
-                10 => false,
+                6 | 10 => false,
                 n => {
                     return Err(c1.err(format!(
-                        "expected 2 values (EID, PID; nodes on the next card) or 10 (EID, PID, N1..N8), found {n}"
+                        "expected 2 values (EID, PID; nodes on the next card), 10 (EID, PID, N1..N8) or 6 (EID, PID, N1..N4 of a tetrahedron), found {n}"
                     )))
                 }
             }
@@ -56,8 +58,26 @@ pub fn element_solid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
             (c1.clone(), 2)
         };
         let mut nodes = [0; 8];
-        for (k, n) in nodes.iter_mut().enumerate() {
+        for (k, n) in nodes.iter_mut().enumerate().take(4) {
             *n = nc.id(first + k, &format!("N{}", k + 1))?;
+        }
+        let mut rest = [None; 4];
+        for (k, n) in rest.iter_mut().enumerate() {
+            *n = nc.ref_id(first + 4 + k, &format!("N{}", k + 5))?;
+        }
+        if rest.iter().all(Option::is_none) {
+            // N5..N8 blank: the 4-node tetrahedron as LS-PrePost writes it, N4 repeated
+            let n4 = nodes[3];
+            nodes[4..].fill(n4);
+        } else {
+            for (k, n) in rest.iter().enumerate() {
+                nodes[4 + k] = n.ok_or_else(|| {
+                    nc.field_err(
+                        &format!("N{}", k + 5),
+                        "missing: give N5..N8 (a positive id each), or leave all four blank for a 4-node tetrahedron",
+                    )
+                })?;
+            }
         }
         if two_card {
             for k in 8..10 {

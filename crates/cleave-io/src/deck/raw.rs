@@ -186,6 +186,29 @@ pub struct RawSet<T> {
     /// `_GENERATE`: inclusive id ranges, each with its line; every defined id in them is a
     /// member.
     pub ranges: Vec<(i64, i64, usize)>,
+    /// `*SET_NODE_GENERAL`: rules applied in order after the members and ranges.
+    pub general: Vec<SetRule>,
+}
+
+/// One card of `*SET_NODE_GENERAL`: add (or, `delete`, take out) the nodes that `kind` and
+/// `ids` name.
+#[derive(Clone, Debug)]
+pub struct SetRule {
+    pub line: usize,
+    pub delete: bool,
+    pub kind: RuleKind,
+    pub ids: Vec<i64>,
+}
+
+/// What a `*SET_NODE_GENERAL` rule's ids are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RuleKind {
+    /// Every node (no ids).
+    All,
+    Node,
+    Part,
+    /// Node sets.
+    Set,
 }
 
 /// What a boundary condition or initial velocity applies to.

@@ -346,6 +346,15 @@ fn offset(d: &mut RawDeck, o: &Offsets) {
     for s in node_sets {
         add(&mut s.id, o.set);
         s.members.iter_mut().for_each(|(n, _)| add(n, o.node));
+        for rule in &mut s.general {
+            let off = match rule.kind {
+                super::raw::RuleKind::All => 0,
+                super::raw::RuleKind::Node => o.node,
+                super::raw::RuleKind::Part => o.part,
+                super::raw::RuleKind::Set => o.set,
+            };
+            rule.ids.iter_mut().for_each(|i| add(i, off));
+        }
         s.ranges.iter_mut().for_each(|(a, b, _)| {
             add(a, o.node);
             add(b, o.node);

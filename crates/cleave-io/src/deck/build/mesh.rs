@@ -403,6 +403,60 @@ impl Builder<'_> {
         Ok(out.into_iter())
     }
 
+    /// The nodes of a `*SET_NODE_GENERAL` (its rules in order; a SET rule names a node set
+    /// defined before this one), in ascending order.
+    fn general_node_set(
+        &self,
+        s: &crate::deck::raw::RawSet<i64>,
+        m: &Model,
+        ids: &Ids,
+    ) -> Result<Vec<u32>, DeckError> {
+        use crate::deck::raw::RuleKind;
+        let mut member = vec![false; m.num_nodes()];
+        for rule in &s.general {
+            let src = crate::deck::raw::Src {
+                file: s.src.file.clone(),
+                keyword: s.src.keyword.clone(),
+                line: rule.line,
+            };
+            let mut nodes: Vec<u32> = Vec::new();
+            for (k, &id) in rule.ids.iter().enumerate() {
+                let field = format!("E{}", k + 1);
+                match rule.kind {
+                    RuleKind::All => {}
+                    RuleKind::Node => nodes.push(self.find(&ids.nodes, id, &src, &field, "node")?),
+                    RuleKind::Part => {
+                        let p = self.find(&ids.parts, id, &src, &field, "part")?;
+                        for (e, c) in m.conn.iter().enumerate() {
+                            if m.elem_part[e] as usize == p {
+                                nodes.extend_from_slice(c);
+                            }
+                        }
+                    }
+                    RuleKind::Set => {
+                        let set = m.node_sets.iter().find(|n| n.id == id).ok_or_else(|| {
+                            self.err(
+                                &src,
+                                format!("node set {id} is not defined before this one"),
+                            )
+                            .with_field(&field)
+                        })?;
+                        nodes.extend_from_slice(&set.nodes);
+                    }
+                }
+            }
+            if rule.kind == RuleKind::All {
+                nodes = (0..m.num_nodes() as u32).collect();
+            }
+            for n in nodes {
+                member[n as usize] = !rule.delete;
+            }
+        }
+        Ok((0..m.num_nodes() as u32)
+            .filter(|&n| member[n as usize])
+            .collect())
+    }
+
     /// Node, part and segment sets; members resolved, repeated members dropped.
     fn sets(&self, m: &mut Model, ids: &mut Ids) -> Result<(), DeckError> {
         let raw = self.raw;
@@ -439,10 +493,12 @@ impl Builder<'_> {
             }
             let node_ids = raw.nodes.iter().map(|n| n.id);
             nodes.extend(self.in_ranges(s, node_ids, "node")?);
-            m.node_sets.push(NodeSet {
-                id: s.id,
-                nodes: dedup(nodes),
-            });
+            let nodes = if s.general.is_empty() {
+                dedup(nodes)
+            } else {
+                self.general_node_set(s, m, ids)?
+            };
+            m.node_sets.push(NodeSet { id: s.id, nodes });
         }
         for s in &raw.part_sets {
             let mut parts = Vec::with_capacity(s.members.len());

@@ -119,6 +119,7 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
             "*EOS_LINEAR_POLYNOMIAL" => eos::linear_polynomial(&mut r, &mut deck)?,
             "*EOS_GRUNEISEN" => eos::gruneisen(&mut r, &mut deck)?,
             "*SET_NODE_LIST" => sets::node_list(&mut r, &mut deck)?,
+            "*SET_NODE_GENERAL" => sets::node_general(&mut r, &mut deck)?,
             "*SET_PART_LIST" | "*SET_PART" => sets::part_list(&mut r, &mut deck)?,
             "*SET_SEGMENT" => sets::segment(&mut r, &mut deck)?,
             "*SET_NODE_LIST_GENERATE" => sets::node_generate(&mut r, &mut deck)?,

@@ -1,11 +1,12 @@
 //! `*SET_NODE_LIST`, `*SET_PART_LIST`, `*SET_SEGMENT`, `*SET_SOLID` and the
 //! `*SET_NODE_LIST_GENERATE`, `*SET_PART_LIST_GENERATE` and `*SET_SOLID_GENERATE` forms (LS-DYNA Keyword Manual, Vol. I). Card 1 is
-//! `SID DA1 DA2 DA3 DA4 SOLVER` (only SID is used); `_TITLE` puts a title line first.
+//! `SID DA1 DA2 DA3 DA4 SOLVER` (only SID is used); `_TITLE` puts a title line first. Also
+//! `*SET_NODE_GENERAL` ([`node_general`]).
 
 use super::Reader;
 use crate::deck::error::DeckError;
 use crate::deck::fields::W10;
-use crate::deck::raw::{RawDeck, RawSet};
+use crate::deck::raw::{RawDeck, RawSet, RuleKind, SetRule};
 
 fn sid(r: &mut Reader<'_>) -> Result<(i64, usize), DeckError> {
     let c = r.required(W10, "SID DA1 DA2 DA3 DA4")?;
@@ -34,6 +35,7 @@ pub fn node_list(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError
         id,
         members,
         ranges: Vec::new(),
+        general: Vec::new(),
     });
     Ok(())
 }
@@ -47,6 +49,7 @@ pub fn part_list(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError
         id,
         members,
         ranges: Vec::new(),
+        general: Vec::new(),
     });
     Ok(())
 }
@@ -65,6 +68,7 @@ pub fn segment(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> 
     }
     deck.segment_sets.push(RawSet {
         ranges: Vec::new(),
+        general: Vec::new(),
         src: r.src(line),
         id,
         members,
@@ -105,6 +109,7 @@ pub fn node_generate(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
         id,
         members: Vec::new(),
         ranges,
+        general: Vec::new(),
     });
     Ok(())
 }
@@ -118,6 +123,7 @@ pub fn part_generate(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
         id,
         members: Vec::new(),
         ranges,
+        general: Vec::new(),
     });
     Ok(())
 }
@@ -132,6 +138,7 @@ pub fn solid_list(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
         id,
         members,
         ranges: Vec::new(),
+        general: Vec::new(),
     });
     Ok(())
 }
@@ -145,6 +152,58 @@ pub fn solid_generate(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), Deck
         id,
         members: Vec::new(),
         ranges,
+        general: Vec::new(),
+    });
+    Ok(())
+}
+
+/// `*SET_NODE_GENERAL`: card 1, then cards `OPTION E1 .. E7` (OPTION in the first 10
+/// columns), applied in the order written: ALL (every node), NODE (node ids), PART (the nodes
+/// of the parts' elements), SET (the members of node sets defined before this one), and DNODE,
+/// DPART, DSET to take them out again. Other options (BOX, SEG, SHELL, ...) are errors naming
+/// the option.
+pub fn node_general(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let (id, line) = sid(r)?;
+    let mut general = Vec::new();
+    while let Some(c) = r.next_nonblank(W10)? {
+        let option = c.raw(0).trim().to_ascii_uppercase();
+        let (delete, kind) = match option.as_str() {
+            "ALL" => (false, RuleKind::All),
+            "NODE" => (false, RuleKind::Node),
+            "PART" => (false, RuleKind::Part),
+            "SET" => (false, RuleKind::Set),
+            "DNODE" => (true, RuleKind::Node),
+            "DPART" => (true, RuleKind::Part),
+            "DSET" => (true, RuleKind::Set),
+            other => {
+                return Err(c.field_err(
+                    "OPTION",
+                    format!("'{other}' not supported (ALL, NODE, PART, SET, DNODE, DPART, DSET)"),
+                ))
+            }
+        };
+        let mut ids = Vec::new();
+        for i in 1..8 {
+            if let Some(v) = c.ref_id(i, &format!("E{i}"))? {
+                ids.push(v);
+            }
+        }
+        if ids.is_empty() && !matches!(kind, RuleKind::All) {
+            return Err(c.field_err("E1", format!("{option} names no ids")));
+        }
+        general.push(SetRule {
+            line: c.line,
+            delete,
+            kind,
+            ids,
+        });
+    }
+    deck.node_sets.push(RawSet {
+        src: r.src(line),
+        id,
+        members: Vec::new(),
+        ranges: Vec::new(),
+        general,
     });
     Ok(())
 }

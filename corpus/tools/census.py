@@ -1,22 +1,19 @@
 #!/usr/bin/env python3
-"""Static keyword census of an LS-DYNA deck (follows *INCLUDE files that exist) and
+"""Static keyword census of an LS-DYNA deck (follows *INCLUDE files that exist: the keywords
+that cleave's reader does not name, from its source) and
 iterative peeling of unsupported-keyword blocks with `cleave check` (env CLEAVE, PEEL_ROOT).
 usage: census.py DECK [--peel]"""
 import os, re, sys, subprocess, shutil, tempfile, json
 CLEAVE = os.path.abspath(os.environ.get("CLEAVE", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "target", "release", "cleave")))
-ACCEPT = {"*KEYWORD","*COMMENT","*PARAMETER","*PARAMETER_LOCAL","*PARAMETER_EXPRESSION",
- "*PARAMETER_EXPRESSION_LOCAL","*TITLE","*NODE","*ELEMENT_SOLID","*PART","*SECTION_SOLID",
- "*MAT_ELASTIC","*MAT_001","*MAT_PLASTIC_KINEMATIC","*MAT_003","*MAT_RIGID","*MAT_020",
- "*MAT_PIECEWISE_LINEAR_PLASTICITY","*MAT_024","*MAT_JOHNSON_COOK","*MAT_015",
- "*MAT_SIMPLIFIED_JOHNSON_COOK","*MAT_098","*MAT_ADD_SEPARATION","*SET_NODE_LIST",
- "*SET_PART_LIST","*SET_SEGMENT","*SET_NODE_LIST_GENERATE","*SET_PART_LIST_GENERATE",
- "*DEFINE_CURVE","*INITIAL_VELOCITY_GENERATION","*INITIAL_VELOCITY_NODE","*INITIAL_VELOCITY",
- "*BOUNDARY_SPC_NODE","*BOUNDARY_SPC_SET","*BOUNDARY_PRESCRIBED_MOTION_NODE",
- "*BOUNDARY_PRESCRIBED_MOTION_SET","*BOUNDARY_PRESCRIBED_MOTION_RIGID","*LOAD_BODY_X",
- "*LOAD_BODY_Y","*LOAD_BODY_Z","*RIGIDWALL_PLANAR","*CONTACT_AUTOMATIC_SINGLE_SURFACE",
- "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE","*CONTROL_TERMINATION","*CONTROL_TIMESTEP",
- "*CONTROL_HOURGLASS","*CONTROL_BULK_VISCOSITY","*CONTROL_CONTACT","*INCLUDE",
- "*INCLUDE_PATH","*INCLUDE_PATH_RELATIVE","*END"}
+# The keywords the reader names, taken from its source (each is read, or refused or warned
+# about by name, so `cleave check` says which), so that this list never goes stale.
+SRC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "crates", "cleave-io", "src", "deck")
+ACCEPT = set()
+for d, _, files in os.walk(SRC):
+    for f in files:
+        if f.endswith(".rs"):
+            ACCEPT |= set(re.findall(r'"(\*[A-Z0-9_]+)"', open(os.path.join(d, f)).read()))
+ACCEPT |= {"*END"}
 WARN = {"*CONTROL_ENERGY","*CONTROL_OUTPUT","*CONTROL_CPU","*CONTROL_PARALLEL","*CONTROL_DEBUG",
  "*CONTROL_REMOVE_ADDITIONAL_DATA"}
 def base(kw):

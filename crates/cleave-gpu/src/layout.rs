@@ -1,8 +1,10 @@
 //! The model as the GPU reads it: flat arrays built once on the host.
 //!
 //! - `par` (f64): the material slots (`MAT_STRIDE` values each: density, Lame lambda, shear
-//!   modulus, wave speed, step speed, law 0 elastic / 1 bilinear plastic, SIGY, Hp, beta, then
-//!   the element controls of the part: hourglass form 0 viscous / 1 stiffness, QH, Q1, Q2), then
+//!   modulus, wave speed, step speed, law 0 elastic / 1 bilinear plastic / 2 Johnson-Cook /
+//!   3 piecewise linear, SIGY, Hp, beta (laws 2 and 3: the offset of their parameter block,
+//!   `johnson_cook_block`, `piecewise_block`), then the element controls of the part:
+//!   hourglass form 0 viscous / 1 stiffness, QH, Q1, Q2), the laws' blocks, then
 //!   the curves (n, abscissae, ordinates), the body loads (axis, curve offset or -1, SF), the
 //!   node actions (`NODE_STRIDE` values each, see [`NODE_STRIDE`]) and the planar rigid walls
 //!   (a point, the unit normal, FRIC);
@@ -17,7 +19,7 @@
 //!   it carries (in the order the CPU adds them: `cleave_core::loads`), then its prescribed
 //!   motions (in the deck's order).
 
-use cleave_core::material::SolidLaw;
+use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, SolidLaw};
 use cleave_core::math::{norm, scale, sub};
 use cleave_core::model::{Hourglass, Model, MotionTarget, Vad};
 use cleave_core::setup::Setup;
@@ -81,12 +83,26 @@ impl Layout {
             emat.push(slot as u32);
         }
         let all: Vec<_> = setup.params.iter().chain(&setup.loose_params).collect();
+        // the laws' parameter blocks, after the slots
+        let ext_base = slots.len() * MAT_STRIDE;
+        let mut ext: Vec<f64> = Vec::new();
         for &(base, class) in &slots {
             let mut m = [0.0; MAT_STRIDE];
             if let Some(p) = all[base as usize] {
                 m[..5].copy_from_slice(&[p.density, p.lambda, p.shear, p.wave_speed, p.step_speed]);
-                if let SolidLaw::PlasticKinematic { sigy, hp, beta } = p.law {
-                    m[5..9].copy_from_slice(&[1.0, sigy, hp, beta]);
+                match &p.law {
+                    SolidLaw::Elastic => {}
+                    SolidLaw::PlasticKinematic { sigy, hp, beta } => {
+                        m[5..9].copy_from_slice(&[1.0, *sigy, *hp, *beta]);
+                    }
+                    SolidLaw::JohnsonCook(jc) => {
+                        m[5..7].copy_from_slice(&[2.0, (ext_base + ext.len()) as f64]);
+                        johnson_cook_block(jc, &mut ext);
+                    }
+                    SolidLaw::Piecewise(pw) => {
+                        m[5..7].copy_from_slice(&[3.0, (ext_base + ext.len()) as f64]);
+                        piecewise_block(pw, ext_base, &mut ext);
+                    }
                 }
             }
             let c = &controls[class];
@@ -97,6 +113,7 @@ impl Layout {
             m[9..].copy_from_slice(&[form, c.qh, c.q1, c.q2]);
             par.extend_from_slice(&m);
         }
+        par.extend_from_slice(&ext);
         let mut curve_off = Vec::with_capacity(model.curves.len());
         for c in &model.curves {
             curve_off.push(par.len() as f64);
@@ -208,6 +225,61 @@ impl Layout {
             nflag,
             mptr,
         }
+    }
+}
+
+/// Johnson-Cook's block (law 2): A, B, N, C, EPSO, M, TM, TR, RO CP, SIGMAX, SIGSAT, then the
+/// equation of state: kind (0 none, 1 linear polynomial, 2 Mie-Gruneisen), its parameters
+/// (C0..C6, or C, S1, S2, S3, GAMMA0, A, rho0), E0, V0.
+fn johnson_cook_block(jc: &JohnsonCook, out: &mut Vec<f64>) {
+    out.extend_from_slice(&[
+        jc.a, jc.b, jc.n, jc.c, jc.eps0, jc.m, jc.t_melt, jc.t_room, jc.rho_cp, jc.sig_max,
+        jc.sig_sat,
+    ]);
+    let eos: [f64; 10] = match jc.eos {
+        None => [0.0; 10],
+        Some(Eos::LinearPolynomial { c, e0, v0 }) => {
+            [1.0, c[0], c[1], c[2], c[3], c[4], c[5], c[6], e0, v0]
+        }
+        Some(Eos::Gruneisen {
+            c,
+            s,
+            gamma0,
+            a,
+            rho0,
+            e0,
+            v0,
+        }) => [2.0, c, s[0], s[1], s[2], gamma0, a, rho0, e0, v0],
+    };
+    out.extend_from_slice(&eos);
+}
+
+/// `*MAT_024`'s block (law 3): C, P, the number of table values nt (0: one hardening curve),
+/// the log flag of the table's values, the curve's offset; with a table, then its nt values and
+/// their curves' offsets. Each curve after it: n, the plastic strains, the yield stresses.
+fn piecewise_block(pw: &PiecewiseLinear, ext_base: usize, out: &mut Vec<f64>) {
+    let start = out.len();
+    let curves: Vec<&[[f64; 2]]> = match &pw.table {
+        None => vec![&pw.points],
+        Some(t) => t.curves.iter().map(|(_, c)| &c[..]).collect(),
+    };
+    let nt = pw.table.as_ref().map_or(0, |t| t.values.len());
+    let log = pw.table.as_ref().is_some_and(|t| t.log);
+    out.extend_from_slice(&[pw.c, pw.p, nt as f64, if log { 1.0 } else { 0.0 }, 0.0]);
+    if let Some(t) = &pw.table {
+        out.extend_from_slice(&t.values);
+        out.extend(std::iter::repeat_n(0.0, nt));
+    }
+    for (k, c) in curves.iter().enumerate() {
+        let off = (ext_base + out.len()) as f64;
+        if nt == 0 {
+            out[start + 4] = off;
+        } else {
+            out[start + 5 + nt + k] = off;
+        }
+        out.push(c.len() as f64);
+        out.extend(c.iter().map(|p| p[0]));
+        out.extend(c.iter().map(|p| p[1]));
     }
 }
 

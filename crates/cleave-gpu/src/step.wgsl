@@ -221,6 +221,109 @@ fn cbrt64(x: f64) -> f64 {
     return y - (y * y * y - x) / (3.0lf * y * y);
 }
 
+
+// ---------------------------------------------------------------- f64 exp, ln, pow
+// Vulkan has no 64-bit exp, log or pow (GLSL.std.450 takes 16- and 32-bit floats only), so
+// they are written out here, to a few units in the last place (the CPU uses libm: the two
+// agree to round-off, well inside the tests' 1e-10).
+
+const LN2_HI: f64 = 6.93147180369123816490e-01lf;
+const LN2_LO: f64 = 1.90821492927058770002e-10lf;
+
+// 2^k, exactly: the binary powers of 2 (or 1/2) multiplied up (powers of two multiply
+// without rounding).
+fn pow2(k: i32) -> f64 {
+    var b = 2.0lf;
+    if (k < 0) {
+        b = 0.5lf;
+    }
+    var n = abs(k);
+    var r = 1.0lf;
+    while (n > 0) {
+        if ((n & 1) != 0) {
+            r = r * b;
+        }
+        b = b * b;
+        n = n >> 1u;
+    }
+    return r;
+}
+
+// e^x: x = k ln 2 + r, |r| <= ln 2 / 2, e^r by its Taylor series to r^17/17! (< 2e-19
+// relative), times 2^k.
+fn exp64(x: f64) -> f64 {
+    if (x > 709.0lf) {
+        return BIG * 2.0lf;
+    }
+    if (x < -745.0lf) {
+        return 0.0lf;
+    }
+    let k = round(x * 1.4426950408889634lf);
+    let r = (x - k * LN2_HI) - k * LN2_LO;
+    var term = 1.0lf;
+    var sum = 1.0lf;
+    for (var i = 1; i <= 17; i = i + 1) {
+        term = term * r / f64(i);
+        sum = sum + term;
+    }
+    return sum * pow2(i32(k));
+}
+
+// ln x for x > 0: x = m 2^e with m in [1/sqrt 2, sqrt 2) (e first guessed in f32, then
+// made exact), ln m = 2 atanh(s), s = (m-1)/(m+1), |s| < 0.172, by its series to s^29
+// (< 1e-22); ln 0 = -inf, ln of a negative number NaN.
+fn ln64(x: f64) -> f64 {
+    if (x <= 0.0lf) {
+        if (x == 0.0lf) {
+            return -BIG * 2.0lf;
+        }
+        return (x - x) / (x - x);
+    }
+    if (x > BIG) {
+        return x;
+    }
+    var y = x;
+    var e = 0;
+    while (y > 1e30lf) {
+        y = y * 7.888609052210118e-31lf;
+        e = e + 100;
+    }
+    while (y < 1e-30lf) {
+        y = y * 1.2676506002282294e30lf;
+        e = e - 100;
+    }
+    let k = i32(floor(log2(f32(y))));
+    var m = y * pow2(-k);
+    e = e + k;
+    while (m >= 2.0lf) {
+        m = m * 0.5lf;
+        e = e + 1;
+    }
+    while (m < 1.0lf) {
+        m = m * 2.0lf;
+        e = e - 1;
+    }
+    if (m > 1.4142135623730951lf) {
+        m = m * 0.5lf;
+        e = e + 1;
+    }
+    let t = (m - 1.0lf) / (m + 1.0lf);
+    let t2 = t * t;
+    var sum = 0.0lf;
+    for (var i = 29; i >= 1; i = i - 2) {
+        sum = sum * t2 + 1.0lf / f64(i);
+    }
+    return f64(e) * LN2_HI + (f64(e) * LN2_LO + 2.0lf * t * sum);
+}
+
+// x^y for x > 0 (0 for x = 0 and y > 0).
+fn pow64(x: f64, y: f64) -> f64 {
+    if (x == 0.0lf) {
+        return 0.0lf;
+    }
+    return exp64(y * ln64(x));
+}
+
 // ---------------------------------------------------------------- the hexahedron (hex8.rs)
 
 // The corners' natural coordinates s_a (hex8.rs CORNERS) and the hourglass base vectors
@@ -307,8 +410,21 @@ fn update_elastic(lambda: f64, g: f64, s: S6, d: S6) -> S6 {
               s[3] + g2 * d[3], s[4] + g2 * d[4], s[5] + g2 * d[5]);
 }
 
-// *MAT_ELASTIC (law 0) and *MAT_PLASTIC_KINEMATIC (law 1, radial return with mixed hardening).
-fn update_material(m: Mat, p: Point, d: S6) -> Point {
+// *MAT_ELASTIC (law 0), *MAT_PLASTIC_KINEMATIC (law 1, radial return with mixed hardening),
+// Johnson-Cook (law 2) and *MAT_024 (law 3), over the interval dt.
+fn update_material(m: Mat, p: Point, d: S6, dt: f64) -> Point {
+    if (m.law > 1.5lf) {
+        if (m.law < 2.5lf) {
+            return update_johnson_cook(m, p, d, dt);
+        }
+        var o = p;
+        let r = radial_return(m, m.lambda, m.shear, p.sigma, d, p.eps_p, dt, 1.0lf);
+        o.sigma = r.sigma;
+        if (r.plastic) {
+            o.eps_p = p.eps_p + r.x;
+        }
+        return o;
+    }
     var o = p;
     o.sigma = update_elastic(m.lambda, m.shear, p.sigma, d);
     if (m.law < 0.5lf) {
@@ -333,6 +449,294 @@ fn update_material(m: Mat, p: Point, d: S6) -> Point {
     }
     o.eps_p = p.eps_p + deps_p;
     return o;
+}
+
+
+// ---------------------------------------------------------------- the other plastic laws
+// Material slots of law 2 (Johnson-Cook) and 3 (piecewise linear, *MAT_024) keep their
+// parameters in a block of `par` at offset `sigy` (layout.rs).
+
+// The hardening of the curve at par offset o (n, eps_p values, yield stresses) and its slope
+// (piecewise.rs hardening_of): interpolated, the last segment's slope past the end, never
+// below 0.
+fn curve_hardening(o: u32, eps: f64) -> vec2<f64> {
+    let n = u32(par[o]);
+    if (n == 1u) {
+        return vec2<f64>(par[o + 2u], 0.0lf);
+    }
+    // the number of points with eps_p <= eps, clamped to [1, n - 1]
+    var lo = 0u;
+    var hi = n;
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (par[o + 1u + mid] <= eps) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let k = clamp(lo, 1u, n - 1u);
+    let xa = par[o + k];
+    let xb = par[o + 1u + k];
+    let ya = par[o + n + k];
+    let yb = par[o + n + 1u + k];
+    let slope = (yb - ya) / (xb - xa);
+    return vec2<f64>(max(ya + slope * (eps - xa), 0.0lf), slope);
+}
+
+// *MAT_024's flow stress and its slope in the increment x (piecewise.rs update_piecewise).
+// Block: C, P, the number of table values (0: one curve), log flag, the curve's offset; with a
+// table, then its values and their curves' offsets.
+fn flow_piecewise(o: u32, eps_p: f64, x: f64, dt: f64) -> vec2<f64> {
+    var rate = 0.0lf;
+    var per_dt = 0.0lf;
+    if (dt > 0.0lf) {
+        rate = x / dt;
+        per_dt = 1.0lf / dt;
+    }
+    let nt = u32(par[o + 2u]);
+    if (nt == 0u) {
+        let h = curve_hardening(u32(par[o + 4u]), eps_p + x);
+        let c = par[o];
+        let pp = par[o + 1u];
+        var r = 1.0lf;
+        var r_slope = 0.0lf;
+        if (c > 0.0lf && rate > 0.0lf) {
+            let rr = pow64(rate / c, 1.0lf / pp);
+            r = 1.0lf + rr;
+            r_slope = rr / (pp * rate);
+        }
+        return vec2<f64>(h.x * r, h.y * r + h.x * r_slope * per_dt);
+    }
+    // a table of curves by rate (piecewise.rs RateTable::hardening)
+    let vo = o + 5u;
+    var at = rate;
+    var d_at = 1.0lf;
+    if (par[o + 3u] > 0.5lf) {
+        if (rate > 0.0lf) {
+            at = ln64(rate);
+            d_at = 1.0lf / rate;
+        } else {
+            at = -BIG * 2.0lf;
+            d_at = 0.0lf;
+        }
+    }
+    if (nt == 1u || at <= par[vo]) {
+        return curve_hardening(u32(par[vo + nt]), eps_p + x);
+    }
+    if (at >= par[vo + nt - 1u]) {
+        return curve_hardening(u32(par[vo + 2u * nt - 1u]), eps_p + x);
+    }
+    var k = 1u;
+    while (k < nt - 1u && par[vo + k] <= at) {
+        k = k + 1u;
+    }
+    let w = (at - par[vo + k - 1u]) / (par[vo + k] - par[vo + k - 1u]);
+    let a = curve_hardening(u32(par[vo + nt + k - 1u]), eps_p + x);
+    let b = curve_hardening(u32(par[vo + nt + k]), eps_p + x);
+    let h_rate = (b.x - a.x) / (par[vo + k] - par[vo + k - 1u]) * d_at;
+    return vec2<f64>((1.0lf - w) * a.x + w * b.x, (1.0lf - w) * a.y + w * b.y + h_rate * per_dt);
+}
+
+// Johnson-Cook (johnson_cook.rs). Block: A, B, N, C, EPSO, M, TM, TR, RO CP, SIGMAX, SIGSAT,
+// then the equation of state.
+fn jc_rate_factor(o: u32, eps_dot: f64) -> f64 {
+    let c = par[o + 3u];
+    let eps0 = par[o + 4u];
+    if (c == 0.0lf || eps_dot <= eps0) {
+        return 1.0lf;
+    }
+    return 1.0lf + c * ln64(eps_dot / eps0);
+}
+
+fn jc_thermal_factor(o: u32, heat: f64) -> f64 {
+    let t_melt = par[o + 6u];
+    if (!finite(t_melt) || heat <= 0.0lf) {
+        return 1.0lf;
+    }
+    let t_star = min(heat / (t_melt - par[o + 7u]), 1.0lf);
+    return 1.0lf - pow64(t_star, par[o + 5u]);
+}
+
+fn flow_johnson_cook(o: u32, eps_p: f64, x: f64, dt: f64, theta: f64) -> vec2<f64> {
+    let e = eps_p + x;
+    let a = par[o];
+    let b = par[o + 1u];
+    let n = par[o + 2u];
+    let sig_max = par[o + 9u];
+    var pw = 0.0lf;
+    if (e > 0.0lf) {
+        pw = pow64(e, n);
+    }
+    var h = a + b * pw;
+    var h_slope = 2.0lf * BIG;
+    if (h >= sig_max) {
+        h = sig_max;
+        h_slope = 0.0lf;
+    } else if (e > 0.0lf) {
+        h_slope = n * b * pw / e;
+    }
+    var rate = 0.0lf;
+    if (dt > 0.0lf) {
+        rate = x / dt;
+    }
+    let r = jc_rate_factor(o, rate);
+    var r_slope = 0.0lf;
+    if (r > 1.0lf) {
+        r_slope = par[o + 3u] / x;
+    }
+    let y = h * r * theta;
+    let sig_sat = par[o + 10u];
+    if (y >= sig_sat) {
+        return vec2<f64>(sig_sat, 0.0lf);
+    }
+    return vec2<f64>(y, (h_slope * r + h * r_slope) * theta);
+}
+
+// The flow stress of law 2 or 3 and its slope at the increment x.
+fn flow(m: Mat, eps_p: f64, x: f64, dt: f64, theta: f64) -> vec2<f64> {
+    let o = u32(m.sigy);
+    if (m.law < 2.5lf) {
+        return flow_johnson_cook(o, eps_p, x, dt, theta);
+    }
+    return flow_piecewise(o, eps_p, x, dt);
+}
+
+struct Return {
+    sigma: S6,
+    plastic: bool,
+    x: f64,
+    y: f64,
+}
+
+// The radial return (return_map.rs): the elastic trial, then, where its von Mises value
+// exceeds the flow stress, the increment solving q - 3 G x = sigma_y(x) by Newton's method
+// kept in its bracket by bisection, and the deviator scaled back to the flow surface.
+fn radial_return(m: Mat, lambda: f64, g: f64, sigma: S6, d: S6, eps_p: f64, dt: f64, theta: f64) -> Return {
+    var out = Return(update_elastic(lambda, g, sigma, d), false, 0.0lf, 0.0lf);
+    let t = out.sigma;
+    let pr = (t[0] + t[1] + t[2]) / 3.0lf;
+    let sd = S6(t[0] - pr, t[1] - pr, t[2] - pr, t[3], t[4], t[5]);
+    let q = sqrt(1.5lf * ddot6(sd, sd));
+    if (q <= flow(m, eps_p, 0.0lf, dt, theta).x) {
+        return out;
+    }
+    var lo = 0.0lf;
+    var hi = q / (3.0lf * g);
+    var x = 0.5lf * hi;
+    for (var it = 0; it < 100; it = it + 1) {
+        let fy = flow(m, eps_p, x, dt, theta);
+        let r = q - 3.0lf * g * x - fy.x;
+        if (r > 0.0lf) {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        if (abs(r) <= 1e-12lf * q || hi - lo <= 1e-15lf * hi) {
+            break;
+        }
+        let newton = x + r / (3.0lf * g + fy.y);
+        if (newton > lo && newton < hi) {
+            x = newton;
+        } else {
+            x = 0.5lf * (lo + hi);
+        }
+    }
+    let y = flow(m, eps_p, x, dt, theta).x;
+    let sc = y / q;
+    out.sigma = S6(pr + sd[0] * sc, pr + sd[1] * sc, pr + sd[2] * sc, sd[3] * sc, sd[4] * sc, sd[5] * sc);
+    out.plastic = true;
+    out.x = x;
+    out.y = y;
+    return out;
+}
+
+// (A(mu), B(mu)) of the equation of state at par offset o: kind 1 linear polynomial (C0..C6),
+// 2 Mie-Gruneisen (C, S1, S2, S3, GAMMA0, A, rho0) (eos.rs coefficients).
+fn eos_coefficients(o: u32, mu: f64) -> vec2<f64> {
+    if (par[o] < 1.5lf) {
+        var c2 = par[o + 3u];
+        var c6 = par[o + 7u];
+        if (mu < 0.0lf) {
+            c2 = 0.0lf;
+            c6 = 0.0lf;
+        }
+        return vec2<f64>(par[o + 1u] + mu * (par[o + 2u] + mu * (c2 + mu * par[o + 4u])),
+                         par[o + 5u] + mu * (par[o + 6u] + mu * c6));
+    }
+    let c = par[o + 1u];
+    let gamma0 = par[o + 5u];
+    let a = par[o + 6u];
+    let k = par[o + 7u] * c * c;
+    let b = gamma0 + a * mu;
+    if (mu <= 0.0lf) {
+        return vec2<f64>(k * mu, b);
+    }
+    let m1 = mu + 1.0lf;
+    let den = 1.0lf - (par[o + 2u] - 1.0lf) * mu - par[o + 3u] * mu * mu / m1 - par[o + 4u] * mu * mu * mu / (m1 * m1);
+    let num = k * mu * (1.0lf + (1.0lf - 0.5lf * gamma0) * mu - 0.5lf * a * mu * mu);
+    return vec2<f64>(num / (den * den), b);
+}
+
+// Johnson-Cook: radial return with the temperature rise of the step's start, the pressure
+// from the equation of state if there is one (johnson_cook.rs update_johnson_cook; the
+// history's back stress slots hold the temperature rise, ln J and the energy less E0).
+fn update_johnson_cook(m: Mat, p: Point, d: S6, dt: f64) -> Point {
+    let o = u32(m.sigy);
+    var out = p;
+    var heat = p.back[0];
+    let theta = jc_thermal_factor(o, heat);
+    let eos = o + 11u;
+    var x = 0.0lf;
+    var y = 0.0lf;
+    var plastic = false;
+    if (par[eos] < 0.5lf) {
+        let r = radial_return(m, m.lambda, m.shear, p.sigma, d, p.eps_p, dt, theta);
+        out.sigma = r.sigma;
+        plastic = r.plastic;
+        x = r.x;
+        y = r.y;
+    } else {
+        let s = p.sigma;
+        let p_old = -(s[0] + s[1] + s[2]) / 3.0lf;
+        let dv = d[0] + d[1] + d[2];
+        let dm = dv / 3.0lf;
+        let dev = S6(d[0] - dm, d[1] - dm, d[2] - dm, d[3], d[4], d[5]);
+        let sm = (s[0] + s[1] + s[2]) / 3.0lf;
+        let old = S6(s[0] - sm, s[1] - sm, s[2] - sm, s[3], s[4], s[5]);
+        let r = radial_return(m, 0.0lf, m.shear, old, dev, p.eps_p, dt, theta);
+        var avg: S6;
+        for (var i = 0u; i < 6u; i = i + 1u) {
+            avg[i] = 0.5lf * (old[i] + r.sigma[i]);
+        }
+        let w_dev = ddot6(avg, dev);
+        // eos.rs EosState::step
+        let e0 = par[eos + 8u];
+        let v0 = par[eos + 9u];
+        let v_old = v0 * exp64(p.back[1]);
+        let ln_j = p.back[1] + dv;
+        let v_new = v0 * exp64(ln_j);
+        let d_v = v_new - v_old;
+        let e_star = e0 + p.back[2] + 0.5lf * (v_old + v_new) * w_dev - 0.5lf * p_old * d_v;
+        let ab = eos_coefficients(eos, 1.0lf / v_new - 1.0lf);
+        let pn = (ab.x + ab.y * e_star) / (1.0lf + 0.5lf * ab.y * d_v);
+        out.back[1] = ln_j;
+        out.back[2] = e_star - 0.5lf * pn * d_v - e0;
+        let t = r.sigma;
+        out.sigma = S6(t[0] - pn, t[1] - pn, t[2] - pn, t[3], t[4], t[5]);
+        plastic = r.plastic;
+        x = r.x;
+        y = r.y;
+    }
+    if (plastic) {
+        let rho_cp = par[o + 8u];
+        if (finite(rho_cp)) {
+            heat = heat + y * x / rho_cp;
+        }
+        out.back[0] = heat;
+        out.eps_p = p.eps_p + x;
+    }
+    return out;
 }
 
 // ---------------------------------------------------------------- the element pass (kernel.rs)
@@ -407,11 +811,12 @@ fn element(e: u32) -> ElemOut {
         let hw = 0.25lf * dt_prev;
         let r = hughes_winget(vec3<f64>(hw * (l[2][1] - l[1][2]), hw * (l[0][2] - l[2][0]), hw * (l[1][0] - l[0][1])));
         p.sigma = rotate_sym(r, p.sigma);
-        if (p.back[0] != 0.0lf || p.back[1] != 0.0lf || p.back[2] != 0.0lf || p.back[3] != 0.0lf || p.back[4] != 0.0lf || p.back[5] != 0.0lf) {
+        // (laws 2 and 3 keep scalars in the back stress slots: not turned)
+        if (m.law < 1.5lf && (p.back[0] != 0.0lf || p.back[1] != 0.0lf || p.back[2] != 0.0lf || p.back[3] != 0.0lf || p.back[4] != 0.0lf || p.back[5] != 0.0lf)) {
             p.back = rotate_sym(r, p.back);
         }
         let old = p.sigma;
-        p = update_material(m, p, d);
+        p = update_material(m, p, d, dt_prev);
         var avg: S6;
         for (var i = 0u; i < 6u; i = i + 1u) {
             avg[i] = 0.5lf * (old[i] + p.sigma[i]);

@@ -12,6 +12,7 @@
 use std::time::Instant;
 
 use cleave_core::error::SolverError;
+use cleave_core::material::SolidLaw;
 use cleave_core::math::Vec3;
 use cleave_core::solver::{Observer, RunError, Solver};
 use wgpu::util::DeviceExt;
@@ -427,11 +428,25 @@ impl GpuStepper {
         let hist = self.download(&self.state.hist);
         let hg = self.download(&self.state.hg);
         let bq = self.download(&self.state.bq);
+        // Johnson-Cook keeps its temperature rise, ln J and energy in the back stress slots
+        let jc: Vec<bool> = (solver.setup.elem_mat.iter())
+            .map(|&m| {
+                solver.setup.params[m as usize]
+                    .as_ref()
+                    .is_some_and(|p| matches!(p.law, SolidLaw::JohnsonCook(_)))
+            })
+            .collect();
         let st = &mut solver.state;
         for e in 0..ne {
             st.stress[e].copy_from_slice(&sig[6 * e..6 * e + 6]);
             st.hist[e].eps_p = hist[7 * e];
-            st.hist[e].back.copy_from_slice(&hist[7 * e + 1..7 * e + 7]);
+            if jc[e] {
+                st.hist[e].heat = hist[7 * e + 1];
+                st.hist[e].ln_j = hist[7 * e + 2];
+                st.hist[e].energy = hist[7 * e + 3];
+            } else {
+                st.hist[e].back.copy_from_slice(&hist[7 * e + 1..7 * e + 7]);
+            }
             st.hg[e].copy_from_slice(&hg[12 * e..12 * e + 12]);
             st.bulk_q[e] = bq[e];
         }

@@ -1,8 +1,9 @@
 //! What the GPU step does not run yet: a deck that asks for it is refused by name.
 //!
 //! Runs on the GPU: one-point hexahedra (ELFORM 1) with viscous or stiffness hourglass
-//! control and bulk viscosity (global or each part's `*HOURGLASS`), `*MAT_ELASTIC` and
-//! `*MAT_PLASTIC_KINEMATIC`, the time step (TSSFAC, DTINIT, DTMIN, ENDTIM), `*LOAD_BODY`,
+//! control and bulk viscosity (global or each part's `*HOURGLASS`), `*MAT_ELASTIC`,
+//! `*MAT_PLASTIC_KINEMATIC`, `*MAT_JOHNSON_COOK` / `*MAT_SIMPLIFIED_JOHNSON_COOK` (with their
+//! equations of state) and `*MAT_PIECEWISE_LINEAR_PLASTICITY` (curve or table), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM), `*LOAD_BODY`,
 //! `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`,
 //! up to 8 `*RIGIDWALL_PLANAR`, the energy ledger, and every output (states and histories are read back at their
 //! times).
@@ -62,16 +63,10 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
         }
         let m = &model.materials[part.material];
         match m.kind {
-            MaterialKind::Elastic | MaterialKind::PlasticKinematic { .. } => {}
-            MaterialKind::JohnsonCook(_) => {
-                return Some(format!("*MAT_JOHNSON_COOK (material {})", m.id))
-            }
-            MaterialKind::PiecewiseLinear(_) => {
-                return Some(format!(
-                    "*MAT_PIECEWISE_LINEAR_PLASTICITY (material {})",
-                    m.id
-                ))
-            }
+            MaterialKind::Elastic
+            | MaterialKind::PlasticKinematic { .. }
+            | MaterialKind::JohnsonCook(_)
+            | MaterialKind::PiecewiseLinear(_) => {}
             MaterialKind::Rigid { .. } => return Some(format!("*MAT_RIGID (material {})", m.id)),
         }
     }

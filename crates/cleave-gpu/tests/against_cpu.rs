@@ -12,6 +12,7 @@
 //! 1e-10 of the field's largest value bounds them with room (measured: see the test output).
 
 use cleave_core::curve::Curve;
+use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, RateTable};
 use cleave_core::math::Vec3;
 use cleave_core::mesh::box_model;
 use cleave_core::model::{
@@ -316,5 +317,136 @@ fn loads_and_part_hourglass_match_the_cpu() {
             d[1]
         );
         compare_runs(m, &format!("loads, part {hourglass:?}"));
+    }
+}
+
+/// The block of [`block`] (viscous hourglass) in each of the other plastic laws: Johnson-Cook
+/// (4340 steel, rate and heating) without and with each equation of state, the simplified one
+/// with its SIGMAX cap, and `*MAT_024` with a curve and Cowper-Symonds, and with a table of
+/// curves by log rate. Each yields (checked in `compare_runs`) and runs on the GPU as on the
+/// CPU to round-off; the Johnson-Cook history (temperature rise, ln J, energy) comes back.
+#[test]
+fn every_plastic_law_matches_the_cpu() {
+    let jc = JohnsonCook::STEEL_4340;
+    let gruneisen = Eos::Gruneisen {
+        c: 4570.0,
+        s: [1.49, 0.1, 0.01],
+        gamma0: 1.93,
+        a: 0.5,
+        rho0: 7850.0,
+        e0: 1e5,
+        v0: 1.0,
+    };
+    let polynomial = Eos::LinearPolynomial {
+        c: [0.0, 1.6e11, 2e11, 1e11, 1.7, 0.5, 0.2],
+        e0: 0.0,
+        v0: 1.0,
+    };
+    let curve: std::sync::Arc<[[f64; 2]]> = vec![[0.0, 350e6], [0.05, 420e6], [0.2, 520e6]].into();
+    let slow: std::sync::Arc<[[f64; 2]]> = vec![[0.0, 300e6], [0.1, 400e6]].into();
+    let fast: std::sync::Arc<[[f64; 2]]> = vec![[0.0, 380e6], [0.1, 470e6], [0.3, 560e6]].into();
+    let laws: Vec<(&str, MaterialKind)> = vec![
+        ("Johnson-Cook", MaterialKind::JohnsonCook(jc)),
+        (
+            "Johnson-Cook, Gruneisen",
+            MaterialKind::JohnsonCook(JohnsonCook {
+                eos: Some(gruneisen),
+                ..jc
+            }),
+        ),
+        (
+            "Johnson-Cook, linear polynomial",
+            MaterialKind::JohnsonCook(JohnsonCook {
+                eos: Some(polynomial),
+                ..jc
+            }),
+        ),
+        (
+            "simplified Johnson-Cook, SIGMAX",
+            MaterialKind::JohnsonCook(JohnsonCook {
+                sig_max: 900e6,
+                m: 1.0,
+                t_melt: f64::INFINITY,
+                rho_cp: f64::INFINITY,
+                ..jc
+            }),
+        ),
+        (
+            "MAT_024 curve, Cowper-Symonds",
+            MaterialKind::PiecewiseLinear(PiecewiseLinear {
+                points: curve,
+                c: 40.4,
+                p: 5.0,
+                lcss: None,
+                table: None,
+            }),
+        ),
+        (
+            "MAT_024 table by log rate",
+            MaterialKind::PiecewiseLinear(PiecewiseLinear {
+                points: slow.clone(),
+                c: 0.0,
+                p: 0.0,
+                lcss: None,
+                table: Some(std::sync::Arc::new(RateTable {
+                    values: vec![-2.0, 3.0, 6.0],
+                    log: true,
+                    curves: vec![(1, slow.clone()), (2, fast.clone()), (3, fast)],
+                })),
+            }),
+        ),
+    ];
+    for (name, kind) in laws {
+        let mut m = block(Hourglass::Viscous);
+        m.materials[0].kind = kind;
+        if name.starts_with("Johnson-Cook") {
+            // the history the GPU hands back: as the CPU's
+            let Some(g) = gpu() else { return };
+            let every = m.control.end_time / 7.0;
+            let mut s = Solver::new(&m).unwrap();
+            let mut st = GpuStepper::new(g, &s).unwrap();
+            st.run(
+                &mut s,
+                &mut Record {
+                    every,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            let mut c = Solver::new(&m).unwrap();
+            c.run(&mut Record {
+                every,
+                ..Default::default()
+            })
+            .unwrap();
+            let worst = |f: &dyn Fn(&cleave_core::material::History) -> f64| {
+                let scale = c
+                    .state
+                    .hist
+                    .iter()
+                    .map(|h| f(h).abs())
+                    .fold(0.0f64, f64::max);
+                let d = (c.state.hist.iter().zip(&s.state.hist))
+                    .map(|(a, b)| (f(a) - f(b)).abs())
+                    .fold(0.0f64, f64::max);
+                (scale, d)
+            };
+            for (what, f) in [
+                (
+                    "heat",
+                    &(|h: &cleave_core::material::History| h.heat) as &dyn Fn(&_) -> f64,
+                ),
+                ("ln J", &|h: &cleave_core::material::History| h.ln_j),
+                ("energy", &|h: &cleave_core::material::History| h.energy),
+            ] {
+                let (scale, d) = worst(f);
+                assert!(
+                    d <= 1e-10 * scale,
+                    "{name}: {what} differs by {d:e} of {scale:e}"
+                );
+            }
+            assert!(worst(&|h| h.heat).0 > 0.0, "{name}: the block heats");
+        }
+        compare_runs(m, name);
     }
 }

@@ -8,7 +8,7 @@
 //!   the curves (n, abscissae, ordinates), the body loads (axis, curve offset or -1, SF), the
 //!   node actions (`NODE_STRIDE` values each, see [`NODE_STRIDE`]) and the planar rigid walls
 //!   (a point, the unit normal, FRIC);
-//! - `emat`: each element's material slot. A slot is one material with one part's controls
+//! - `emat`: each element's material slot, with the top bit ([`TET`]) set for a tetrahedron. A slot is one material with one part's controls
 //!   (its `*HOURGLASS`, else the global cards: `cleave_core::solver::kernel_controls`), so parts
 //!   that share a material but not their hourglass control get slots of their own;
 //! - `nptr`/`ninc`: for each node, its element corners `8 e + a` in element order (the order
@@ -19,12 +19,15 @@
 //!   it carries (in the order the CPU adds them: `cleave_core::loads`), then its prescribed
 //!   motions (in the deck's order).
 
+use cleave_core::element::Shape;
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, SolidLaw};
 use cleave_core::math::{norm, scale, sub};
 use cleave_core::model::{Hourglass, Model, MotionTarget, Vad};
 use cleave_core::setup::Setup;
 use cleave_core::solver::kernel_controls;
 
+/// The bit of `emat` that marks a tetrahedron.
+pub const TET: u32 = 1 << 31;
 /// Values per material slot in `par`.
 pub const MAT_STRIDE: usize = 13;
 /// Values per node action in `par` (at `mot_off + NODE_STRIDE k`), the first its kind:
@@ -80,7 +83,9 @@ impl Layout {
                     slots.len() - 1
                 }
             };
-            emat.push(slot as u32);
+            // a tetrahedron runs the constant-strain kernel: the slot's top bit
+            let tet = setup.elem_shape[e] == Shape::Tet;
+            emat.push(slot as u32 | if tet { TET } else { 0 });
         }
         let all: Vec<_> = setup.params.iter().chain(&setup.loose_params).collect();
         // the laws' parameter blocks, after the slots

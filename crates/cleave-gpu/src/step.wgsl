@@ -1,4 +1,4 @@
-// The explicit step of cleave on a GPU: one-point hexahedra (Flanagan-Belytschko hourglass
+// The explicit step of cleave on a GPU: one-point hexahedra and wedges (Flanagan-Belytschko hourglass
 // control, bulk viscosity, Hughes-Winget objective update, elastic and bilinear plastic
 // materials, each part's hourglass control and bulk viscosity), the time step, the
 // central-difference update with body loads, concentrated and pressure loads, SPC and
@@ -760,35 +760,21 @@ struct ElemOut {
     de_hg: f64,
 }
 
-fn element(e: u32) -> ElemOut {
-    var out = ElemOut(false, BIG, 0.0lf, 0.0lf);
-    var x: P8;
-    var v: P8;
-    for (var a = 0u; a < 8u; a = a + 1u) {
-        let n = conn[8u * e + a];
-        x[a] = ld(0u, n);
-        v[a] = ld(1u, n);
-    }
-    let m = material(emat[e]);
-    let dt_prev = cf[DT_PREV];
-    let q1 = m.q1;
-    let q2 = m.q2;
-    let stiff = m.hg > 0.5lf;
-    let jn = centre_jacobian(x);
-    let detn = det3(jn);
-    if (!positive(detn)) {
-        return out;
-    }
-    let jinv = inv3(jn, detn);
-    let vol = 8.0lf * detn;
-    let l_vol = cbrt64(vol);
-    var b: P8;
-    for (var a = 0u; a < 8u; a = a + 1u) {
-        b[a] = 0.125lf * (sx(a) * jinv[0] + sy(a) * jinv[1] + sz(a) * jinv[2]);
-    }
-    let jv = centre_jacobian(v);
+struct Stress {
+    ok: bool,
+    p: Point,
+    q: f64,
+    eps_v_rate: f64,
+    de_int: f64,
+}
 
-    // 1-4: stress update over the previous interval
+// Parts 1-4 of the step (kernel.rs update_stress), shared by the shapes: the velocity gradient
+// L = J_v J_mid^-1 at the mid-step geometry (J_mid = J_n - dt/2 J_v; the volume is
+// vol_per_det det J), the Hughes-Winget rotation, the material update, the internal energy by
+// the mid-point rule and the bulk viscosity q with the length l_vol; element e's stress,
+// history and q are read and written back.
+fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, dt_prev: f64) -> Stress {
+    var st = Stress(false, Point(S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf), 0.0lf, S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf)), 0.0lf, 0.0lf, 0.0lf);
     var p = Point(S6(sig[6u * e], sig[6u * e + 1u], sig[6u * e + 2u], sig[6u * e + 3u], sig[6u * e + 4u], sig[6u * e + 5u]),
                   hist[7u * e],
                   S6(hist[7u * e + 1u], hist[7u * e + 2u], hist[7u * e + 3u], hist[7u * e + 4u], hist[7u * e + 5u], hist[7u * e + 6u]));
@@ -800,10 +786,10 @@ fn element(e: u32) -> ElemOut {
         let jm = M3(jn[0] - h * jv[0], jn[1] - h * jv[1], jn[2] - h * jv[2]);
         let detm = det3(jm);
         if (!positive(detm)) {
-            return out;
+            return st;
         }
         let jminv = inv3(jm, detm);
-        let vol_mid = 8.0lf * detm;
+        let vol_mid = vol_per_det * detm;
         let l = mul3(jv, jminv);
         let d = S6(l[0][0] * dt_prev, l[1][1] * dt_prev, l[2][2] * dt_prev,
                    0.5lf * (l[0][1] + l[1][0]) * dt_prev, 0.5lf * (l[1][2] + l[2][1]) * dt_prev,
@@ -824,7 +810,7 @@ fn element(e: u32) -> ElemOut {
         de_int = vol_mid * ddot6(avg, d);
         eps_v_rate = l[0][0] + l[1][1] + l[2][2];
         if (eps_v_rate < 0.0lf) {
-            q = m.density * l_vol * (q1 * l_vol * eps_v_rate * eps_v_rate - q2 * m.wave_speed * eps_v_rate);
+            q = m.density * l_vol * (m.q1 * l_vol * eps_v_rate * eps_v_rate - m.q2 * m.wave_speed * eps_v_rate);
         }
         de_int = de_int - vol_mid * 0.5lf * (bq[e] + q) * eps_v_rate * dt_prev;
     }
@@ -834,6 +820,132 @@ fn element(e: u32) -> ElemOut {
         hist[7u * e + 1u + i] = p.back[i];
     }
     hist[7u * e] = p.eps_p;
+    st.ok = true;
+    st.p = p;
+    st.q = q;
+    st.eps_v_rate = eps_v_rate;
+    st.de_int = de_int;
+    return st;
+}
+
+// The stable step l_c / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1 l_c |tr L| in compression
+// (kernel.rs stable_dt).
+fn stable_dt(lc: f64, c: f64, eps_v_rate: f64, m: Mat) -> f64 {
+    var qv = 0.0lf;
+    if (eps_v_rate < 0.0lf) {
+        qv = m.q2 * c + m.q1 * lc * abs(eps_v_rate);
+    }
+    return lc / (qv + sqrt(qv * qv + c * c));
+}
+
+// The edge matrix J[i][k] = (x_(k+1) - x_0)[i] of a tetrahedron (tet4.rs).
+fn edge_matrix(x: array<vec3<f64>, 4>) -> M3 {
+    let a = x[1] - x[0];
+    let b = x[2] - x[0];
+    let c = x[3] - x[0];
+    return M3(vec3<f64>(a[0], b[0], c[0]), vec3<f64>(a[1], b[1], c[1]), vec3<f64>(a[2], b[2], c[2]));
+}
+
+// The constant-strain tetrahedron (tet4.rs tet4_step) on the corners 0, 1, 2, 4 of its 8-node
+// storage; the other four corners get no force, and there is no hourglass control.
+fn tet_element(e: u32, m: Mat) -> ElemOut {
+    var out = ElemOut(false, BIG, 0.0lf, 0.0lf);
+    var x: array<vec3<f64>, 4>;
+    var v: array<vec3<f64>, 4>;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        let n = conn[8u * e + k + k / 3u];
+        x[k] = ld(0u, n);
+        v[k] = ld(1u, n);
+    }
+    let dt_prev = cf[DT_PREV];
+    let jn = edge_matrix(x);
+    let detn = det3(jn);
+    if (!positive(detn)) {
+        return out;
+    }
+    let jinv = inv3(jn, detn);
+    let vol = detn / 6.0lf;
+    let l_vol = cbrt64(vol);
+    let jv = edge_matrix(v);
+    let st = stress_update(e, m, jn, jv, 1.0lf / 6.0lf, l_vol, dt_prev);
+    if (!st.ok) {
+        return out;
+    }
+    var b: array<vec3<f64>, 4>;
+    b[1] = jinv[0];
+    b[2] = jinv[1];
+    b[3] = jinv[2];
+    b[0] = -(jinv[0] + jinv[1] + jinv[2]);
+    let q = st.q;
+    let s = S6(st.p.sigma[0] - q, st.p.sigma[1] - q, st.p.sigma[2] - q, st.p.sigma[3], st.p.sigma[4], st.p.sigma[5]);
+    var f: P8;
+    for (var a = 0u; a < 8u; a = a + 1u) {
+        f[a] = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    }
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        let ba = b[k];
+        f[k + k / 3u] = vec3<f64>(-vol * (s[0] * ba[0] + s[3] * ba[1] + s[5] * ba[2]),
+                                  -vol * (s[3] * ba[0] + s[1] * ba[1] + s[4] * ba[2]),
+                                  -vol * (s[5] * ba[0] + s[4] * ba[1] + s[2] * ba[2]));
+    }
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            fe_lo[12u * e + 3u * a + i] = f[a][i];
+            fe_hi[12u * e + 3u * a + i] = f[a + 4u][i];
+        }
+    }
+    // l_c = 3 V / the largest face area (tet4.rs FACES)
+    var c2max = 0.0lf;
+    let c0 = cross(x[1] - x[0], x[2] - x[0]);
+    let c1 = cross(x[3] - x[0], x[1] - x[0]);
+    let c2 = cross(x[3] - x[1], x[2] - x[1]);
+    let c3 = cross(x[3] - x[2], x[0] - x[2]);
+    c2max = max(max(dot(c0, c0), dot(c1, c1)), max(dot(c2, c2), dot(c3, c3)));
+    out.dt = stable_dt(3.0lf * vol / (0.5lf * sqrt(c2max)), m.step_speed, st.eps_v_rate, m);
+    out.ok = true;
+    out.de_int = st.de_int;
+    return out;
+}
+
+fn element(e: u32) -> ElemOut {
+    let m = material(emat[e] & 0x7fffffffu);
+    if ((emat[e] & 0x80000000u) != 0u) {
+        return tet_element(e, m);
+    }
+    // the one-point hexahedron, also on a wedge's degenerate corners (shape.rs)
+    var out = ElemOut(false, BIG, 0.0lf, 0.0lf);
+    var x: P8;
+    var v: P8;
+    for (var a = 0u; a < 8u; a = a + 1u) {
+        let n = conn[8u * e + a];
+        x[a] = ld(0u, n);
+        v[a] = ld(1u, n);
+    }
+    let dt_prev = cf[DT_PREV];
+    let stiff = m.hg > 0.5lf;
+    let jn = centre_jacobian(x);
+    let detn = det3(jn);
+    if (!positive(detn)) {
+        return out;
+    }
+    let jinv = inv3(jn, detn);
+    let vol = 8.0lf * detn;
+    let l_vol = cbrt64(vol);
+    var b: P8;
+    for (var a = 0u; a < 8u; a = a + 1u) {
+        b[a] = 0.125lf * (sx(a) * jinv[0] + sy(a) * jinv[1] + sz(a) * jinv[2]);
+    }
+    let jv = centre_jacobian(v);
+
+    // 1-4: stress update over the previous interval
+    let st = stress_update(e, m, jn, jv, 8.0lf, l_vol, dt_prev);
+    if (!st.ok) {
+        return out;
+    }
+    let p = st.p;
+    let q = st.q;
+    let eps_v_rate = st.eps_v_rate;
+    let de_int = st.de_int;
 
     // 5: corner forces f_a = -V (sigma - q I) b_a
     let s = S6(p.sigma[0] - q, p.sigma[1] - q, p.sigma[2] - q, p.sigma[3], p.sigma[4], p.sigma[5]);
@@ -902,13 +1014,7 @@ fn element(e: u32) -> ElemOut {
     c2max = max(c2max, face_c2(x[1], x[2], x[6], x[5]));
     c2max = max(c2max, face_c2(x[2], x[3], x[7], x[6]));
     c2max = max(c2max, face_c2(x[3], x[0], x[4], x[7]));
-    let lc = vol / (0.5lf * sqrt(c2max));
-    let c = m.step_speed;
-    var qv = 0.0lf;
-    if (eps_v_rate < 0.0lf) {
-        qv = q2 * c + q1 * lc * abs(eps_v_rate);
-    }
-    out.dt = lc / (qv + sqrt(qv * qv + c * c));
+    out.dt = stable_dt(vol / (0.5lf * sqrt(c2max)), m.step_speed, eps_v_rate, m);
     out.ok = true;
     out.de_int = de_int;
     out.de_hg = de_hg;

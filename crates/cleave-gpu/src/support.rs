@@ -1,7 +1,7 @@
 //! What the GPU step does not run yet: a deck that asks for it is refused by name.
 //!
-//! Runs on the GPU: one-point hexahedra (ELFORM 1) with viscous or stiffness hourglass
-//! control and bulk viscosity (global or each part's `*HOURGLASS`), `*MAT_ELASTIC`,
+//! Runs on the GPU: one-point hexahedra and wedges (ELFORM 1) with viscous or stiffness hourglass
+//! control, constant-strain tetrahedra (ELFORM 1 and 10), bulk viscosity (global or each part's `*HOURGLASS`), `*MAT_ELASTIC`,
 //! `*MAT_PLASTIC_KINEMATIC`, `*MAT_JOHNSON_COOK` / `*MAT_SIMPLIFIED_JOHNSON_COOK` (with their
 //! equations of state) and `*MAT_PIECEWISE_LINEAR_PLASTICITY` (curve or table), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM), `*LOAD_BODY`,
 //! `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`,
@@ -48,16 +48,17 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
     }
     for (e, shape) in setup.elem_shape.iter().enumerate() {
         let part = &model.parts[model.elem_part[e] as usize];
-        if *shape != Shape::Hex {
-            return Some(format!(
-                "tetrahedra and wedges (element {}, part {})",
-                model.elem_ids[e], part.id
-            ));
-        }
         let elform = model.sections[part.section].elform;
-        if elform != 1 {
+        // hexahedra and wedges run the one-point hexahedron (ELFORM 1), tetrahedra the
+        // constant-strain one (ELFORM 1 and 10 alike, as on the CPU)
+        let runs = match shape {
+            Shape::Hex | Shape::Wedge => elform == 1,
+            Shape::Tet => elform == 1 || elform == 10,
+        };
+        if !runs {
             return Some(format!(
-                "ELFORM {elform} (part {}; ELFORM 1 runs on the GPU)",
+                "ELFORM {elform} on {} (part {}; the GPU runs ELFORM 1 and, on tetrahedra, 10)",
+                shape.plural(),
                 part.id
             ));
         }

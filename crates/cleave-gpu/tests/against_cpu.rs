@@ -14,7 +14,7 @@
 use cleave_core::curve::Curve;
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, RateTable};
 use cleave_core::math::Vec3;
-use cleave_core::mesh::box_model;
+use cleave_core::mesh::{box_model, BoxMesh};
 use cleave_core::model::{
     BodyLoad, Hourglass, HourglassDef, Material, MaterialKind, Model, MotionTarget, NodeLoad, Part,
     PrescribedMotion, PressureLoad, Spc, Vad,
@@ -447,6 +447,33 @@ fn every_plastic_law_matches_the_cpu() {
             }
             assert!(worst(&|h| h.heat).0 > 0.0, "{name}: the block heats");
         }
+        compare_runs(m, name);
+    }
+}
+
+/// The block of [`block`] cut into tetrahedra (ELFORM 10, and ELFORM 1, which runs the same
+/// constant-strain kernel on a tetrahedron) and into wedges (ELFORM 1: the one-point
+/// hexahedron on the degenerate corners), the same nodes, loads and constraints, 150 steps:
+/// the GPU as the CPU to round-off.
+#[test]
+fn tetrahedra_and_wedges_match_the_cpu() {
+    type Cut = fn(&BoxMesh) -> BoxMesh;
+    let cuts: [(&str, Cut, i32); 3] = [
+        ("tetrahedra, ELFORM 10", BoxMesh::split_tets, 10),
+        ("tetrahedra, ELFORM 1", BoxMesh::split_tets, 1),
+        ("wedges, ELFORM 1", BoxMesh::split_wedges, 1),
+    ];
+    for (name, cut, elform) in cuts {
+        let mut m = block(Hourglass::Viscous);
+        let mesh = cut(&BoxMesh::new([3, 3, 6], [0.03, 0.03, 0.06]));
+        assert_eq!(mesh.x.len(), m.x0.len(), "the same nodes");
+        let ne = mesh.conn.len();
+        m.conn = mesh.conn;
+        m.elem_ids = (1..=ne as i64).collect();
+        m.elem_part = vec![0; ne];
+        m.sections[0].elform = elform;
+        let (dt, _) = cleave_core::setup::estimate_time_step(&m).unwrap();
+        m.control.end_time = 150.0 * dt * m.control.tssfac;
         compare_runs(m, name);
     }
 }

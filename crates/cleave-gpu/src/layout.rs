@@ -15,6 +15,9 @@
 //!   its forces are summed in, so the sum is the same bits every run);
 //! - `nflag`: the SPC bits of each node (1 x, 2 y, 4 z), and 8 << w for each rigid wall w
 //!   that stops it;
+//! - `rbi`: for each node, its entry in the rigid bodies' node list (`u32::MAX`: none), then
+//!   that list, the bodies' nodes body after body (the entry k's body and arm are at
+//!   `rb_off + RB_PAR n_rigid + 4 k` in `par`);
 //! - `mptr`: for each node, its node actions: its concentrated loads and the pressure segments
 //!   it carries (in the order the CPU adds them: `cleave_core::loads`), then its prescribed
 //!   motions (in the deck's order).
@@ -28,6 +31,8 @@ use cleave_core::solver::kernel_controls;
 
 /// The bit of `emat` that marks a tetrahedron.
 pub const TET: u32 = 1 << 31;
+/// The bit of `emat` that marks an element of a rigid part (no kernel: it moves with its body).
+pub const RIGID: u32 = 1 << 30;
 /// Values per material slot in `par`.
 pub const MAT_STRIDE: usize = 13;
 /// Values per node action in `par` (at `mot_off + NODE_STRIDE k`), the first its kind:
@@ -54,7 +59,22 @@ pub struct Layout {
     pub ninc: Vec<u32>,
     pub nflag: Vec<u32>,
     pub mptr: Vec<u32>,
+    /// Rigid bodies: their count, the offset of their blocks in `par` ([`RB_PAR`] each), and
+    /// `rbi` ([module docs](self)).
+    pub n_rigid: u32,
+    pub rb_off: u32,
+    pub rbi: Vec<u32>,
 }
+
+/// Values per rigid body in `par`: mass, reference centre of mass (3), reference inertia (9,
+/// by rows), the fixed translations and rotations (3 + 3, 1 fixed), the offset and number of
+/// its prescribed motions (4 values each: axis, VAD 0 velocity / 1 displacement, SF, curve
+/// offset), the first and the number of its entries in the node list.
+pub const RB_PAR: usize = 23;
+/// Values per rigid body in the state buffer `rb`: centre of mass (3), velocity of the centre
+/// (3), rotation (9), angular momentum (3), angular velocity (3), the next placement (3 + 9),
+/// the work of the body's constraints now and later (2), the previous placement (3 + 9).
+pub const RB_STATE: usize = 48;
 
 impl Layout {
     /// The arrays of a model that [`crate::support::unsupported`] accepts (hexahedra of
@@ -83,9 +103,11 @@ impl Layout {
                     slots.len() - 1
                 }
             };
-            // a tetrahedron runs the constant-strain kernel: the slot's top bit
+            // a tetrahedron runs the constant-strain kernel: the slot's top bit; an element of
+            // a rigid part none
             let tet = setup.elem_shape[e] == Shape::Tet;
-            emat.push(slot as u32 | if tet { TET } else { 0 });
+            let rigid = setup.params[m as usize].is_none();
+            emat.push(slot as u32 | if tet { TET } else { 0 } | if rigid { RIGID } else { 0 });
         }
         let all: Vec<_> = setup.params.iter().chain(&setup.loose_params).collect();
         // the laws' parameter blocks, after the slots
@@ -179,6 +201,52 @@ impl Layout {
         for i in 0..nn {
             mptr[i + 1] += mptr[i];
         }
+        // rigid bodies: each body's block, then each body-node entry (body, arm X - X_cm0),
+        // then the bodies' prescribed motions
+        let bodies = &setup.rigid;
+        let rb_off = par.len() as u32;
+        let entries: usize = bodies.iter().map(|b| b.nodes.len()).sum();
+        let entry_off = rb_off as usize + RB_PAR * bodies.len();
+        let motion_off = entry_off + 4 * entries;
+        let mut rbi = vec![u32::MAX; nn];
+        let (mut first, mut motions) = (0usize, 0usize);
+        for (b, body) in bodies.iter().enumerate() {
+            let n_mot = setup.rigid_motion.iter().filter(|(rb, _)| *rb == b).count();
+            par.push(body.mass);
+            par.extend_from_slice(&body.x_cm0);
+            par.extend(body.inertia0.iter().flatten());
+            par.extend(
+                body.fix_v
+                    .iter()
+                    .chain(&body.fix_w)
+                    .map(|&f| f as u8 as f64),
+            );
+            par.extend_from_slice(&[
+                (motion_off + 4 * motions) as f64,
+                n_mot as f64,
+                first as f64,
+                body.nodes.len() as f64,
+            ]);
+            first += body.nodes.len();
+            motions += n_mot;
+        }
+        for (b, body) in bodies.iter().enumerate() {
+            for &n in &body.nodes {
+                rbi[n as usize] = (par.len() - entry_off) as u32 / 4;
+                par.push(b as f64);
+                par.extend_from_slice(&sub(model.x0[n as usize], body.x_cm0));
+            }
+        }
+        for b in 0..bodies.len() {
+            for (_, pm) in setup.rigid_motion.iter().filter(|(rb, _)| *rb == b) {
+                let vad = match pm.vad {
+                    Vad::Velocity => 0.0,
+                    Vad::Displacement => 1.0,
+                };
+                par.extend_from_slice(&[pm.axis as f64, vad, pm.sf, curve_off[pm.curve]]);
+            }
+        }
+        rbi.extend(bodies.iter().flat_map(|b| b.nodes.iter().copied()));
         let wall_off = par.len() as u32;
         for wall in &model.rigid_walls {
             let d = sub(wall.head, wall.tail);
@@ -229,6 +297,9 @@ impl Layout {
             ninc,
             nflag,
             mptr,
+            n_rigid: bodies.len() as u32,
+            rb_off,
+            rbi,
         }
     }
 }

@@ -1,18 +1,22 @@
-// The explicit step of cleave on a GPU: one-point hexahedra and wedges (Flanagan-Belytschko hourglass
-// control, bulk viscosity, Hughes-Winget objective update, elastic and bilinear plastic
-// materials, each part's hourglass control and bulk viscosity), the time step, the
-// central-difference update with body loads, concentrated and pressure loads, SPC and
-// prescribed nodal motion, and the energy ledger. A port of the CPU step (cleave-core:
-// element/kernel.rs, element/hex8.rs, material/, solver.rs), operation for operation; the
-// Rust doc comments there carry the formulas and their sources.
+// The explicit step of cleave on a GPU: one-point hexahedra and wedges (Flanagan-Belytschko
+// hourglass control), constant-strain tetrahedra, bulk viscosity, the Hughes-Winget objective
+// update, every deformable material (elastic, bilinear plastic, Johnson-Cook with its
+// equations of state, piecewise linear), each part's hourglass control and bulk viscosity,
+// rigid bodies, the time step, the central-difference update with body, concentrated and
+// pressure loads, SPC and prescribed nodal motion, rigid walls, and the energy ledger. A port
+// of the CPU step (cleave-core: element/kernel.rs, element/hex8.rs, element/tet4.rs,
+// material/, rigid.rs, solver.rs), operation for operation; the Rust doc comments there carry
+// the formulas and their sources.
 //
-// One step is six dispatches, each a no-op once `halt` is set:
+// One step is seven dispatches, each a no-op once `halt` is set:
 //   positions (per node)  x^n = x^(n-1) + dt v^(n-1/2), if a step is pending
-//   commit (1 thread)     t, dt_prev, step; body acceleration at t^n and t^(n-1)
+//   commit (1 thread)     t, dt_prev, step; the rigid bodies' placement; body acceleration at
+//                         t^n and t^(n-1)
 //   elements (per elem)   stress update, corner forces, element time step; group partials
 //   control (1 group)     smallest time step and energy sums (fixed tree); dt^(n+1/2)
-//   nodes (per node)      force gather in a fixed order, v^(n+1/2), constraints and rigid
-//                         walls; partials
+//   rigid (1 group/body)  force and moment of each rigid body (fixed tree), its 6-dof update
+//   nodes (per node)      force gather in a fixed order, v^(n+1/2), rigid bodies' nodes
+//                         placed, constraints and rigid walls; partials
 //   finish (1 group)      kinetic energy, external work; halts at output times and errors
 // Every sum is taken in a fixed order (no float atomics): the same bits on every run.
 
@@ -24,13 +28,13 @@ struct Params {
     n_body: u32,
     body_off: u32,
     mot_off: u32,
-    pad0: u32,
+    n_rigid: u32,
     n_walls: u32,
     wall_off: u32,
     // values each node adds up for the ledger: 6 (kinetic energy, momentum, the work of the
     // constraints before and after t^n), then 4 per rigid wall (normal impulse, impulse)
     n_part: u32,
-    pad: u32,
+    rb_off: u32,
 }
 
 @group(0) @binding(0) var<storage, read_write> cf: array<f64>;
@@ -54,7 +58,9 @@ struct Params {
 @group(0) @binding(18) var<storage, read> nflag: array<u32>;
 @group(0) @binding(19) var<storage, read> mptr: array<u32>;
 @group(0) @binding(20) var<storage, read_write> npart: array<f64>;
-@group(0) @binding(21) var<uniform> prm: Params;
+@group(0) @binding(21) var<storage, read> rbi: array<u32>;
+@group(0) @binding(22) var<storage, read_write> rb: array<f64>;
+@group(0) @binding(23) var<uniform> prm: Params;
 
 // cf: control floats (host side: gpu::control)
 const T: u32 = 0u;
@@ -89,6 +95,9 @@ const PENDING_X: u32 = 5u;
 const FINISHED: u32 = 6u;
 
 const MAT_STRIDE: u32 = 13u;
+const RB_PAR: u32 = 23u;
+const RB_STATE: u32 = 48u;
+const NOT_RIGID: u32 = 0xffffffffu;
 const NODE_STRIDE: u32 = 8u;
 const BIG: f64 = 1.7976931348623157e308lf;
 
@@ -908,7 +917,11 @@ fn tet_element(e: u32, m: Mat) -> ElemOut {
 }
 
 fn element(e: u32) -> ElemOut {
-    let m = material(emat[e] & 0x7fffffffu);
+    if ((emat[e] & 0x40000000u) != 0u) {
+        // an element of a rigid part: it moves with its body, no stress, no step limit
+        return ElemOut(true, BIG, 0.0lf, 0.0lf);
+    }
+    let m = material(emat[e] & 0x3fffffffu);
     if ((emat[e] & 0x80000000u) != 0u) {
         return tet_element(e, m);
     }
@@ -1069,6 +1082,168 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     }
 }
 
+
+// ---------------------------------------------------------------- rigid bodies (rigid.rs)
+
+fn rb_vec(o: u32) -> vec3<f64> {
+    return vec3<f64>(rb[o], rb[o + 1u], rb[o + 2u]);
+}
+
+fn rb_mat(o: u32) -> M3 {
+    return M3(rb_vec(o), rb_vec(o + 3u), rb_vec(o + 6u));
+}
+
+fn rb_set_vec(o: u32, v: vec3<f64>) {
+    rb[o] = v[0];
+    rb[o + 1u] = v[1];
+    rb[o + 2u] = v[2];
+}
+
+fn rb_set_mat(o: u32, a: M3) {
+    rb_set_vec(o, a[0]);
+    rb_set_vec(o + 3u, a[1]);
+    rb_set_vec(o + 6u, a[2]);
+}
+
+fn mat_vec3(a: M3, v: vec3<f64>) -> vec3<f64> {
+    return vec3<f64>(dot(a[0], v), dot(a[1], v), dot(a[2], v));
+}
+
+// The spatial inertia R I0 R^T of body block bo.
+fn rb_inertia(bo: u32, r: M3) -> M3 {
+    let i0 = M3(vec3<f64>(par[bo + 4u], par[bo + 5u], par[bo + 6u]),
+                vec3<f64>(par[bo + 7u], par[bo + 8u], par[bo + 9u]),
+                vec3<f64>(par[bo + 10u], par[bo + 11u], par[bo + 12u]));
+    return mul3(mul3(r, i0), transpose3(r));
+}
+
+var<workgroup> rb_s: array<f64, 64>;
+
+// The sum of `val` over the 64 threads of the group, by a tree of fixed shape.
+fn rb_sum(l: u32, val: f64) -> f64 {
+    rb_s[l] = val;
+    workgroupBarrier();
+    for (var s = 32u; s > 0u; s = s >> 1u) {
+        if (l < s) {
+            rb_s[l] = rb_s[l] + rb_s[l + s];
+        }
+        workgroupBarrier();
+    }
+    let total = rb_s[0];
+    workgroupBarrier();
+    return total;
+}
+
+// One group per body: the force and moment about the centre of mass summed over its nodes (in
+// a fixed order), v_cm += F/M dt, the angular momentum and velocity by the implicit mid-point
+// rule, the constraints and prescribed motions, their work, and the placement of the next step
+// (solver.rs update_rigid_bodies, rigid.rs update_angular).
+@compute @workgroup_size(64)
+fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+         @builtin(num_workgroups) nw: vec3<u32>) {
+    let b = wid.y * nw.x + wid.x;
+    let l = lid.x;
+    let live = !halted() && b < prm.n_rigid;
+    var bo = 0u;
+    var so = 0u;
+    var fs = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    var ms = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    if (live) {
+        bo = prm.rb_off + RB_PAR * b;
+        so = RB_STATE * b;
+        let x_cm = rb_vec(so);
+        let first = u32(par[bo + 21u]);
+        let count = u32(par[bo + 22u]);
+        let list = prm.nn + first;
+        let t = cf[T];
+        for (var k = l; k < count; k = k + 64u) {
+            let n = rbi[list + k];
+            let f = node_force(n) + node_loads(n, t);
+            fs = fs + f;
+            ms = ms + cross(ld(0u, n) - x_cm, f);
+        }
+    }
+    var tot: array<f64, 6>;
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        tot[i] = rb_sum(l, fs[i]);
+        tot[3u + i] = rb_sum(l, ms[i]);
+    }
+    if (!live || l != 0u) {
+        return;
+    }
+    let force = vec3<f64>(tot[0], tot[1], tot[2]);
+    let moment = vec3<f64>(tot[3], tot[4], tot[5]);
+    let dt_mid = cf[DT_MID];
+    let dt = cf[DT];
+    let mass_b = par[bo];
+    let rot = rb_mat(so + 6u);
+    let v_old = rb_vec(so + 3u);
+    let w_old = rb_vec(so + 18u);
+    var v_cm = v_old + force * (dt_mid / mass_b);
+    // update_angular
+    let ang = rb_vec(so + 15u) + moment * dt_mid;
+    var ang_mom = ang;
+    let inertia = rb_inertia(bo, rot);
+    let d = det3(inertia);
+    var omega = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    if (d != 0.0lf && finite(d)) {
+        let inv = inv3(inertia, d);
+        omega = mat_vec3(inv, ang);
+        for (var it = 0; it < 50; it = it + 1) {
+            let q = hughes_winget(omega * (0.5lf * dt));
+            let next = mat_vec3(inv, (ang + mat_vec3(transpose3(q), ang)) * 0.5lf);
+            let dn = next - omega;
+            let change = sqrt(dot(dn, dn));
+            omega = next;
+            if (change <= 1e-15lf * sqrt(dot(omega, omega))) {
+                break;
+            }
+        }
+    }
+    let v_free = v_cm;
+    let w_free = omega;
+    // apply_constraints
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        if (par[bo + 13u + i] > 0.5lf) {
+            v_cm[i] = 0.0lf;
+        }
+    }
+    if (par[bo + 16u] > 0.5lf || par[bo + 17u] > 0.5lf || par[bo + 18u] > 0.5lf) {
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            if (par[bo + 16u + i] > 0.5lf) {
+                omega[i] = 0.0lf;
+            }
+        }
+        ang_mom = mat_vec3(inertia, omega);
+    }
+    // prescribed motions, in the deck's order
+    let x_cm = rb_vec(so);
+    let t = cf[T];
+    let mo = u32(par[bo + 19u]);
+    for (var k = 0u; k < u32(par[bo + 20u]); k = k + 1u) {
+        let o = mo + 4u * k;
+        let axis = u32(par[o]);
+        let c = u32(par[o + 3u]);
+        if (par[o + 1u] < 0.5lf) {
+            v_cm[axis] = par[o + 2u] * curve_eval(c, t + 0.5lf * dt);
+        } else {
+            let goal = par[bo + 1u + axis] + par[o + 2u] * curve_eval(c, t + dt);
+            v_cm[axis] = (goal - x_cm[axis]) / dt;
+        }
+    }
+    // the work of the constraint reactions: impulse . mean velocity
+    let dp = (v_cm - v_free) * mass_b;
+    let dl = mat_vec3(inertia, omega - w_free);
+    rb[so + 33u] = 0.5lf * (dot(dp, v_old) + dot(dl, w_old));
+    rb[so + 34u] = 0.5lf * (dot(dp, v_cm) + dot(dl, omega));
+    rb_set_vec(so + 3u, v_cm);
+    rb_set_vec(so + 15u, ang_mom);
+    rb_set_vec(so + 18u, omega);
+    // next_placement: R^(n+1) = cay(omega dt) R^n, x_cm^(n+1) = x_cm + v_cm dt
+    rb_set_vec(so + 21u, x_cm + v_cm * dt);
+    rb_set_mat(so + 24u, mul3(hughes_winget(omega * (0.5lf * dt)), rot));
+}
+
 // ---------------------------------------------------------------- positions and commit
 
 @compute @workgroup_size(64)
@@ -1094,6 +1269,19 @@ fn commit() {
         cf[DT_PREV] = cf[DT];
         cf[STEP] = cf[STEP] + 1.0lf;
         atomicStore(&cu[PENDING_X], 0u);
+        // the rigid bodies commit their placement (solver.rs update_positions)
+        for (var b = 0u; b < prm.n_rigid; b = b + 1u) {
+            let so = RB_STATE * b;
+            for (var i = 0u; i < 12u; i = i + 1u) {
+                rb[so + 36u + i] = rb[so + select(6u + i - 3u, i, i < 3u)];
+            }
+            for (var i = 0u; i < 3u; i = i + 1u) {
+                rb[so + i] = rb[so + 21u + i];
+            }
+            for (var i = 0u; i < 9u; i = i + 1u) {
+                rb[so + 6u + i] = rb[so + 24u + i];
+            }
+        }
     }
     let g = body_acceleration(cf[T]);
     let gp = body_acceleration(cf[T] - cf[DT_PREV]);
@@ -1220,6 +1408,61 @@ fn constrain(m: f64, w: f64, v: vec3<f64>, vn: vec3<f64>, v_new: vec3<f64>) -> C
     return Constrained(v_new, vn + dv * w, 0.5lf * dot(j, v_old), 0.5lf * dot(j, v_new));
 }
 
+
+// The force on node n at t^n without its loads: its weight under the body loads and its
+// elements' corner forces, gathered in element order.
+fn node_force(n: u32) -> vec3<f64> {
+    let g = vec3<f64>(cf[G_NOW], cf[G_NOW + 1u], cf[G_NOW + 2u]);
+    var f = g * mass[n];
+    for (var k = nptr[n]; k < nptr[n + 1u]; k = k + 1u) {
+        let c = ninc[k];
+        let e = c >> 3u;
+        let a = c & 7u;
+        if (a < 4u) {
+            let o = 12u * e + 3u * a;
+            f = f + vec3<f64>(fe_lo[o], fe_lo[o + 1u], fe_lo[o + 2u]);
+        } else {
+            let o = 12u * e + 3u * (a - 4u);
+            f = f + vec3<f64>(fe_hi[o], fe_hi[o + 1u], fe_hi[o + 2u]);
+        }
+    }
+    return f;
+}
+
+// The node's concentrated loads and pressure segments at t (loads.rs), kept apart from its
+// other forces for their work.
+fn node_loads(n: u32, t: f64) -> vec3<f64> {
+    var fl = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    for (var k = mptr[n]; k < mptr[n + 1u]; k = k + 1u) {
+        let o = prm.mot_off + NODE_STRIDE * k;
+        let kind = par[o];
+        if (kind < 0.5lf) {
+            continue;
+        }
+        if (kind < 1.5lf) {
+            fl[u32(par[o + 1u])] = fl[u32(par[o + 1u])] + par[o + 2u] * curve_eval(u32(par[o + 3u]), t);
+            continue;
+        }
+        var p = 0.0lf;
+        if (t >= par[o + 3u]) {
+            p = par[o + 1u] * curve_eval(u32(par[o + 2u]), t);
+        }
+        if (p != 0.0lf) {
+            let n3 = u32(par[o + 6u]);
+            let n4 = u32(par[o + 7u]);
+            var pts = 4.0lf;
+            if (n4 == n3) {
+                pts = 3.0lf;
+            }
+            let x1 = ld(0u, u32(par[o + 4u]));
+            let x2 = ld(0u, u32(par[o + 5u]));
+            let area = cross(ld(0u, n3) - x1, ld(0u, n4) - x2) * 0.5lf;
+            fl = fl + area * (-p / pts);
+        }
+    }
+    return fl;
+}
+
 @compute @workgroup_size(64)
 fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
          @builtin(num_workgroups) nw: vec3<u32>) {
@@ -1231,52 +1474,9 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
     var wacc: array<f64, 32>;
     if (run && n < prm.nn) {
         let m = mass[n];
-        let g = vec3<f64>(cf[G_NOW], cf[G_NOW + 1u], cf[G_NOW + 2u]);
-        var f = g * m;
-        for (var k = nptr[n]; k < nptr[n + 1u]; k = k + 1u) {
-            let c = ninc[k];
-            let e = c >> 3u;
-            let a = c & 7u;
-            if (a < 4u) {
-                let o = 12u * e + 3u * a;
-                f = f + vec3<f64>(fe_lo[o], fe_lo[o + 1u], fe_lo[o + 2u]);
-            } else {
-                let o = 12u * e + 3u * (a - 4u);
-                f = f + vec3<f64>(fe_hi[o], fe_hi[o + 1u], fe_hi[o + 2u]);
-            }
-        }
         let t = cf[T];
-        // the node's concentrated loads and pressure segments at t^n (loads.rs), summed apart
-        // for their work
-        var fl = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
-        for (var k = mptr[n]; k < mptr[n + 1u]; k = k + 1u) {
-            let o = prm.mot_off + NODE_STRIDE * k;
-            let kind = par[o];
-            if (kind < 0.5lf) {
-                continue;
-            }
-            if (kind < 1.5lf) {
-                fl[u32(par[o + 1u])] = fl[u32(par[o + 1u])] + par[o + 2u] * curve_eval(u32(par[o + 3u]), t);
-                continue;
-            }
-            var p = 0.0lf;
-            if (t >= par[o + 3u]) {
-                p = par[o + 1u] * curve_eval(u32(par[o + 2u]), t);
-            }
-            if (p != 0.0lf) {
-                let n3 = u32(par[o + 6u]);
-                let n4 = u32(par[o + 7u]);
-                var pts = 4.0lf;
-                if (n4 == n3) {
-                    pts = 3.0lf;
-                }
-                let x1 = ld(0u, u32(par[o + 4u]));
-                let x2 = ld(0u, u32(par[o + 5u]));
-                let area = cross(ld(0u, n3) - x1, ld(0u, n4) - x2) * 0.5lf;
-                fl = fl + area * (-p / pts);
-            }
-        }
-        f = f + fl;
+        let fl = node_loads(n, t);
+        let f = node_force(n) + fl;
         let dt_mid = cf[DT_MID];
         let dp = cf[DT_PREV];
         let dt = cf[DT];
@@ -1296,6 +1496,18 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
         v = v + dv;
         acc[5] = acc[5] + 0.5lf * dot(fl, v) * dt_mid;
         let w = cf[W_HALF];
+        // a rigid body's node: placed with its body, x^(n+1) = x_cm^(n+1) + R^(n+1) arm, by the
+        // velocity (x^(n+1) - x^n) / dt (solver.rs update_rigid_bodies)
+        let k = rbi[n];
+        if (k != NOT_RIGID) {
+            let eo = prm.rb_off + RB_PAR * prm.n_rigid + 4u * k;
+            let so = RB_STATE * u32(par[eo]);
+            let arm = vec3<f64>(par[eo + 1u], par[eo + 2u], par[eo + 3u]);
+            let placed = rb_vec(so + 21u) + mat_vec3(rb_mat(so + 24u), arm);
+            let v_new = (placed - ld(0u, n)) * (1.0lf / dt);
+            vn = vn + (v_new - v) * w;
+            v = v_new;
+        }
         // SPC, then the prescribed motions of the node in the deck's order
         let flags = nflag[n];
         let spc = flags & 7u;
@@ -1462,8 +1674,15 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
         let g = vec3<f64>(cf[G_PREV], cf[G_PREV + 1u], cf[G_PREV + 2u]) + vec3<f64>(cf[G_NOW], cf[G_NOW + 1u], cf[G_NOW + 2u]);
         body = 0.5lf * dot(g, vec3<f64>(f_tot[1], f_tot[2], f_tot[3])) * dp;
     }
-    cf[E_EXT] = cf[E_EXT] + cf[PENDING_WORK] + f_tot[4] + body;
-    cf[PENDING_WORK] = f_tot[5];
+    // the work of the rigid bodies' constraints and prescribed motions, body after body
+    var rb_now = 0.0lf;
+    var rb_later = 0.0lf;
+    for (var b = 0u; b < prm.n_rigid; b = b + 1u) {
+        rb_now = rb_now + rb[RB_STATE * b + 33u];
+        rb_later = rb_later + rb[RB_STATE * b + 34u];
+    }
+    cf[E_EXT] = cf[E_EXT] + cf[PENDING_WORK] + f_tot[4] + rb_now + body;
+    cf[PENDING_WORK] = f_tot[5] + rb_later;
     var inv = 0.0lf;
     if (cf[DT_MID] > 0.0lf) {
         inv = 1.0lf / cf[DT_MID];

@@ -18,7 +18,7 @@ use cleave_core::solver::{Observer, RunError, Solver};
 use wgpu::util::DeviceExt;
 
 use crate::device::{Gpu, GpuError};
-use crate::layout::Layout;
+use crate::layout::{Layout, RB_STATE};
 
 /// Control floats (`cf` in step.wgsl).
 mod cf {
@@ -67,11 +67,11 @@ struct Params {
     n_body: u32,
     body_off: u32,
     mot_off: u32,
-    pad0: u32,
+    n_rigid: u32,
     n_walls: u32,
     wall_off: u32,
     n_part: u32,
-    pad: u32,
+    rb_off: u32,
 }
 
 /// The state arrays read back for output, in their binding order.
@@ -88,13 +88,15 @@ struct StateBuffers {
 /// A model on the GPU, ready to step.
 pub struct GpuStepper {
     gpu: Gpu,
-    pipelines: [wgpu::ComputePipeline; 6],
+    pipelines: [wgpu::ComputePipeline; 7],
     bind_group: wgpu::BindGroup,
     cf: wgpu::Buffer,
     cu: wgpu::Buffer,
     state: StateBuffers,
     ctl_staging: [wgpu::Buffer; 2],
-    groups: [usize; 6],
+    groups: [usize; 7],
+    /// The rigid bodies' states (read back with the rest).
+    rb: wgpu::Buffer,
     /// Steps recorded in one submission (grown while a batch takes under 20 ms).
     pub batch: usize,
 }
@@ -107,6 +109,27 @@ fn control_block(solver: &Solver) -> [f64; cf::LEN] {
     f[cf::DT_MIN] = c.dt_min;
     f[cf::END_TIME] = c.end_time;
     f
+}
+
+/// The rigid bodies' states as the GPU keeps them (`layout::RB_STATE` values each).
+fn rigid_state(solver: &Solver) -> Vec<f64> {
+    let mut out = Vec::with_capacity(RB_STATE * solver.state.rigid.len());
+    for st in &solver.state.rigid {
+        let start = out.len();
+        out.extend_from_slice(&st.x_cm);
+        out.extend_from_slice(&st.v_cm);
+        out.extend(st.rot.iter().flatten());
+        out.extend_from_slice(&st.ang_mom);
+        out.extend_from_slice(&st.omega);
+        // the next placement: the present one until a step is taken
+        out.extend_from_slice(&st.x_cm);
+        out.extend(st.rot.iter().flatten());
+        out.extend_from_slice(&[0.0, 0.0, 0.0]); // the work now and later, a spare
+        out.extend_from_slice(&st.prev_x_cm);
+        out.extend(st.prev_rot.iter().flatten());
+        assert_eq!(out.len() - start, RB_STATE);
+    }
+    out
 }
 
 fn flat(v: &[Vec3]) -> Vec<f64> {
@@ -198,6 +221,8 @@ impl GpuStepper {
         let mptr = u32s("node motions start", &lay.mptr);
         let n_part = 6 + 4 * model.rigid_walls.len();
         let npart = zeros("node partial sums", n_part * groups_n);
+        let rbi = u32s("rigid body nodes", &lay.rbi);
+        let rb = f64s("rigid bodies", &rigid_state(solver));
         let params = Params {
             ne: ne as u32,
             nn: nn as u32,
@@ -206,18 +231,18 @@ impl GpuStepper {
             n_body: lay.n_body,
             body_off: lay.body_off,
             mot_off: lay.mot_off,
-            pad0: 0,
+            n_rigid: lay.n_rigid,
             n_walls: model.rigid_walls.len() as u32,
             wall_off: lay.wall_off,
             n_part: n_part as u32,
-            pad: 0,
+            rb_off: lay.rb_off,
         };
         let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),
             contents: bytemuck::bytes_of(&params),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let bindings: [(&wgpu::Buffer, bool); 21] = [
+        let bindings: [(&wgpu::Buffer, bool); 23] = [
             (&cf_buf, false),
             (&cu_buf, false),
             (&par, true),
@@ -239,6 +264,8 @@ impl GpuStepper {
             (&nflag, true),
             (&mptr, true),
             (&npart, false),
+            (&rbi, true),
+            (&rb, false),
         ];
         let mut layout_entries: Vec<wgpu::BindGroupLayoutEntry> = (bindings.iter().enumerate())
             .map(|(i, &(_, read_only))| wgpu::BindGroupLayoutEntry {
@@ -253,7 +280,7 @@ impl GpuStepper {
             })
             .collect();
         layout_entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 21,
+            binding: 23,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
@@ -273,7 +300,7 @@ impl GpuStepper {
             })
             .collect();
         entries.push(wgpu::BindGroupEntry {
-            binding: 21,
+            binding: 23,
             resource: uniform.as_entire_binding(),
         });
         let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -305,6 +332,7 @@ impl GpuStepper {
             pipeline("commit"),
             pipeline("elements"),
             pipeline("control"),
+            pipeline("rigid"),
             pipeline("nodes"),
             pipeline("finish"),
         ];
@@ -324,7 +352,8 @@ impl GpuStepper {
             cu: cu_buf,
             state,
             ctl_staging,
-            groups: [groups_n, 1, groups_e, 1, groups_n, 1],
+            groups: [groups_n, 1, groups_e, 1, lay.n_rigid as usize, groups_n, 1],
+            rb,
             batch: 4,
             gpu,
         })
@@ -449,6 +478,21 @@ impl GpuStepper {
             }
             st.hg[e].copy_from_slice(&hg[12 * e..12 * e + 12]);
             st.bulk_q[e] = bq[e];
+        }
+        if !st.rigid.is_empty() {
+            let rb = self.download(&self.rb);
+            let v3 = |o: usize| [rb[o], rb[o + 1], rb[o + 2]];
+            let m3 = |o: usize| [v3(o), v3(o + 3), v3(o + 6)];
+            for (b, r) in st.rigid.iter_mut().enumerate() {
+                let o = RB_STATE * b;
+                r.x_cm = v3(o);
+                r.v_cm = v3(o + 3);
+                r.rot = m3(o + 6);
+                r.ang_mom = v3(o + 15);
+                r.omega = v3(o + 18);
+                r.prev_x_cm = v3(o + 36);
+                r.prev_rot = m3(o + 39);
+            }
         }
         c.apply(solver);
     }

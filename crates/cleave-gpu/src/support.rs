@@ -1,15 +1,18 @@
 //! What the GPU step does not run yet: a deck that asks for it is refused by name.
 //!
-//! Runs on the GPU: one-point hexahedra and wedges (ELFORM 1) with viscous or stiffness hourglass
-//! control, constant-strain tetrahedra (ELFORM 1 and 10), bulk viscosity (global or each part's `*HOURGLASS`), `*MAT_ELASTIC`,
-//! `*MAT_PLASTIC_KINEMATIC`, `*MAT_JOHNSON_COOK` / `*MAT_SIMPLIFIED_JOHNSON_COOK` (with their
-//! equations of state) and `*MAT_PIECEWISE_LINEAR_PLASTICITY` (curve or table), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM), `*LOAD_BODY`,
-//! `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`,
-//! up to 8 `*RIGIDWALL_PLANAR`, the energy ledger, and every output (states and histories are read back at their
-//! times).
+//! Runs on the GPU: one-point hexahedra and wedges (ELFORM 1) with viscous or stiffness
+//! hourglass control, constant-strain tetrahedra (ELFORM 1 and 10), bulk viscosity (global or
+//! each part's `*HOURGLASS`), `*MAT_ELASTIC`, `*MAT_PLASTIC_KINEMATIC`, `*MAT_JOHNSON_COOK` /
+//! `*MAT_SIMPLIFIED_JOHNSON_COOK` (with their equations of state),
+//! `*MAT_PIECEWISE_LINEAR_PLASTICITY` (curve or table), rigid bodies (`*MAT_RIGID` parts with
+//! their extra nodes, `*CONSTRAINED_NODAL_RIGID_BODY`, their constraints and prescribed
+//! motion; not with a given inertia), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM),
+//! `*LOAD_BODY`, `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and
+//! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 `*RIGIDWALL_PLANAR`, the energy ledger,
+//! and every output (states and histories are read back at their times).
 
 use cleave_core::element::Shape;
-use cleave_core::model::{MaterialKind, Model, MotionTarget};
+use cleave_core::model::{MaterialKind, Model};
 use cleave_core::setup::Setup;
 
 /// The first feature of `model` that the GPU step does not run, as a phrase for the message
@@ -36,15 +39,11 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
             crate::layout::MAX_WALLS
         ));
     }
-    if !setup.rigid.is_empty() {
-        return Some("rigid bodies (*MAT_RIGID, *CONSTRAINED_NODAL_RIGID_BODY)".into());
-    }
-    if setup
-        .node_motion
-        .iter()
-        .any(|m| !matches!(m.target, MotionTarget::Node(_)))
-    {
-        return Some("prescribed motion of a rigid body".into());
+    if let Some(b) = setup.rigid.iter().find(|b| b.unlumped.is_some()) {
+        return Some(format!(
+            "a rigid body with a given inertia (*PART_INERTIA, _INERTIA; body {})",
+            b.id
+        ));
     }
     for (e, shape) in setup.elem_shape.iter().enumerate() {
         let part = &model.parts[model.elem_part[e] as usize];
@@ -68,7 +67,7 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
             | MaterialKind::PlasticKinematic { .. }
             | MaterialKind::JohnsonCook(_)
             | MaterialKind::PiecewiseLinear(_) => {}
-            MaterialKind::Rigid { .. } => return Some(format!("*MAT_RIGID (material {})", m.id)),
+            MaterialKind::Rigid { .. } => {}
         }
     }
     None

@@ -16,8 +16,8 @@ use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, RateTable};
 use cleave_core::math::Vec3;
 use cleave_core::mesh::{box_model, BoxMesh};
 use cleave_core::model::{
-    BodyLoad, Hourglass, HourglassDef, Material, MaterialKind, Model, MotionTarget, NodeLoad, Part,
-    PrescribedMotion, PressureLoad, Spc, Vad,
+    BodyLoad, Hourglass, HourglassDef, Material, MaterialKind, Model, MotionTarget, NodalRigidBody,
+    NodeLoad, NodeSet, Part, PrescribedMotion, PressureLoad, Spc, Vad,
 };
 use cleave_core::solver::{Observer, Solver};
 use cleave_gpu::{Gpu, GpuStepper};
@@ -475,5 +475,122 @@ fn tetrahedra_and_wedges_match_the_cpu() {
         let (dt, _) = cleave_core::setup::estimate_time_step(&m).unwrap();
         m.control.end_time = 150.0 * dt * m.control.tssfac;
         compare_runs(m, name);
+    }
+}
+
+/// Rigid bodies on the block of [`block`] (viscous hourglass), 150 steps, the GPU as the CPU:
+/// - its top layer of elements a `*MAT_RIGID` part, driven down by a prescribed velocity of
+///   the part (ramped) while the initial shear and the body load turn and push it;
+/// - the same with a prescribed displacement, so the part ends where the curve puts it;
+/// - instead, its top nodes a nodal rigid body with constraints (x translation and rotation
+///   about x fixed), free otherwise, with a concentrated load on one of its nodes.
+#[test]
+fn rigid_bodies_match_the_cpu() {
+    for case in [
+        "rigid part, velocity",
+        "rigid part, displacement",
+        "nodal rigid body",
+    ] {
+        let mut m = block(Hourglass::Viscous);
+        m.prescribed.clear();
+        let top: Vec<u32> = (0..m.x0.len() as u32)
+            .filter(|&n| (m.x0[n as usize][2] - 0.06).abs() < 1e-9)
+            .collect();
+        if case.starts_with("rigid part") {
+            let mut steel = m.materials[0].clone();
+            steel.id = 2;
+            steel.kind = MaterialKind::Rigid {
+                cmo: 0,
+                con1: 0,
+                con2: 0,
+            };
+            m.materials.push(steel);
+            let mut cap = m.parts[0].clone();
+            cap.id = 2;
+            cap.material = 1;
+            m.parts.push(Part { ..cap });
+            for e in 0..m.num_elements() {
+                let zc: f64 = m.conn[e].iter().map(|&n| m.x0[n as usize][2]).sum::<f64>() / 8.0;
+                if zc > 0.05 {
+                    m.elem_part[e] = 1;
+                }
+            }
+            let vad = if case.ends_with("velocity") {
+                Vad::Velocity
+            } else {
+                Vad::Displacement
+            };
+            let sf = if vad == Vad::Velocity { -40.0 } else { -2e-4 };
+            m.prescribed.push(PrescribedMotion {
+                target: MotionTarget::Rigid(1),
+                axis: 2,
+                vad,
+                curve: 0,
+                sf,
+            });
+        } else {
+            m.node_sets.push(NodeSet {
+                id: 5,
+                nodes: top.clone(),
+            });
+            m.nodal_rigid.push(NodalRigidBody {
+                id: 9,
+                set: 0,
+                cmo: 1,
+                con1: 1,
+                con2: 1,
+                inertia: None,
+            });
+            m.node_loads.push(NodeLoad {
+                node: top[0],
+                axis: 2,
+                curve: 0,
+                sf: -5e5,
+            });
+        }
+        // the body moves and turns: its state comes back as the CPU's
+        let Some(g) = gpu() else { return };
+        let every = m.control.end_time / 7.0;
+        let mut s = Solver::new(&m).unwrap();
+        assert_eq!(s.setup.rigid.len(), 1, "{case}");
+        let mut st = GpuStepper::new(g, &s).unwrap();
+        st.run(
+            &mut s,
+            &mut Record {
+                every,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let mut c = Solver::new(&m).unwrap();
+        c.run(&mut Record {
+            every,
+            ..Default::default()
+        })
+        .unwrap();
+        let (a, b) = (&c.state.rigid[0], &s.state.rigid[0]);
+        let speed = a
+            .v_cm
+            .iter()
+            .chain(&a.omega)
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(speed > 1.0, "{case}: the body moves ({speed})");
+        for (x, y) in a.x_cm.iter().zip(&b.x_cm) {
+            assert!(
+                (x - y).abs() <= 1e-12 * 0.06,
+                "{case}: centre {:?} vs {:?}",
+                a.x_cm,
+                b.x_cm
+            );
+        }
+        for (x, y) in a.rot.iter().flatten().zip(b.rot.iter().flatten()) {
+            assert!(
+                (x - y).abs() <= 1e-12,
+                "{case}: rotation {:?} vs {:?}",
+                a.rot,
+                b.rot
+            );
+        }
+        compare_runs(m, case);
     }
 }

@@ -8,7 +8,8 @@
 //!   the curves (n, abscissae, ordinates), the body loads (axis, curve offset or -1, SF), the
 //!   node actions (`NODE_STRIDE` values each, see [`NODE_STRIDE`]) and the planar rigid walls
 //!   (a point, the unit normal, FRIC);
-//! - `emat`: each element's material slot, with the top bit ([`TET`]) set for a tetrahedron. A slot is one material with one part's controls
+//! - `emat`: each element's material slot, with the bits [`TET`] (a tetrahedron), [`NP`] (one
+//!   with nodal pressure averaging, ELFORM 13) and [`RIGID`] (an element of a rigid part). A slot is one material with one part's controls
 //!   (its `*HOURGLASS`, else the global cards: `cleave_core::solver::kernel_controls`), so parts
 //!   that share a material but not their hourglass control get slots of their own;
 //! - `nptr`/`ninc`: for each node, its element corners `8 e + a` in element order (the order
@@ -33,6 +34,8 @@ use cleave_core::solver::kernel_controls;
 pub const TET: u32 = 1 << 31;
 /// The bit of `emat` that marks an element of a rigid part (no kernel: it moves with its body).
 pub const RIGID: u32 = 1 << 30;
+/// The bit of `emat` that marks a tetrahedron with nodal pressure averaging (ELFORM 13).
+pub const NP: u32 = 1 << 29;
 /// Values per material slot in `par`.
 pub const MAT_STRIDE: usize = 13;
 /// Values per node action in `par` (at `mot_off + NODE_STRIDE k`), the first its kind:
@@ -107,7 +110,14 @@ impl Layout {
             // a rigid part none
             let tet = setup.elem_shape[e] == Shape::Tet;
             let rigid = setup.params[m as usize].is_none();
-            emat.push(slot as u32 | if tet { TET } else { 0 } | if rigid { RIGID } else { 0 });
+            let np = tet && model.sections[model.parts[part].section].elform == 13;
+            let mut bits = slot as u32;
+            for (on, bit) in [(tet, TET), (rigid, RIGID), (np, NP)] {
+                if on {
+                    bits |= bit;
+                }
+            }
+            emat.push(bits);
         }
         let all: Vec<_> = setup.params.iter().chain(&setup.loose_params).collect();
         // the laws' parameter blocks, after the slots

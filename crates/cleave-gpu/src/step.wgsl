@@ -1,6 +1,6 @@
 // The explicit step of cleave on a GPU: one-point hexahedra and wedges (Flanagan-Belytschko
-// hourglass control), constant-strain tetrahedra, bulk viscosity, the Hughes-Winget objective
-// update, every deformable material (elastic, bilinear plastic, Johnson-Cook with its
+// hourglass control), constant-strain tetrahedra and those with nodal pressure averaging, bulk
+// viscosity, the Hughes-Winget objective update, every deformable material (elastic, bilinear plastic, Johnson-Cook with its
 // equations of state, piecewise linear), each part's hourglass control and bulk viscosity,
 // rigid bodies, the time step, the central-difference update with body, concentrated and
 // pressure loads, SPC and prescribed nodal motion, rigid walls, and the energy ledger. A port
@@ -8,7 +8,8 @@
 // material/, rigid.rs, solver.rs), operation for operation; the Rust doc comments there carry
 // the formulas and their sources.
 //
-// One step is seven dispatches, each a no-op once `halt` is set:
+// One step is seven dispatches (eleven with ELFORM 13: np_theta and np_node_theta before the
+// elements, np_node_p and np_correct after), each a no-op once `halt` is set:
 //   positions (per node)  x^n = x^(n-1) + dt v^(n-1/2), if a step is pending
 //   commit (1 thread)     t, dt_prev, step; the rigid bodies' placement; body acceleration at
 //                         t^n and t^(n-1)
@@ -60,7 +61,9 @@ struct Params {
 @group(0) @binding(20) var<storage, read_write> npart: array<f64>;
 @group(0) @binding(21) var<storage, read> rbi: array<u32>;
 @group(0) @binding(22) var<storage, read_write> rb: array<f64>;
-@group(0) @binding(23) var<uniform> prm: Params;
+@group(0) @binding(23) var<storage, read_write> npe: array<f64>;
+@group(0) @binding(24) var<storage, read_write> npn: array<f64>;
+@group(0) @binding(25) var<uniform> prm: Params;
 
 // cf: control floats (host side: gpu::control)
 const T: u32 = 0u;
@@ -98,6 +101,11 @@ const MAT_STRIDE: u32 = 13u;
 const RB_PAR: u32 = 23u;
 const RB_STATE: u32 = 48u;
 const NOT_RIGID: u32 = 0xffffffffu;
+// emat: the material slot, and the bits of a tetrahedron, of ELFORM 13, of a rigid element
+const SLOT: u32 = 0x1fffffffu;
+const NP: u32 = 0x20000000u;
+const RIGID_EL: u32 = 0x40000000u;
+const TET_EL: u32 = 0x80000000u;
 const NODE_STRIDE: u32 = 8u;
 const BIG: f64 = 1.7976931348623157e308lf;
 
@@ -782,7 +790,7 @@ struct Stress {
 // vol_per_det det J), the Hughes-Winget rotation, the material update, the internal energy by
 // the mid-point rule and the bulk viscosity q with the length l_vol; element e's stress,
 // history and q are read and written back.
-fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, dt_prev: f64) -> Stress {
+fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, dt_prev: f64, np: bool, theta_bar: f64) -> Stress {
     var st = Stress(false, Point(S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf), 0.0lf, S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf)), 0.0lf, 0.0lf, 0.0lf);
     var p = Point(S6(sig[6u * e], sig[6u * e + 1u], sig[6u * e + 2u], sig[6u * e + 3u], sig[6u * e + 4u], sig[6u * e + 5u]),
                   hist[7u * e],
@@ -800,9 +808,16 @@ fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, d
         let jminv = inv3(jm, detm);
         let vol_mid = vol_per_det * detm;
         let l = mul3(jv, jminv);
-        let d = S6(l[0][0] * dt_prev, l[1][1] * dt_prev, l[2][2] * dt_prev,
+        var d = S6(l[0][0] * dt_prev, l[1][1] * dt_prev, l[2][2] * dt_prev,
                    0.5lf * (l[0][1] + l[1][0]) * dt_prev, 0.5lf * (l[1][2] + l[2][1]) * dt_prev,
                    0.5lf * (l[2][0] + l[0][2]) * dt_prev);
+        if (np) {
+            // ELFORM 13: the averaged volumetric increment in place of the element's own
+            let shift = (theta_bar - (d[0] + d[1] + d[2])) / 3.0lf;
+            d[0] = d[0] + shift;
+            d[1] = d[1] + shift;
+            d[2] = d[2] + shift;
+        }
         let hw = 0.25lf * dt_prev;
         let r = hughes_winget(vec3<f64>(hw * (l[2][1] - l[1][2]), hw * (l[0][2] - l[2][0]), hw * (l[1][0] - l[0][1])));
         p.sigma = rotate_sym(r, p.sigma);
@@ -876,9 +891,22 @@ fn tet_element(e: u32, m: Mat) -> ElemOut {
     let vol = detn / 6.0lf;
     let l_vol = cbrt64(vol);
     let jv = edge_matrix(v);
-    let st = stress_update(e, m, jn, jv, 1.0lf / 6.0lf, l_vol, dt_prev);
+    // ELFORM 13 (nodal_pressure.rs): the mean of the 4 nodes' averaged increments
+    let np = (emat[e] & NP) != 0u;
+    var theta_bar = 0.0lf;
+    if (np) {
+        for (var k = 0u; k < 4u; k = k + 1u) {
+            theta_bar = theta_bar + npn[conn[8u * e + k + k / 3u]];
+        }
+        theta_bar = 0.25lf * theta_bar;
+    }
+    let st = stress_update(e, m, jn, jv, 1.0lf / 6.0lf, l_vol, dt_prev, np, theta_bar);
     if (!st.ok) {
         return out;
+    }
+    if (np) {
+        let sg = st.p.sigma;
+        npe[3u * e + 2u] = -(sg[0] + sg[1] + sg[2]) / 3.0lf;
     }
     var b: array<vec3<f64>, 4>;
     b[1] = jinv[0];
@@ -917,12 +945,12 @@ fn tet_element(e: u32, m: Mat) -> ElemOut {
 }
 
 fn element(e: u32) -> ElemOut {
-    if ((emat[e] & 0x40000000u) != 0u) {
+    if ((emat[e] & RIGID_EL) != 0u) {
         // an element of a rigid part: it moves with its body, no stress, no step limit
         return ElemOut(true, BIG, 0.0lf, 0.0lf);
     }
-    let m = material(emat[e] & 0x3fffffffu);
-    if ((emat[e] & 0x80000000u) != 0u) {
+    let m = material(emat[e] & SLOT);
+    if ((emat[e] & TET_EL) != 0u) {
         return tet_element(e, m);
     }
     // the one-point hexahedron, also on a wedge's degenerate corners (shape.rs)
@@ -951,7 +979,7 @@ fn element(e: u32) -> ElemOut {
     let jv = centre_jacobian(v);
 
     // 1-4: stress update over the previous interval
-    let st = stress_update(e, m, jn, jv, 8.0lf, l_vol, dt_prev);
+    let st = stress_update(e, m, jn, jv, 8.0lf, l_vol, dt_prev, false, 0.0lf);
     if (!st.ok) {
         return out;
     }
@@ -1082,6 +1110,132 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     }
 }
 
+
+
+// ---------------------------------------------------------------- ELFORM 13 (nodal_pressure.rs)
+// npe per element: the mid-step volume V (the weight; 0 for other elements and for one flat at
+// mid-step), its own volumetric increment theta, its pressure p after the update; npn per
+// node: the weighted mean of theta, then of p, over its ELFORM 13 elements.
+
+// The corners 0, 1, 2, 4 of a tetrahedron's 8-node storage.
+fn tet_nodes(e: u32) -> array<u32, 4> {
+    return array<u32, 4>(conn[8u * e], conn[8u * e + 1u], conn[8u * e + 2u], conn[8u * e + 4u]);
+}
+
+@compute @workgroup_size(64)
+fn np_theta(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+            @builtin(num_workgroups) nw: vec3<u32>) {
+    let e = 64u * (wid.y * nw.x + wid.x) + lid.x;
+    if (e >= prm.ne || halted() || (emat[e] & NP) == 0u) {
+        return;
+    }
+    let ns = tet_nodes(e);
+    var x: array<vec3<f64>, 4>;
+    var v: array<vec3<f64>, 4>;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        x[k] = ld(0u, ns[k]);
+        v[k] = ld(1u, ns[k]);
+    }
+    // tet4.rs volume_increment
+    let dt = cf[DT_PREV];
+    let jn = edge_matrix(x);
+    let jv = edge_matrix(v);
+    let h = 0.5lf * dt;
+    let jm = M3(jn[0] - h * jv[0], jn[1] - h * jv[1], jn[2] - h * jv[2]);
+    let d = det3(jm);
+    var w = 0.0lf;
+    var th = 0.0lf;
+    if (positive(d)) {
+        let l = mul3(jv, inv3(jm, d));
+        w = d / 6.0lf;
+        th = (l[0][0] + l[1][1] + l[2][2]) * dt;
+    }
+    npe[3u * e] = w;
+    npe[3u * e + 1u] = th;
+}
+
+// npn[n] = sum_e V_e val_e / sum_e V_e over the node's elements (value k of npe: 1 theta,
+// 2 pressure), in element order.
+fn np_node(n: u32, k: u32) {
+    var num = 0.0lf;
+    var den = 0.0lf;
+    for (var i = nptr[n]; i < nptr[n + 1u]; i = i + 1u) {
+        let e = ninc[i] >> 3u;
+        let a = ninc[i] & 7u;
+        // a tetrahedron's node once, at its corner 0, 1, 2 or 4
+        if ((emat[e] & NP) == 0u || a == 3u || a > 4u) {
+            continue;
+        }
+        num = num + npe[3u * e] * npe[3u * e + k];
+        den = den + npe[3u * e];
+    }
+    var val = 0.0lf;
+    if (den > 0.0lf) {
+        val = num / den;
+    }
+    npn[n] = val;
+}
+
+@compute @workgroup_size(64)
+fn np_node_theta(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+                 @builtin(num_workgroups) nw: vec3<u32>) {
+    let n = 64u * (wid.y * nw.x + wid.x) + lid.x;
+    if (n < prm.nn && !halted()) {
+        np_node(n, 1u);
+    }
+}
+
+@compute @workgroup_size(64)
+fn np_node_p(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+             @builtin(num_workgroups) nw: vec3<u32>) {
+    let n = 64u * (wid.y * nw.x + wid.x) + lid.x;
+    if (n < prm.nn && !halted()) {
+        np_node(n, 2u);
+    }
+}
+
+// The pressure correction V^n (p_tilde - p_e) b_a of each ELFORM 13 element's corner forces,
+// p_tilde the mean of its 4 nodes' averaged pressures (nodal_pressure.rs correct_forces).
+@compute @workgroup_size(64)
+fn np_correct(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+              @builtin(num_workgroups) nw: vec3<u32>) {
+    let e = 64u * (wid.y * nw.x + wid.x) + lid.x;
+    if (e >= prm.ne || halted() || (emat[e] & NP) == 0u || npe[3u * e] == 0.0lf) {
+        return;
+    }
+    let ns = tet_nodes(e);
+    var x: array<vec3<f64>, 4>;
+    var pt = 0.0lf;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        x[k] = ld(0u, ns[k]);
+        pt = pt + npn[ns[k]];
+    }
+    pt = 0.25lf * pt;
+    let jn = edge_matrix(x);
+    let d = det3(jn);
+    if (!positive(d)) {
+        return;
+    }
+    let jinv = inv3(jn, d);
+    let vol = d / 6.0lf;
+    let c = vol * (pt - npe[3u * e + 2u]);
+    var b: array<vec3<f64>, 4>;
+    b[1] = jinv[0];
+    b[2] = jinv[1];
+    b[3] = jinv[2];
+    b[0] = -(jinv[0] + jinv[1] + jinv[2]);
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        let a = k + k / 3u;
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            let f = c * b[k][i];
+            if (a < 4u) {
+                fe_lo[12u * e + 3u * a + i] = fe_lo[12u * e + 3u * a + i] + f;
+            } else {
+                fe_hi[12u * e + 3u * (a - 4u) + i] = fe_hi[12u * e + 3u * (a - 4u) + i] + f;
+            }
+        }
+    }
+}
 
 // ---------------------------------------------------------------- rigid bodies (rigid.rs)
 

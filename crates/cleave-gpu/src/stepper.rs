@@ -88,13 +88,13 @@ struct StateBuffers {
 /// A model on the GPU, ready to step.
 pub struct GpuStepper {
     gpu: Gpu,
-    pipelines: [wgpu::ComputePipeline; 7],
+    /// The step's passes in order, each with its number of groups.
+    pipelines: Vec<(wgpu::ComputePipeline, usize)>,
     bind_group: wgpu::BindGroup,
     cf: wgpu::Buffer,
     cu: wgpu::Buffer,
     state: StateBuffers,
     ctl_staging: [wgpu::Buffer; 2],
-    groups: [usize; 7],
     /// The rigid bodies' states (read back with the rest).
     rb: wgpu::Buffer,
     /// Steps recorded in one submission (grown while a batch takes under 20 ms).
@@ -223,6 +223,9 @@ impl GpuStepper {
         let npart = zeros("node partial sums", n_part * groups_n);
         let rbi = u32s("rigid body nodes", &lay.rbi);
         let rb = f64s("rigid bodies", &rigid_state(solver));
+        let np = lay.emat.iter().any(|&b| b & crate::layout::NP != 0);
+        let npe = zeros("nodal pressure, elements", if np { 3 * ne } else { 1 });
+        let npn = zeros("nodal pressure, nodes", if np { nn } else { 1 });
         let params = Params {
             ne: ne as u32,
             nn: nn as u32,
@@ -242,7 +245,7 @@ impl GpuStepper {
             contents: bytemuck::bytes_of(&params),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let bindings: [(&wgpu::Buffer, bool); 23] = [
+        let bindings: [(&wgpu::Buffer, bool); 25] = [
             (&cf_buf, false),
             (&cu_buf, false),
             (&par, true),
@@ -266,6 +269,8 @@ impl GpuStepper {
             (&npart, false),
             (&rbi, true),
             (&rb, false),
+            (&npe, false),
+            (&npn, false),
         ];
         let mut layout_entries: Vec<wgpu::BindGroupLayoutEntry> = (bindings.iter().enumerate())
             .map(|(i, &(_, read_only))| wgpu::BindGroupLayoutEntry {
@@ -280,7 +285,7 @@ impl GpuStepper {
             })
             .collect();
         layout_entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 23,
+            binding: 25,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
@@ -300,7 +305,7 @@ impl GpuStepper {
             })
             .collect();
         entries.push(wgpu::BindGroupEntry {
-            binding: 23,
+            binding: 25,
             resource: uniform.as_entire_binding(),
         });
         let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -327,15 +332,23 @@ impl GpuStepper {
                 cache: None,
             })
         };
-        let pipelines = [
-            pipeline("positions"),
-            pipeline("commit"),
-            pipeline("elements"),
-            pipeline("control"),
-            pipeline("rigid"),
-            pipeline("nodes"),
-            pipeline("finish"),
-        ];
+        // (entry point, groups); the passes of ELFORM 13 only where it is used
+        let mut passes = vec![("positions", groups_n), ("commit", 1)];
+        if np {
+            passes.extend([("np_theta", groups_e), ("np_node_theta", groups_n)]);
+        }
+        passes.push(("elements", groups_e));
+        if np {
+            passes.extend([("np_node_p", groups_n), ("np_correct", groups_e)]);
+        }
+        passes.extend([
+            ("control", 1),
+            ("rigid", lay.n_rigid as usize),
+            ("nodes", groups_n),
+            ("finish", 1),
+        ]);
+        let pipelines: Vec<(wgpu::ComputePipeline, usize)> =
+            passes.iter().map(|&(e, g)| (pipeline(e), g)).collect();
         let staging = || {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("control read-back"),
@@ -352,7 +365,6 @@ impl GpuStepper {
             cu: cu_buf,
             state,
             ctl_staging,
-            groups: [groups_n, 1, groups_e, 1, lay.n_rigid as usize, groups_n, 1],
             rb,
             batch: 4,
             gpu,
@@ -384,7 +396,7 @@ impl GpuStepper {
             });
             pass.set_bind_group(0, &self.bind_group, &[]);
             for _ in 0..steps {
-                for (p, &g) in self.pipelines.iter().zip(&self.groups) {
+                for &(ref p, g) in &self.pipelines {
                     pass.set_pipeline(p);
                     let x = g.clamp(1, MAX_DIM);
                     pass.dispatch_workgroups(x as u32, g.div_ceil(MAX_DIM).max(1) as u32, 1);

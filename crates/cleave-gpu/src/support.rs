@@ -1,7 +1,8 @@
 //! What the GPU step does not run yet: a deck that asks for it is refused by name.
 //!
 //! Runs on the GPU: one-point hexahedra and wedges (ELFORM 1) with viscous or stiffness
-//! hourglass control, constant-strain tetrahedra (ELFORM 1 and 10), bulk viscosity (global or
+//! hourglass control, constant-strain tetrahedra (ELFORM 1 and 10) and tetrahedra with nodal
+//! pressure averaging (ELFORM 13), bulk viscosity (global or
 //! each part's `*HOURGLASS`), `*MAT_ELASTIC`, `*MAT_PLASTIC_KINEMATIC`, `*MAT_JOHNSON_COOK` /
 //! `*MAT_SIMPLIFIED_JOHNSON_COOK` (with their equations of state),
 //! `*MAT_PIECEWISE_LINEAR_PLASTICITY` (curve or table), rigid bodies (`*MAT_RIGID` parts with
@@ -49,14 +50,14 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
         let part = &model.parts[model.elem_part[e] as usize];
         let elform = model.sections[part.section].elform;
         // hexahedra and wedges run the one-point hexahedron (ELFORM 1), tetrahedra the
-        // constant-strain one (ELFORM 1 and 10 alike, as on the CPU)
+        // constant-strain one (ELFORM 1 and 10 alike, as on the CPU) or ELFORM 13
         let runs = match shape {
             Shape::Hex | Shape::Wedge => elform == 1,
-            Shape::Tet => elform == 1 || elform == 10,
+            Shape::Tet => matches!(elform, 1 | 10 | 13),
         };
         if !runs {
             return Some(format!(
-                "ELFORM {elform} on {} (part {}; the GPU runs ELFORM 1 and, on tetrahedra, 10)",
+                "ELFORM {elform} on {} (part {}; the GPU runs ELFORM 1 and, on tetrahedra, 10 and 13)",
                 shape.plural(),
                 part.id
             ));

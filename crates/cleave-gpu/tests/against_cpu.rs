@@ -452,16 +452,21 @@ fn every_plastic_law_matches_the_cpu() {
 }
 
 /// The block of [`block`] cut into tetrahedra (ELFORM 10, and ELFORM 1, which runs the same
-/// constant-strain kernel on a tetrahedron) and into wedges (ELFORM 1: the one-point
-/// hexahedron on the degenerate corners), the same nodes, loads and constraints, 150 steps:
-/// the GPU as the CPU to round-off.
+/// constant-strain kernel on a tetrahedron; ELFORM 13 with nodal pressure averaging, alone and
+/// over a lower half in ELFORM 10) and into wedges (ELFORM 1: the one-point hexahedron on the
+/// degenerate corners), the same nodes, loads and constraints, 150 steps: the GPU as the CPU
+/// to round-off.
 #[test]
 fn tetrahedra_and_wedges_match_the_cpu() {
     type Cut = fn(&BoxMesh) -> BoxMesh;
-    let cuts: [(&str, Cut, i32); 3] = [
+    let cuts: [(&str, Cut, i32); 5] = [
         ("tetrahedra, ELFORM 10", BoxMesh::split_tets, 10),
         ("tetrahedra, ELFORM 1", BoxMesh::split_tets, 1),
         ("wedges, ELFORM 1", BoxMesh::split_wedges, 1),
+        ("tetrahedra, ELFORM 13", BoxMesh::split_tets, 13),
+        // the upper half ELFORM 13, the lower ELFORM 10: the nodes between average over their
+        // ELFORM 13 elements only
+        ("tetrahedra, ELFORM 13 over 10", BoxMesh::split_tets, -13),
     ];
     for (name, cut, elform) in cuts {
         let mut m = block(Hourglass::Viscous);
@@ -471,7 +476,22 @@ fn tetrahedra_and_wedges_match_the_cpu() {
         m.conn = mesh.conn;
         m.elem_ids = (1..=ne as i64).collect();
         m.elem_part = vec![0; ne];
-        m.sections[0].elform = elform;
+        m.sections[0].elform = elform.abs();
+        if elform < 0 {
+            // part 2 (the lower half) in a section of ELFORM 10
+            m.sections
+                .push(cleave_core::model::Section { id: 2, elform: 10 });
+            let mut lower = m.parts[0].clone();
+            lower.id = 2;
+            lower.section = 1;
+            m.parts.push(Part { ..lower });
+            for e in 0..ne {
+                let zc: f64 = m.conn[e].iter().map(|&n| m.x0[n as usize][2]).sum::<f64>() / 8.0;
+                if zc < 0.03 {
+                    m.elem_part[e] = 1;
+                }
+            }
+        }
         let (dt, _) = cleave_core::setup::estimate_time_step(&m).unwrap();
         m.control.end_time = 150.0 * dt * m.control.tssfac;
         compare_runs(m, name);

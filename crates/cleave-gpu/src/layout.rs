@@ -9,7 +9,8 @@
 //!   node actions (`NODE_STRIDE` values each, see [`NODE_STRIDE`]) and the planar rigid walls
 //!   (a point, the unit normal, FRIC);
 //! - `emat`: each element's material slot, with the bits [`TET`] (a tetrahedron), [`NP`] (one
-//!   with nodal pressure averaging, ELFORM 13) and [`RIGID`] (an element of a rigid part). A slot is one material with one part's controls
+//!   with nodal pressure averaging, ELFORM 13), [`SRI`] (a fully integrated hexahedron, ELFORM
+//!   2) and [`RIGID`] (an element of a rigid part). A slot is one material with one part's controls
 //!   (its `*HOURGLASS`, else the global cards: `cleave_core::solver::kernel_controls`), so parts
 //!   that share a material but not their hourglass control get slots of their own;
 //! - `nptr`/`ninc`: for each node, its element corners `8 e + a` in element order (the order
@@ -36,6 +37,8 @@ pub const TET: u32 = 1 << 31;
 pub const RIGID: u32 = 1 << 30;
 /// The bit of `emat` that marks a tetrahedron with nodal pressure averaging (ELFORM 13).
 pub const NP: u32 = 1 << 29;
+/// The bit of `emat` that marks a fully integrated, selectively reduced hexahedron (ELFORM 2).
+pub const SRI: u32 = 1 << 28;
 /// Values per material slot in `par`.
 pub const MAT_STRIDE: usize = 13;
 /// Values per node action in `par` (at `mot_off + NODE_STRIDE k`), the first its kind:
@@ -110,9 +113,11 @@ impl Layout {
             // a rigid part none
             let tet = setup.elem_shape[e] == Shape::Tet;
             let rigid = setup.params[m as usize].is_none();
-            let np = tet && model.sections[model.parts[part].section].elform == 13;
+            let elform = model.sections[model.parts[part].section].elform;
+            let np = tet && elform == 13;
+            let sri = setup.elem_shape[e] == Shape::Hex && elform == 2;
             let mut bits = slot as u32;
-            for (on, bit) in [(tet, TET), (rigid, RIGID), (np, NP)] {
+            for (on, bit) in [(tet, TET), (rigid, RIGID), (np, NP), (sri, SRI)] {
                 if on {
                     bits |= bit;
                 }

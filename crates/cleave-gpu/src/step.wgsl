@@ -1,12 +1,13 @@
 // The explicit step of cleave on a GPU: one-point hexahedra and wedges (Flanagan-Belytschko
-// hourglass control), constant-strain tetrahedra and those with nodal pressure averaging, bulk
-// viscosity, the Hughes-Winget objective update, every deformable material (elastic, bilinear plastic, Johnson-Cook with its
+// hourglass control), fully integrated selectively reduced hexahedra, constant-strain
+// tetrahedra and those with nodal pressure averaging, bulk viscosity, the Hughes-Winget
+// objective update, every deformable material (elastic, bilinear plastic, Johnson-Cook with its
 // equations of state, piecewise linear), each part's hourglass control and bulk viscosity,
 // rigid bodies, the time step, the central-difference update with body, concentrated and
 // pressure loads, SPC and prescribed nodal motion, rigid walls, and the energy ledger. A port
 // of the CPU step (cleave-core: element/kernel.rs, element/hex8.rs, element/tet4.rs,
-// material/, rigid.rs, solver.rs), operation for operation; the Rust doc comments there carry
-// the formulas and their sources.
+// element/sri.rs, element/nodal_pressure.rs, material/, rigid.rs, solver.rs), operation for
+// operation; the Rust doc comments there carry the formulas and their sources.
 //
 // One step is seven dispatches (eleven with ELFORM 13: np_theta and np_node_theta before the
 // elements, np_node_p and np_correct after), each a no-op once `halt` is set:
@@ -63,7 +64,8 @@ struct Params {
 @group(0) @binding(22) var<storage, read_write> rb: array<f64>;
 @group(0) @binding(23) var<storage, read_write> npe: array<f64>;
 @group(0) @binding(24) var<storage, read_write> npn: array<f64>;
-@group(0) @binding(25) var<uniform> prm: Params;
+@group(0) @binding(25) var<storage, read_write> gps: array<f64>;
+@group(0) @binding(26) var<uniform> prm: Params;
 
 // cf: control floats (host side: gpu::control)
 const T: u32 = 0u;
@@ -102,7 +104,8 @@ const RB_PAR: u32 = 23u;
 const RB_STATE: u32 = 48u;
 const NOT_RIGID: u32 = 0xffffffffu;
 // emat: the material slot, and the bits of a tetrahedron, of ELFORM 13, of a rigid element
-const SLOT: u32 = 0x1fffffffu;
+const SLOT: u32 = 0x0fffffffu;
+const SRI: u32 = 0x10000000u;
 const NP: u32 = 0x20000000u;
 const RIGID_EL: u32 = 0x40000000u;
 const TET_EL: u32 = 0x80000000u;
@@ -944,6 +947,201 @@ fn tet_element(e: u32, m: Mat) -> ElemOut {
     return out;
 }
 
+
+// The largest squared diagonal cross product of a hexahedron's faces, in hex8.rs FACES order
+// (the largest face area is half its root).
+fn hex_c2max(x: P8) -> f64 {
+    var c2max = 0.0lf;
+    c2max = max(c2max, face_c2(x[0], x[3], x[2], x[1]));
+    c2max = max(c2max, face_c2(x[4], x[5], x[6], x[7]));
+    c2max = max(c2max, face_c2(x[0], x[1], x[5], x[4]));
+    c2max = max(c2max, face_c2(x[1], x[2], x[6], x[5]));
+    c2max = max(c2max, face_c2(x[2], x[3], x[7], x[6]));
+    c2max = max(c2max, face_c2(x[3], x[0], x[4], x[7]));
+    return c2max;
+}
+
+// ---------------------------------------------------------------- ELFORM 2 (sri.rs)
+// gps: per element, its 8 Gauss points' stresses (6), plastic strains and back stresses (or
+// Johnson-Cook's scalars) (7): 13 values each.
+
+const GP: f64 = 0.5773502691896258lf;
+const GPS_STRIDE: u32 = 104u;
+
+// dN_a/dxi at the natural point p.
+fn dn_at(a: u32, p: vec3<f64>) -> vec3<f64> {
+    return vec3<f64>(0.125lf * sx(a) * (1.0lf + sy(a) * p[1]) * (1.0lf + sz(a) * p[2]),
+                     0.125lf * sy(a) * (1.0lf + sx(a) * p[0]) * (1.0lf + sz(a) * p[2]),
+                     0.125lf * sz(a) * (1.0lf + sx(a) * p[0]) * (1.0lf + sy(a) * p[1]));
+}
+
+// J[i][k] = sum_a x_a[i] dN_a/dxi_k at p (hex8.rs jacobian_at).
+fn jacobian_at(x: P8, p: vec3<f64>) -> M3 {
+    var j = M3(vec3<f64>(0.0lf, 0.0lf, 0.0lf), vec3<f64>(0.0lf, 0.0lf, 0.0lf), vec3<f64>(0.0lf, 0.0lf, 0.0lf));
+    for (var a = 0u; a < 8u; a = a + 1u) {
+        let dn = dn_at(a, p);
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            j[i] = j[i] + x[a][i] * dn;
+        }
+    }
+    return j;
+}
+
+fn gauss_point(g: u32) -> vec3<f64> {
+    return vec3<f64>(sx(g) * GP, sy(g) * GP, sz(g) * GP);
+}
+
+fn load_point(e: u32, g: u32) -> Point {
+    let o = GPS_STRIDE * e + 13u * g;
+    return Point(S6(gps[o], gps[o + 1u], gps[o + 2u], gps[o + 3u], gps[o + 4u], gps[o + 5u]),
+                 gps[o + 6u],
+                 S6(gps[o + 7u], gps[o + 8u], gps[o + 9u], gps[o + 10u], gps[o + 11u], gps[o + 12u]));
+}
+
+fn store_point(e: u32, g: u32, p: Point) {
+    let o = GPS_STRIDE * e + 13u * g;
+    for (var i = 0u; i < 6u; i = i + 1u) {
+        gps[o + i] = p.sigma[i];
+        gps[o + 7u + i] = p.back[i];
+    }
+    gps[o + 6u] = p.eps_p;
+}
+
+// The fully integrated, selectively reduced hexahedron (sri.rs sri_step): each Gauss point's
+// stress updated with the volume-mean volumetric rate, corner forces from the points'
+// deviators and the mean pressure, the element's stress the points' volume mean.
+fn sri_element(e: u32, m: Mat) -> ElemOut {
+    var out = ElemOut(false, BIG, 0.0lf, 0.0lf);
+    var x: P8;
+    var v: P8;
+    for (var a = 0u; a < 8u; a = a + 1u) {
+        let n = conn[8u * e + a];
+        x[a] = ld(0u, n);
+        v[a] = ld(1u, n);
+    }
+    var vol_n = 0.0lf;
+    for (var g = 0u; g < 8u; g = g + 1u) {
+        vol_n = vol_n + det3(jacobian_at(x, gauss_point(g)));
+    }
+    if (!(vol_n > 0.0lf)) {
+        return out;
+    }
+    let l_vol = cbrt64(vol_n);
+    let dt_prev = cf[DT_PREV];
+    var de_int = 0.0lf;
+    var q = 0.0lf;
+    var tr_bar = 0.0lf;
+    if (dt_prev > 0.0lf) {
+        var xm: P8;
+        for (var a = 0u; a < 8u; a = a + 1u) {
+            xm[a] = x[a] - (0.5lf * dt_prev) * v[a];
+        }
+        var ls: array<M3, 8>;
+        var ws: array<f64, 8>;
+        var num = 0.0lf;
+        var den = 0.0lf;
+        for (var g = 0u; g < 8u; g = g + 1u) {
+            let p = gauss_point(g);
+            let jm = jacobian_at(xm, p);
+            let w = det3(jm);
+            if (!(w > 0.0lf) || !finite(w)) {
+                return out;
+            }
+            let l = mul3(jacobian_at(v, p), inv3(jm, w));
+            num = num + w * (l[0][0] + l[1][1] + l[2][2]);
+            den = den + w;
+            ls[g] = l;
+            ws[g] = w;
+        }
+        tr_bar = num / den;
+        for (var g = 0u; g < 8u; g = g + 1u) {
+            let l = ls[g];
+            let shift = (tr_bar - (l[0][0] + l[1][1] + l[2][2])) / 3.0lf;
+            let d = S6((l[0][0] + shift) * dt_prev, (l[1][1] + shift) * dt_prev, (l[2][2] + shift) * dt_prev,
+                       0.5lf * (l[0][1] + l[1][0]) * dt_prev, 0.5lf * (l[1][2] + l[2][1]) * dt_prev,
+                       0.5lf * (l[2][0] + l[0][2]) * dt_prev);
+            let h = 0.25lf * dt_prev;
+            let r = hughes_winget(vec3<f64>(h * (l[2][1] - l[1][2]), h * (l[0][2] - l[2][0]), h * (l[1][0] - l[0][1])));
+            var pt = load_point(e, g);
+            pt.sigma = rotate_sym(r, pt.sigma);
+            if (m.law < 1.5lf && (pt.back[0] != 0.0lf || pt.back[1] != 0.0lf || pt.back[2] != 0.0lf || pt.back[3] != 0.0lf || pt.back[4] != 0.0lf || pt.back[5] != 0.0lf)) {
+                pt.back = rotate_sym(r, pt.back);
+            }
+            let old = pt.sigma;
+            pt = update_material(m, pt, d, dt_prev);
+            var avg: S6;
+            for (var i = 0u; i < 6u; i = i + 1u) {
+                avg[i] = 0.5lf * (old[i] + pt.sigma[i]);
+            }
+            de_int = de_int + ws[g] * ddot6(avg, d);
+            store_point(e, g, pt);
+        }
+        if (tr_bar < 0.0lf) {
+            q = m.density * l_vol * (m.q1 * l_vol * tr_bar * tr_bar - m.q2 * m.wave_speed * tr_bar);
+        }
+        de_int = de_int - den * 0.5lf * (bq[e] + q) * tr_bar * dt_prev;
+    }
+    bq[e] = q;
+    // corner forces at x^n (sri.rs corner_forces)
+    var f: P8;
+    var bbar: P8;
+    for (var a = 0u; a < 8u; a = a + 1u) {
+        f[a] = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+        bbar[a] = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    }
+    var vol = 0.0lf;
+    var p_sum = 0.0lf;
+    var mean = S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+    var eps_sum = 0.0lf;
+    for (var g = 0u; g < 8u; g = g + 1u) {
+        let p = gauss_point(g);
+        let j = jacobian_at(x, p);
+        let w = det3(j);
+        if (!positive(w)) {
+            return out;
+        }
+        let jinv = inv3(j, w);
+        let pt = load_point(e, g);
+        let sg = pt.sigma;
+        let pg = -(sg[0] + sg[1] + sg[2]) / 3.0lf;
+        let dev = S6(sg[0] + pg, sg[1] + pg, sg[2] + pg, sg[3], sg[4], sg[5]);
+        for (var a = 0u; a < 8u; a = a + 1u) {
+            let dn = dn_at(a, p);
+            let ba = dn[0] * jinv[0] + dn[1] * jinv[1] + dn[2] * jinv[2];
+            f[a][0] = f[a][0] - w * (dev[0] * ba[0] + dev[3] * ba[1] + dev[5] * ba[2]);
+            f[a][1] = f[a][1] - w * (dev[3] * ba[0] + dev[1] * ba[1] + dev[4] * ba[2]);
+            f[a][2] = f[a][2] - w * (dev[5] * ba[0] + dev[4] * ba[1] + dev[2] * ba[2]);
+            bbar[a] = bbar[a] + w * ba;
+        }
+        vol = vol + w;
+        p_sum = p_sum + w * pg;
+        for (var i = 0u; i < 6u; i = i + 1u) {
+            mean[i] = mean[i] + w * sg[i];
+        }
+        eps_sum = eps_sum + pt.eps_p;
+    }
+    let p_bar = p_sum / vol;
+    for (var a = 0u; a < 8u; a = a + 1u) {
+        f[a] = f[a] + (p_bar + q) * bbar[a];
+    }
+    for (var i = 0u; i < 6u; i = i + 1u) {
+        sig[6u * e + i] = mean[i] / vol;
+        hist[7u * e + 1u + i] = 0.0lf;
+    }
+    // the element's history for output: the points' mean plastic strain
+    hist[7u * e] = eps_sum / 8.0lf;
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            fe_lo[12u * e + 3u * a + i] = f[a][i];
+            fe_hi[12u * e + 3u * a + i] = f[a + 4u][i];
+        }
+    }
+    out.dt = stable_dt(vol_n / (0.5lf * sqrt(hex_c2max(x))), m.step_speed, tr_bar, m);
+    out.ok = true;
+    out.de_int = de_int;
+    return out;
+}
+
 fn element(e: u32) -> ElemOut {
     if ((emat[e] & RIGID_EL) != 0u) {
         // an element of a rigid part: it moves with its body, no stress, no step limit
@@ -952,6 +1150,9 @@ fn element(e: u32) -> ElemOut {
     let m = material(emat[e] & SLOT);
     if ((emat[e] & TET_EL) != 0u) {
         return tet_element(e, m);
+    }
+    if ((emat[e] & SRI) != 0u) {
+        return sri_element(e, m);
     }
     // the one-point hexahedron, also on a wedge's degenerate corners (shape.rs)
     var out = ElemOut(false, BIG, 0.0lf, 0.0lf);
@@ -1048,14 +1249,7 @@ fn element(e: u32) -> ElemOut {
 
     // 7: stable time step l_c / (Q + sqrt(Q^2 + c^2)), l_c = V / largest face area
     // the faces in hex8.rs FACES order
-    var c2max = 0.0lf;
-    c2max = max(c2max, face_c2(x[0], x[3], x[2], x[1]));
-    c2max = max(c2max, face_c2(x[4], x[5], x[6], x[7]));
-    c2max = max(c2max, face_c2(x[0], x[1], x[5], x[4]));
-    c2max = max(c2max, face_c2(x[1], x[2], x[6], x[5]));
-    c2max = max(c2max, face_c2(x[2], x[3], x[7], x[6]));
-    c2max = max(c2max, face_c2(x[3], x[0], x[4], x[7]));
-    out.dt = stable_dt(vol / (0.5lf * sqrt(c2max)), m.step_speed, eps_v_rate, m);
+    out.dt = stable_dt(vol / (0.5lf * sqrt(hex_c2max(x))), m.step_speed, eps_v_rate, m);
     out.ok = true;
     out.de_int = de_int;
     out.de_hg = de_hg;

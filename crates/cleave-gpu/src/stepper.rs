@@ -148,13 +148,19 @@ impl GpuStepper {
         let (ne, nn) = (model.num_elements(), model.num_nodes());
         let limit = gpu.limits.max_storage_buffer_binding_size;
         // the largest arrays: 12 f64 per element (hourglass forces, each half of the corner
-        // forces), 8 u32 per element (connectivity, corners per node)
-        let largest = (96 * ne).max(24 * nn) as u64;
+        // forces), 8 u32 per element (connectivity, corners per node); with ELFORM 2, 104 f64
+        // per element (the Gauss points)
+        let per_elem = if model.sections.iter().any(|s| s.elform == 2) {
+            832
+        } else {
+            96
+        };
+        let largest = (per_elem * ne).max(24 * nn) as u64;
         if largest > limit {
             return Err(GpuError::TooLarge(format!(
                 "{ne} elements need arrays of {largest} bytes; {} binds at most {limit} bytes per array (splitting larger arrays is not done yet): at most {} elements on this device",
                 gpu.info.name,
-                limit / 96
+                limit / per_elem as u64
             )));
         }
         let lay = Layout::new(model, &solver.setup);
@@ -226,6 +232,8 @@ impl GpuStepper {
         let np = lay.emat.iter().any(|&b| b & crate::layout::NP != 0);
         let npe = zeros("nodal pressure, elements", if np { 3 * ne } else { 1 });
         let npn = zeros("nodal pressure, nodes", if np { nn } else { 1 });
+        let sri = lay.emat.iter().any(|&b| b & crate::layout::SRI != 0);
+        let gps = zeros("gauss points", if sri { 104 * ne } else { 1 });
         let params = Params {
             ne: ne as u32,
             nn: nn as u32,
@@ -245,7 +253,7 @@ impl GpuStepper {
             contents: bytemuck::bytes_of(&params),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let bindings: [(&wgpu::Buffer, bool); 25] = [
+        let bindings: [(&wgpu::Buffer, bool); 26] = [
             (&cf_buf, false),
             (&cu_buf, false),
             (&par, true),
@@ -271,6 +279,7 @@ impl GpuStepper {
             (&rb, false),
             (&npe, false),
             (&npn, false),
+            (&gps, false),
         ];
         let mut layout_entries: Vec<wgpu::BindGroupLayoutEntry> = (bindings.iter().enumerate())
             .map(|(i, &(_, read_only))| wgpu::BindGroupLayoutEntry {
@@ -285,7 +294,7 @@ impl GpuStepper {
             })
             .collect();
         layout_entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 25,
+            binding: 26,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
@@ -305,7 +314,7 @@ impl GpuStepper {
             })
             .collect();
         entries.push(wgpu::BindGroupEntry {
-            binding: 25,
+            binding: 26,
             resource: uniform.as_entire_binding(),
         });
         let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -1,7 +1,7 @@
 //! What the GPU step does not run yet: a deck that asks for it is refused by name.
 //!
 //! Runs on the GPU: one-point hexahedra and wedges (ELFORM 1) with viscous or stiffness
-//! hourglass control, constant-strain tetrahedra (ELFORM 1 and 10) and tetrahedra with nodal
+//! hourglass control, fully integrated selectively reduced hexahedra (ELFORM 2), constant-strain tetrahedra (ELFORM 1 and 10) and tetrahedra with nodal
 //! pressure averaging (ELFORM 13), bulk viscosity (global or
 //! each part's `*HOURGLASS`), `*MAT_ELASTIC`, `*MAT_PLASTIC_KINEMATIC`, `*MAT_JOHNSON_COOK` /
 //! `*MAT_SIMPLIFIED_JOHNSON_COOK` (with their equations of state),
@@ -49,15 +49,17 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
     for (e, shape) in setup.elem_shape.iter().enumerate() {
         let part = &model.parts[model.elem_part[e] as usize];
         let elform = model.sections[part.section].elform;
-        // hexahedra and wedges run the one-point hexahedron (ELFORM 1), tetrahedra the
-        // constant-strain one (ELFORM 1 and 10 alike, as on the CPU) or ELFORM 13
+        // hexahedra run the one-point hexahedron (ELFORM 1) or the selectively reduced one
+        // (ELFORM 2), wedges the one-point one, tetrahedra the constant-strain one (ELFORM 1
+        // and 10 alike, as on the CPU) or ELFORM 13
         let runs = match shape {
-            Shape::Hex | Shape::Wedge => elform == 1,
+            Shape::Hex => elform == 1 || elform == 2,
+            Shape::Wedge => elform == 1,
             Shape::Tet => matches!(elform, 1 | 10 | 13),
         };
         if !runs {
             return Some(format!(
-                "ELFORM {elform} on {} (part {}; the GPU runs ELFORM 1 and, on tetrahedra, 10 and 13)",
+                "ELFORM {elform} on {} (part {}; the GPU runs ELFORM 1, on hexahedra 2, on tetrahedra 10 and 13)",
                 shape.plural(),
                 part.id
             ));

@@ -614,3 +614,43 @@ fn rigid_bodies_match_the_cpu() {
         compare_runs(m, case);
     }
 }
+
+/// The block of [`block`] in fully integrated, selectively reduced hexahedra (ELFORM 2): with
+/// its bilinear plastic steel, with Johnson-Cook and a Mie-Gruneisen equation of state at each
+/// Gauss point, and over a lower half in one-point hexahedra (ELFORM 1).
+#[test]
+fn fully_integrated_hexahedra_match_the_cpu() {
+    for case in ["ELFORM 2", "ELFORM 2, Johnson-Cook", "ELFORM 2 over 1"] {
+        let mut m = block(Hourglass::Viscous);
+        m.sections[0].elform = 2;
+        if case.ends_with("Johnson-Cook") {
+            m.materials[0].kind = MaterialKind::JohnsonCook(JohnsonCook {
+                eos: Some(Eos::Gruneisen {
+                    c: 4570.0,
+                    s: [1.49, 0.0, 0.0],
+                    gamma0: 1.93,
+                    a: 0.5,
+                    rho0: 7850.0,
+                    e0: 0.0,
+                    v0: 1.0,
+                }),
+                ..JohnsonCook::STEEL_4340
+            });
+        }
+        if case.ends_with("over 1") {
+            m.sections
+                .push(cleave_core::model::Section { id: 2, elform: 1 });
+            let mut lower = m.parts[0].clone();
+            lower.id = 2;
+            lower.section = 1;
+            m.parts.push(Part { ..lower });
+            for e in 0..m.num_elements() {
+                let zc: f64 = m.conn[e].iter().map(|&n| m.x0[n as usize][2]).sum::<f64>() / 8.0;
+                if zc < 0.03 {
+                    m.elem_part[e] = 1;
+                }
+            }
+        }
+        compare_runs(m, case);
+    }
+}

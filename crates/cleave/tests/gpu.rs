@@ -92,15 +92,15 @@ fn gpu_run_writes_what_the_cpu_run_writes() {
 #[test]
 fn gpu_refuses_what_it_lacks_by_name() {
     let d = tmp("gpu-refuses");
-    let text = BASE.replace("*SECTION_SOLID\n1,1", "*SECTION_SOLID\n1,2");
+    let text = BASE.replace("*END", "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n0,0,0\n*END");
     let deck = write_deck(&d, &text);
-    // the CPU runs the deck; the GPU names the formulation, whether or not a GPU is present
+    // the CPU runs the deck; the GPU names the contact, whether or not a GPU is present
     assert_eq!(run(&deck, &d.join("cpu"), false).status.code(), Some(0));
     let out = run(&deck, &d.join("gpu"), true);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(
-        err.contains("--gpu does not run ELFORM 2 on hexahedra (part 1;"),
+        err.contains("--gpu does not run contact (*CONTACT_...)"),
         "{err}"
     );
     assert!(!d.join("gpu").exists(), "no output is started");

@@ -4,7 +4,8 @@
 //!   modulus, wave speed, step speed, law 0 elastic / 1 bilinear plastic / 2 Johnson-Cook /
 //!   3 piecewise linear, SIGY, Hp, beta (laws 2 and 3: the offset of their parameter block,
 //!   `johnson_cook_block`, `piecewise_block`), then the element controls of the part:
-//!   hourglass form 0 viscous / 1 stiffness, QH, Q1, Q2), the laws' blocks, then
+//!   hourglass form 0 viscous / 1 stiffness, QH, Q1, Q2; the offset of the material's erosion
+//!   rule, `erosion_block`, or -1), the laws' and rules' blocks, then
 //!   the curves (n, abscissae, ordinates), the body loads (axis, curve offset or -1, SF), the
 //!   node actions (`NODE_STRIDE` values each, see [`NODE_STRIDE`]) and the planar rigid walls
 //!   (a point, the unit normal, FRIC);
@@ -25,6 +26,7 @@
 //!   motions (in the deck's order).
 
 use cleave_core::element::Shape;
+use cleave_core::erosion::ErosionRule;
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, SolidLaw};
 use cleave_core::math::{norm, scale, sub};
 use cleave_core::model::{Hourglass, Model, MotionTarget, Vad};
@@ -40,7 +42,7 @@ pub const NP: u32 = 1 << 29;
 /// The bit of `emat` that marks a fully integrated, selectively reduced hexahedron (ELFORM 2).
 pub const SRI: u32 = 1 << 28;
 /// Values per material slot in `par`.
-pub const MAT_STRIDE: usize = 13;
+pub const MAT_STRIDE: usize = 14;
 /// Values per node action in `par` (at `mot_off + NODE_STRIDE k`), the first its kind:
 /// - 0, a prescribed motion: axis, VAD 0 velocity / 1 displacement, SF, curve offset, the
 ///   node's initial coordinate on the axis;
@@ -152,7 +154,17 @@ impl Layout {
                 Hourglass::Viscous => 0.0,
                 Hourglass::Stiffness => 1.0,
             };
-            m[9..].copy_from_slice(&[form, c.qh, c.q1, c.q2]);
+            m[9..13].copy_from_slice(&[form, c.qh, c.q1, c.q2]);
+            // the material's erosion rule, if it has one
+            let material = base as usize % setup.params.len().max(1);
+            m[13] = match model.erosion.iter().find(|d| d.material == material) {
+                Some(d) => {
+                    let o = (ext_base + ext.len()) as f64;
+                    erosion_block(&d.rule, &mut ext);
+                    o
+                }
+                None => -1.0,
+            };
             par.extend_from_slice(&m);
         }
         par.extend_from_slice(&ext);
@@ -316,6 +328,29 @@ impl Layout {
             rb_off,
             rbi,
         }
+    }
+}
+
+/// An erosion rule's block: FAIL (on, value), MXPRES, MNPRES, SIGVM, FAILTM (each on, value),
+/// NCS, the number of `*MAT_ADD_EROSION` criteria, Johnson-Cook damage (on, D1..D5, EFMIN).
+fn erosion_block(r: &ErosionRule, out: &mut Vec<f64>) {
+    for v in [
+        r.plastic_strain,
+        r.max_pressure,
+        r.min_pressure,
+        r.max_von_mises,
+        r.failure_time,
+    ] {
+        out.extend_from_slice(&[v.is_some() as u8 as f64, v.unwrap_or(0.0)]);
+    }
+    out.extend_from_slice(&[r.ncs as f64, r.criteria() as f64]);
+    match r.johnson_cook {
+        Some(d) => {
+            out.push(1.0);
+            out.extend_from_slice(&d.d);
+            out.push(d.efmin);
+        }
+        None => out.extend_from_slice(&[0.0; 7]),
     }
 }
 

@@ -37,6 +37,11 @@ struct Params {
     // constraints before and after t^n), then 4 per rigid wall (normal impulse, impulse)
     n_part: u32,
     rb_off: u32,
+    // 1 when some material erodes (the `ero` array is per element)
+    erosion: u32,
+    pad1: u32,
+    pad2: u32,
+    pad3: u32,
 }
 
 @group(0) @binding(0) var<storage, read_write> cf: array<f64>;
@@ -65,7 +70,8 @@ struct Params {
 @group(0) @binding(23) var<storage, read_write> npe: array<f64>;
 @group(0) @binding(24) var<storage, read_write> npn: array<f64>;
 @group(0) @binding(25) var<storage, read_write> gps: array<f64>;
-@group(0) @binding(26) var<uniform> prm: Params;
+@group(0) @binding(26) var<storage, read_write> ero: array<f64>;
+@group(0) @binding(27) var<uniform> prm: Params;
 
 // cf: control floats (host side: gpu::control)
 const T: u32 = 0u;
@@ -89,6 +95,8 @@ const END_TIME: u32 = 21u;
 const DT_MID: u32 = 26u;
 const W_HALF: u32 = 27u;
 const DT_CRIT: u32 = 28u;
+const E_ERODED: u32 = 29u;
+const N_ERODED: u32 = 30u;
 const WALL_FORCE: u32 = 32u; // 4 per wall: normal force, force x y z
 // cu: control integers
 const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error
@@ -99,7 +107,7 @@ const DT_ELEM: u32 = 4u;
 const PENDING_X: u32 = 5u;
 const FINISHED: u32 = 6u;
 
-const MAT_STRIDE: u32 = 13u;
+const MAT_STRIDE: u32 = 14u;
 const RB_PAR: u32 = 23u;
 const RB_STATE: u32 = 48u;
 const NOT_RIGID: u32 = 0xffffffffu;
@@ -408,13 +416,15 @@ struct Mat {
     qh: f64,
     q1: f64,
     q2: f64,
+    // the offset of the material's erosion rule in par, -1 for none
+    ero: f64,
 }
 
 fn material(m: u32) -> Mat {
     let o = m * MAT_STRIDE;
     return Mat(par[o], par[o + 1u], par[o + 2u], par[o + 3u], par[o + 4u], par[o + 5u],
                par[o + 6u], par[o + 7u], par[o + 8u], par[o + 9u], par[o + 10u], par[o + 11u],
-               par[o + 12u]);
+               par[o + 12u], par[o + 13u]);
 }
 
 struct Point {
@@ -765,6 +775,8 @@ var<workgroup> r_dt: array<f64, 64>;
 var<workgroup> r_id: array<u32, 64>;
 var<workgroup> r_ei: array<f64, 64>;
 var<workgroup> r_eh: array<f64, 64>;
+var<workgroup> r_ee: array<f64, 64>;
+var<workgroup> r_en: array<f64, 64>;
 
 fn ld(b: u32, n: u32) -> vec3<f64> {
     if (b == 0u) {
@@ -778,6 +790,107 @@ struct ElemOut {
     dt: f64,
     de_int: f64,
     de_hg: f64,
+}
+
+// ---------------------------------------------------------------- erosion (erosion.rs)
+// ero per element: eroded (1), its energy so far (the work of its stresses, bulk viscosity and
+// hourglass forces), Johnson-Cook damage D and the plastic strain it was last accumulated at.
+// A rule at par offset o: FAIL on, FAIL; MXPRES on, MXPRES; MNPRES on, MNPRES; SIGVM on, SIGVM;
+// FAILTM on, FAILTM; NCS; the number of *MAT_ADD_EROSION criteria; JC damage on, D1..D5, EFMIN.
+
+fn von_mises6(s: S6) -> f64 {
+    let p = (s[0] + s[1] + s[2]) / 3.0lf;
+    let d = S6(s[0] - p, s[1] - p, s[2] - p, s[3], s[4], s[5]);
+    return sqrt(1.5lf * ddot6(d, d));
+}
+
+// Whether the rule at o holds for stress s, plastic strain eps_p at time t (ErosionRule::fails;
+// the damage is checked by the caller).
+fn rule_fails(o: u32, s: S6, eps_p: f64, t: f64) -> bool {
+    if (par[o] > 0.5lf && eps_p >= par[o + 1u]) {
+        return true;
+    }
+    if (par[o + 11u] < 0.5lf) {
+        return false;
+    }
+    let p = -(s[0] + s[1] + s[2]) / 3.0lf;
+    var held = 0u;
+    if (par[o + 2u] > 0.5lf && p >= par[o + 3u]) {
+        held = held + 1u;
+    }
+    if (par[o + 4u] > 0.5lf && p <= par[o + 5u]) {
+        held = held + 1u;
+    }
+    if (par[o + 6u] > 0.5lf && von_mises6(s) >= par[o + 7u]) {
+        held = held + 1u;
+    }
+    if (par[o + 8u] > 0.5lf && t >= par[o + 9u]) {
+        held = held + 1u;
+    }
+    return held >= max(u32(par[o + 10u]), 1u);
+}
+
+// The Johnson-Cook failure strain (JcDamage::failure_strain) of the rule at o, for the material
+// block jo, at stress s, plastic strain rate eps_dot and temperature rise heat.
+fn jc_failure_strain(o: u32, jo: u32, s: S6, eps_dot: f64, heat: f64) -> f64 {
+    let vm = von_mises6(s);
+    var triax = 0.0lf;
+    if (vm > 0.0lf) {
+        triax = (s[0] + s[1] + s[2]) / 3.0lf / vm;
+    }
+    var rate = 0.0lf;
+    let eps0 = par[jo + 4u];
+    if (eps0 > 0.0lf) {
+        rate = ln64(max(eps_dot / eps0, 1.0lf));
+    }
+    var t_star = 0.0lf;
+    let t_melt = par[jo + 6u];
+    if (finite(t_melt)) {
+        t_star = clamp(heat / (t_melt - par[jo + 7u]), 0.0lf, 1.0lf);
+    }
+    let f = (par[o + 13u] + par[o + 14u] * exp64(par[o + 15u] * triax)) * (1.0lf + par[o + 16u] * rate) * (1.0lf + par[o + 17u] * t_star);
+    return max(f, par[o + 18u]);
+}
+
+// After element e's step: its energy, its Johnson-Cook damage, and whether its rule holds now
+// (solver/erosion.rs erode_elements). An element that erodes keeps this step's forces; its
+// stress, hourglass forces and bulk viscosity are zeroed. Returns the energy it takes away
+// (negative when it does not erode).
+fn erode(e: u32, m: Mat, work: f64) -> f64 {
+    let w = ero[4u * e + 1u] + work;
+    ero[4u * e + 1u] = w;
+    if (m.ero < 0.0lf) {
+        return -1.0lf;
+    }
+    let o = u32(m.ero);
+    let s = S6(sig[6u * e], sig[6u * e + 1u], sig[6u * e + 2u], sig[6u * e + 3u], sig[6u * e + 4u], sig[6u * e + 5u]);
+    let eps_p = hist[7u * e];
+    var fails = false;
+    if (par[o + 12u] > 0.5lf && m.law > 1.5lf && m.law < 2.5lf) {
+        let dep = eps_p - ero[4u * e + 3u];
+        if (dep > 0.0lf) {
+            let dt = cf[DT_PREV];
+            var rate = 0.0lf;
+            if (dt > 0.0lf) {
+                rate = dep / dt;
+            }
+            ero[4u * e + 2u] = ero[4u * e + 2u] + dep / jc_failure_strain(o, u32(m.sigy), s, rate, hist[7u * e + 1u]);
+            ero[4u * e + 3u] = eps_p;
+        }
+        fails = ero[4u * e + 2u] >= 1.0lf;
+    }
+    if (!fails && !rule_fails(o, s, eps_p, cf[T])) {
+        return -1.0lf;
+    }
+    ero[4u * e] = 1.0lf;
+    for (var i = 0u; i < 6u; i = i + 1u) {
+        sig[6u * e + i] = 0.0lf;
+    }
+    for (var i = 0u; i < 12u; i = i + 1u) {
+        hgf[12u * e + i] = 0.0lf;
+    }
+    bq[e] = 0.0lf;
+    return w;
 }
 
 struct Stress {
@@ -1266,15 +1379,32 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     var id = 0xffffffffu;
     var ei = 0.0lf;
     var eh = 0.0lf;
+    var ee = 0.0lf;
+    var en = 0.0lf;
     if (run && e < prm.ne) {
-        let r = element(e);
-        if (r.ok) {
-            dt = r.dt;
-            id = e;
-            ei = r.de_int;
-            eh = r.de_hg;
+        if (prm.erosion != 0u && ero[4u * e] != 0.0lf) {
+            // eroded: no force, no time step
+            for (var i = 0u; i < 12u; i = i + 1u) {
+                fe_lo[12u * e + i] = 0.0lf;
+                fe_hi[12u * e + i] = 0.0lf;
+            }
         } else {
-            atomicMin(&cu[INVERTED], e);
+            let r = element(e);
+            if (r.ok) {
+                dt = r.dt;
+                id = e;
+                ei = r.de_int;
+                eh = r.de_hg;
+                if (prm.erosion != 0u && (emat[e] & RIGID_EL) == 0u) {
+                    let gone = erode(e, material(emat[e] & SLOT), r.de_int + r.de_hg);
+                    if (gone >= 0.0lf) {
+                        ee = gone;
+                        en = 1.0lf;
+                    }
+                }
+            } else {
+                atomicMin(&cu[INVERTED], e);
+            }
         }
     }
     let l = lid.x;
@@ -1282,6 +1412,8 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     r_id[l] = id;
     r_ei[l] = ei;
     r_eh[l] = eh;
+    r_ee[l] = ee;
+    r_en[l] = en;
     workgroupBarrier();
     for (var s = 32u; s > 0u; s = s >> 1u) {
         if (l < s) {
@@ -1292,15 +1424,19 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
             }
             r_ei[l] = r_ei[l] + r_ei[o];
             r_eh[l] = r_eh[l] + r_eh[o];
+            r_ee[l] = r_ee[l] + r_ee[o];
+            r_en[l] = r_en[l] + r_en[o];
         }
         workgroupBarrier();
     }
     if (l == 0u && run && grp < prm.groups_e) {
         let g = grp;
-        epart[4u * g] = r_dt[0];
-        epart[4u * g + 1u] = f64(r_id[0]);
-        epart[4u * g + 2u] = r_ei[0];
-        epart[4u * g + 3u] = r_eh[0];
+        epart[6u * g] = r_dt[0];
+        epart[6u * g + 1u] = f64(r_id[0]);
+        epart[6u * g + 2u] = r_ei[0];
+        epart[6u * g + 3u] = r_eh[0];
+        epart[6u * g + 4u] = r_ee[0];
+        epart[6u * g + 5u] = r_en[0];
     }
 }
 
@@ -1321,6 +1457,12 @@ fn np_theta(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
             @builtin(num_workgroups) nw: vec3<u32>) {
     let e = 64u * (wid.y * nw.x + wid.x) + lid.x;
     if (e >= prm.ne || halted() || (emat[e] & NP) == 0u) {
+        return;
+    }
+    if (prm.erosion != 0u && ero[4u * e] != 0.0lf) {
+        // an eroded tetrahedron leaves the averages
+        npe[3u * e] = 0.0lf;
+        npe[3u * e + 1u] = 0.0lf;
         return;
     }
     let ns = tet_nodes(e);
@@ -1645,6 +1787,8 @@ var<workgroup> c_dt: array<f64, 256>;
 var<workgroup> c_id: array<u32, 256>;
 var<workgroup> c_ei: array<f64, 256>;
 var<workgroup> c_eh: array<f64, 256>;
+var<workgroup> c_ee: array<f64, 256>;
+var<workgroup> c_en: array<f64, 256>;
 
 fn fail(kind: u32) {
     atomicStore(&cu[ERROR], kind);
@@ -1659,22 +1803,28 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     var id = 0xffffffffu;
     var ei = 0.0lf;
     var eh = 0.0lf;
+    var ee = 0.0lf;
+    var en = 0.0lf;
     if (run) {
         for (var g = l; g < prm.groups_e; g = g + 256u) {
-            let d = epart[4u * g];
-            let i = u32(epart[4u * g + 1u]);
+            let d = epart[6u * g];
+            let i = u32(epart[6u * g + 1u]);
             if (d < dt || (d == dt && i < id)) {
                 dt = d;
                 id = i;
             }
-            ei = ei + epart[4u * g + 2u];
-            eh = eh + epart[4u * g + 3u];
+            ei = ei + epart[6u * g + 2u];
+            eh = eh + epart[6u * g + 3u];
+            ee = ee + epart[6u * g + 4u];
+            en = en + epart[6u * g + 5u];
         }
     }
     c_dt[l] = dt;
     c_id[l] = id;
     c_ei[l] = ei;
     c_eh[l] = eh;
+    c_ee[l] = ee;
+    c_en[l] = en;
     workgroupBarrier();
     for (var s = 128u; s > 0u; s = s >> 1u) {
         if (l < s) {
@@ -1685,6 +1835,8 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
             }
             c_ei[l] = c_ei[l] + c_ei[o];
             c_eh[l] = c_eh[l] + c_eh[o];
+            c_ee[l] = c_ee[l] + c_ee[o];
+            c_en[l] = c_en[l] + c_en[o];
         }
         workgroupBarrier();
     }
@@ -1697,11 +1849,19 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     }
     cf[E_INT] = cf[E_INT] + c_ei[0];
     cf[E_HG] = cf[E_HG] + c_eh[0];
+    cf[E_ERODED] = cf[E_ERODED] + c_ee[0];
+    cf[N_ERODED] = cf[N_ERODED] + c_en[0];
     let dt_crit = c_dt[0];
     cf[DT_CRIT] = dt_crit;
     let step0 = cf[STEP] == 0.0lf;
     var d = cf[TSSFAC] * dt_crit;
-    if (cf[DT_INIT] > 0.0lf && (step0 || !finite(dt_crit))) {
+    // no element limits the step (the CPU's infinite dt_crit): BIG is the reduction's start
+    let none = dt_crit >= BIG || !finite(dt_crit);
+    if (none && !step0 && cf[N_ERODED] > 0.0lf) {
+        // every deformable element has eroded: go on with the last step
+        d = min(d, cf[DT_PREV]);
+    }
+    if (cf[DT_INIT] > 0.0lf && (step0 || none)) {
         d = min(d, cf[DT_INIT]);
     }
     atomicStore(&cu[DT_ELEM], c_id[0]);

@@ -37,6 +37,7 @@ mod cf {
     pub const DT_INIT: usize = 19;
     pub const DT_MIN: usize = 20;
     pub const END_TIME: usize = 21;
+    pub const E_ERODED: usize = 29;
     pub const WALL_FORCE: usize = 32;
     pub const LEN: usize = 64;
 }
@@ -72,6 +73,10 @@ struct Params {
     wall_off: u32,
     n_part: u32,
     rb_off: u32,
+    erosion: u32,
+    pad1: u32,
+    pad2: u32,
+    pad3: u32,
 }
 
 /// The state arrays read back for output, in their binding order.
@@ -97,6 +102,8 @@ pub struct GpuStepper {
     ctl_staging: [wgpu::Buffer; 2],
     /// The rigid bodies' states (read back with the rest).
     rb: wgpu::Buffer,
+    /// Per element: eroded, its energy, Johnson-Cook damage (when the model erodes).
+    ero: Option<wgpu::Buffer>,
     /// Steps recorded in one submission (grown while a batch takes under 20 ms).
     pub batch: usize,
 }
@@ -220,7 +227,7 @@ impl GpuStepper {
         let mass = f64s("mass", &solver.setup.mass);
         let fe_lo = zeros("corner forces 1-4", 12 * ne);
         let fe_hi = zeros("corner forces 5-8", 12 * ne);
-        let epart = zeros("element partial sums", 4 * groups_e);
+        let epart = zeros("element partial sums", 6 * groups_e);
         let nptr = u32s("node corners start", &lay.nptr);
         let ninc = u32s("node corners", &lay.ninc);
         let nflag = u32s("spc", &lay.nflag);
@@ -234,6 +241,8 @@ impl GpuStepper {
         let npn = zeros("nodal pressure, nodes", if np { nn } else { 1 });
         let sri = lay.emat.iter().any(|&b| b & crate::layout::SRI != 0);
         let gps = zeros("gauss points", if sri { 104 * ne } else { 1 });
+        let erodes = !model.erosion.is_empty();
+        let ero = zeros("erosion", if erodes { 4 * ne } else { 1 });
         let params = Params {
             ne: ne as u32,
             nn: nn as u32,
@@ -247,13 +256,17 @@ impl GpuStepper {
             wall_off: lay.wall_off,
             n_part: n_part as u32,
             rb_off: lay.rb_off,
+            erosion: erodes as u32,
+            pad1: 0,
+            pad2: 0,
+            pad3: 0,
         };
         let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),
             contents: bytemuck::bytes_of(&params),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let bindings: [(&wgpu::Buffer, bool); 26] = [
+        let bindings: [(&wgpu::Buffer, bool); 27] = [
             (&cf_buf, false),
             (&cu_buf, false),
             (&par, true),
@@ -280,6 +293,7 @@ impl GpuStepper {
             (&npe, false),
             (&npn, false),
             (&gps, false),
+            (&ero, false),
         ];
         let mut layout_entries: Vec<wgpu::BindGroupLayoutEntry> = (bindings.iter().enumerate())
             .map(|(i, &(_, read_only))| wgpu::BindGroupLayoutEntry {
@@ -294,7 +308,7 @@ impl GpuStepper {
             })
             .collect();
         layout_entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 26,
+            binding: 27,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
@@ -314,7 +328,7 @@ impl GpuStepper {
             })
             .collect();
         entries.push(wgpu::BindGroupEntry {
-            binding: 26,
+            binding: 27,
             resource: uniform.as_entire_binding(),
         });
         let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -375,6 +389,7 @@ impl GpuStepper {
             state,
             ctl_staging,
             rb,
+            ero: erodes.then_some(ero),
             batch: 4,
             gpu,
         })
@@ -500,6 +515,16 @@ impl GpuStepper {
             st.hg[e].copy_from_slice(&hg[12 * e..12 * e + 12]);
             st.bulk_q[e] = bq[e];
         }
+        if let Some(buf) = &self.ero {
+            let ero = self.download(buf);
+            for e in 0..ne {
+                st.eroded[e] = ero[4 * e] != 0.0;
+                st.hist[e].work = ero[4 * e + 1];
+                if let Some(d) = st.damage.get_mut(e) {
+                    *d = [ero[4 * e + 2], ero[4 * e + 3]];
+                }
+            }
+        }
         if !st.rigid.is_empty() {
             let rb = self.download(&self.rb);
             let v3 = |o: usize| [rb[o], rb[o + 1], rb[o + 2]];
@@ -607,6 +632,7 @@ impl Control {
         st.energy.kinetic = f[cf::E_KIN];
         st.energy.internal = f[cf::E_INT];
         st.energy.hourglass = f[cf::E_HG];
+        st.energy.eroded = f[cf::E_ERODED];
         st.energy.external_work = f[cf::E_EXT];
         st.initial_energy = f[cf::E_INIT];
         for (w, wf) in solver.wall_forces.iter_mut().enumerate() {

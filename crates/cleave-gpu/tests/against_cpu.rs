@@ -654,3 +654,130 @@ fn fully_integrated_hexahedra_match_the_cpu() {
         compare_runs(m, case);
     }
 }
+
+/// Element erosion on the block of [`block`] (viscous hourglass), its rules set so that some
+/// elements erode during the run and some do not: FS at half the largest plastic strain the
+/// block reaches without erosion; Johnson-Cook damage (4340 steel, D1-D5 scaled so that it
+/// reaches 1 in the run); `*MAT_ADD_EROSION` SIGVM and FAILTM with NCS 2. The GPU erodes the
+/// same elements as the CPU, books the same eroded energy, and its fields match to round-off.
+#[test]
+fn erosion_matches_the_cpu() {
+    use cleave_core::erosion::{ErosionDef, ErosionRule, JcDamage};
+    let Some(g) = gpu() else { return };
+    let plain = block(Hourglass::Viscous);
+    let every = plain.control.end_time / 7.0;
+    let rows = run_cpu(&plain, every);
+    let eps_max = rows
+        .last()
+        .unwrap()
+        .eps_p
+        .iter()
+        .fold(0.0f64, |m, &e| m.max(e));
+    let cases: Vec<(&str, MaterialKind, ErosionRule)> = vec![
+        (
+            "FS",
+            plain.materials[0].kind.clone(),
+            ErosionRule {
+                plastic_strain: Some(0.5 * eps_max),
+                ncs: 1,
+                ..Default::default()
+            },
+        ),
+        (
+            "Johnson-Cook damage",
+            MaterialKind::JohnsonCook(JohnsonCook::STEEL_4340),
+            ErosionRule {
+                johnson_cook: Some(JcDamage {
+                    d: [0.05 * eps_max, 0.1 * eps_max, -1.5, 0.014, 0.6],
+                    efmin: 1e-6,
+                }),
+                ncs: 1,
+                ..Default::default()
+            },
+        ),
+        (
+            "SIGVM and FAILTM, NCS 2",
+            plain.materials[0].kind.clone(),
+            ErosionRule {
+                max_von_mises: Some(320e6),
+                failure_time: Some(0.4 * plain.control.end_time),
+                ncs: 2,
+                ..Default::default()
+            },
+        ),
+    ];
+    let mut g = Some(g);
+    for (name, kind, rule) in cases {
+        let mut m = plain.clone();
+        m.materials[0].kind = kind;
+        m.erosion = vec![ErosionDef { material: 0, rule }];
+        let gpu = g.take().unwrap();
+        let mut s = Solver::new(&m).unwrap();
+        let mut st = GpuStepper::new(gpu, &s).unwrap();
+        st.run(
+            &mut s,
+            &mut Record {
+                every,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        g = Some(st.into_gpu());
+        let mut c = Solver::new(&m).unwrap();
+        c.run(&mut Record {
+            every,
+            ..Default::default()
+        })
+        .unwrap();
+        let n = c.eroded_count();
+        eprintln!("{name}: {n} of {} elements eroded", m.num_elements());
+        assert!(n > 0 && n < m.num_elements(), "{name}: {n} eroded");
+        assert_eq!(
+            c.state.eroded, s.state.eroded,
+            "{name}: the same elements erode"
+        );
+        let (a, b) = (c.state.energy.eroded, s.state.energy.eroded);
+        assert!(
+            a > 0.0 && (a - b).abs() <= 1e-10 * a,
+            "{name}: eroded energy {a} vs {b}"
+        );
+        // the end states (the output times and bit-identical reruns are the other tests')
+        let rel = |u: Vec<[f64; 3]>, w: Vec<[f64; 3]>| {
+            let scale = u.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+            let d = (u.iter().flatten().zip(w.iter().flatten()))
+                .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            d / scale
+        };
+        let dx = rel(
+            c.positions().iter().copied().collect(),
+            s.positions().iter().copied().collect(),
+        );
+        let dv = rel(
+            c.velocities().iter().copied().collect(),
+            s.velocities().iter().copied().collect(),
+        );
+        let ds = {
+            let scale = c
+                .state
+                .stress
+                .iter()
+                .flatten()
+                .fold(0.0f64, |m, x| m.max(x.abs()));
+            (c.state
+                .stress
+                .iter()
+                .flatten()
+                .zip(s.state.stress.iter().flatten()))
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+                / scale
+        };
+        let e = (c.state.energy.total() - s.state.energy.total()).abs() / c.state.energy.total();
+        eprintln!(
+            "{name}: GPU - CPU at the end: x {dx:.1e}, v {dv:.1e}, stress {ds:.1e}, energy {e:.1e}"
+        );
+        assert!(
+            dx < 1e-10 && dv < 1e-10 && ds < 1e-10 && e < 1e-10,
+            "{name}"
+        );
+    }
+}

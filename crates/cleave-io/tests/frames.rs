@@ -101,6 +101,16 @@ fn a_system_with_the_global_axes_is_the_global_frame() {
     assert_eq!(a.body_loads, b.body_loads);
 }
 
+/// A system no field names changes nothing, even one whose points span no plane.
+#[test]
+fn an_unused_system_changes_nothing() {
+    let extra = "*DEFINE_COORDINATE_SYSTEM\n5, 0., 0., 0., 0., 0., 0.\n0., 0., 0.\n";
+    let a = parse_deck(&block(extra), "a.k").unwrap().model;
+    let b = parse_deck(&block(""), "b.k").unwrap().model;
+    assert_eq!(a.x0, b.x0);
+    assert_eq!(a.node_loads, b.node_loads);
+}
+
 #[test]
 fn systems_cleave_cannot_use_are_refused_by_name() {
     let turned = "*DEFINE_COORDINATE_VECTOR\n5, 1., 1., 0., 0., 0., 1.\n";
@@ -119,8 +129,9 @@ fn systems_cleave_cannot_use_are_refused_by_name() {
             "coordinate system 6 follows nodes",
         ),
         (
-            "*DEFINE_COORDINATE_VECTOR\n5, 1., 1., 0., 2., 2., 0.\n".to_string(),
-            "its plane point lies on the x axis",
+            "*DEFINE_COORDINATE_VECTOR\n5, 1., 1., 0., 2., 2., 0.\n*LOAD_NODE_POINT\n1, 2, 7, 1000., 5\n"
+                .to_string(),
+            "coordinate system 5 has a zero x axis or its plane point on the x axis",
         ),
         (
             "*DEFINE_COORDINATE_SYSTEM\n5, 0., 0., 0., 1., 0., 0., 3\n0., 1., 0.\n".to_string(),

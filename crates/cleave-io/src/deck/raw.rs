@@ -359,12 +359,13 @@ pub struct RawIncludeXform {
 }
 
 /// A local coordinate system (`*DEFINE_COORDINATE_...`): its axes as rows (local x, y, z in
-/// global components); `None` for one that follows nodes (`_NODES`), which no field may use.
+/// global components), or why it has none cleave can use (one that follows nodes, `_NODES`;
+/// one whose points span no plane): an error only where a field names it.
 #[derive(Clone, Debug)]
 pub struct RawFrame {
     pub src: Src,
     pub id: i64,
-    pub axes: Option<[[f64; 3]; 3]>,
+    pub axes: Result<[[f64; 3]; 3], &'static str>,
 }
 
 /// A CID field that cleave reads in global axes only: the system it names must have the

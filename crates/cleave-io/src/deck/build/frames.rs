@@ -11,8 +11,8 @@ use crate::deck::raw::Src;
 /// preprocessors write) lands on them to round-off, 1e-15.
 const GLOBAL_TOL: f64 = 1e-12;
 
-/// The systems by id: their axes (`None`: a system that follows nodes).
-pub type Frames = HashMap<i64, Option<[[f64; 3]; 3]>>;
+/// The systems by id: their axes, or why they have none ([`crate::deck::raw::RawFrame`]).
+pub type Frames = HashMap<i64, Result<[[f64; 3]; 3], &'static str>>;
 
 impl Builder<'_> {
     /// The deck's systems by id (a repeated id is an error), after checking every CID field
@@ -56,12 +56,9 @@ impl Builder<'_> {
         field: &str,
     ) -> Result<[[f64; 3]; 3], DeckError> {
         match frames.get(&cid) {
-            Some(Some(axes)) => Ok(*axes),
-            Some(None) => Err(self
-                .err(
-                    src,
-                    format!("coordinate system {cid} follows nodes (*DEFINE_COORDINATE_NODES), which is not supported; use *DEFINE_COORDINATE_SYSTEM or _VECTOR"),
-                )
+            Some(Ok(axes)) => Ok(*axes),
+            Some(Err(why)) => Err(self
+                .err(src, format!("coordinate system {cid} {why}"))
                 .with_field(field)),
             None => Err(self
                 .err(src, format!("coordinate system {cid} is not defined"))

@@ -10,7 +10,8 @@
 //!   recorded, so that a field naming it gets a clear error (it is not supported).
 //!
 //! CIDL (points given in another local system) and NID (a system that turns with a node) must
-//! be blank. Where a system is used is the build's business (`build::conditions`): a
+//! be blank. A system whose points span no plane is an error only where a field names it (an
+//! unused one changes nothing). Where a system is used is the build's business (`build::conditions`): a
 //! concentrated load acts along its axes; other CID fields accept a system whose axes are the
 //! global ones (what ANSYS Workbench writes for its loads).
 
@@ -56,25 +57,18 @@ fn push(
     r: &Reader<'_>,
     c: &Card<'_>,
     deck: &mut RawDeck,
-    axes_of: Option<[Vec3; 3]>,
-    node_based: bool,
+    axes: Result<[Vec3; 3], &'static str>,
 ) -> Result<(), DeckError> {
-    let id = c.id(0, "CID")?;
-    if !node_based && axes_of.is_none() {
-        return Err(c.field_err(
-            "CID",
-            format!(
-                "coordinate system {id}: its x axis is zero or its plane point lies on the x axis"
-            ),
-        ));
-    }
     deck.frames.push(RawFrame {
         src: r.src(c.line),
-        id,
-        axes: axes_of,
+        id: c.id(0, "CID")?,
+        axes,
     });
     Ok(())
 }
+
+/// Why a system built from points has no axes.
+const NO_PLANE: &str = "has a zero x axis or its plane point on the x axis";
 
 /// `*DEFINE_COORDINATE_SYSTEM`, two cards per system.
 pub fn system(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
@@ -84,7 +78,7 @@ pub fn system(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
         blank(&c, 7, "CIDL", "points in another local system")?;
         let c2 = r.required(W10, "XP YP ZP")?;
         let p = point(&c2, 0, ["XP", "YP", "ZP"])?;
-        push(r, &c, deck, axes(sub(l, o), sub(p, o)), false)?;
+        push(r, &c, deck, axes(sub(l, o), sub(p, o)).ok_or(NO_PLANE))?;
     }
     Ok(())
 }
@@ -95,7 +89,7 @@ pub fn vector(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
         let x = point(&c, 1, ["XX", "YX", "ZX"])?;
         let v = point(&c, 4, ["XV", "YV", "ZV"])?;
         blank(&c, 7, "NID", "a system that turns with a node")?;
-        push(r, &c, deck, axes(x, v), false)?;
+        push(r, &c, deck, axes(x, v).ok_or(NO_PLANE))?;
     }
     Ok(())
 }
@@ -103,7 +97,12 @@ pub fn vector(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
 /// `*DEFINE_COORDINATE_NODES`, one card per system: recorded by id only.
 pub fn nodes(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     while let Some(c) = r.next_nonblank(W10)? {
-        push(r, &c, deck, None, true)?;
+        push(
+            r,
+            &c,
+            deck,
+            Err("follows nodes (*DEFINE_COORDINATE_NODES), which is not supported; use *DEFINE_COORDINATE_SYSTEM or _VECTOR"),
+        )?;
     }
     Ok(())
 }

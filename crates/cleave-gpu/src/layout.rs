@@ -332,7 +332,8 @@ impl Layout {
 }
 
 /// An erosion rule's block: FAIL (on, value), MXPRES, MNPRES, SIGVM, FAILTM (each on, value),
-/// NCS, the number of `*MAT_ADD_EROSION` criteria, Johnson-Cook damage (on, D1..D5, EFMIN).
+/// NCS, the number of `*MAT_ADD_EROSION` criteria, Johnson-Cook damage (on, D1..D5, EFMIN),
+/// SIGP1, MXEPS, MNEPS, EFFEPS, VOLEPS (each on, value).
 fn erosion_block(r: &ErosionRule, out: &mut Vec<f64>) {
     for v in [
         r.plastic_strain,
@@ -351,6 +352,15 @@ fn erosion_block(r: &ErosionRule, out: &mut Vec<f64>) {
             out.push(d.efmin);
         }
         None => out.extend_from_slice(&[0.0; 7]),
+    }
+    for v in [
+        r.max_principal,
+        r.max_principal_strain,
+        r.min_principal_strain,
+        r.effective_strain,
+        r.volumetric_strain,
+    ] {
+        out.extend_from_slice(&[v.is_some() as u8 as f64, v.unwrap_or(0.0)]);
     }
 }
 

@@ -71,7 +71,8 @@ struct Params {
 @group(0) @binding(24) var<storage, read_write> npn: array<f64>;
 @group(0) @binding(25) var<storage, read_write> gps: array<f64>;
 @group(0) @binding(26) var<storage, read_write> ero: array<f64>;
-@group(0) @binding(27) var<uniform> prm: Params;
+@group(0) @binding(27) var<storage, read> eref: array<f64>;
+@group(0) @binding(28) var<uniform> prm: Params;
 
 // cf: control floats (host side: gpu::control)
 const T: u32 = 0u;
@@ -796,7 +797,78 @@ struct ElemOut {
 // ero per element: eroded (1), its energy so far (the work of its stresses, bulk viscosity and
 // hourglass forces), Johnson-Cook damage D and the plastic strain it was last accumulated at.
 // A rule at par offset o: FAIL on, FAIL; MXPRES on, MXPRES; MNPRES on, MNPRES; SIGVM on, SIGVM;
-// FAILTM on, FAILTM; NCS; the number of *MAT_ADD_EROSION criteria; JC damage on, D1..D5, EFMIN.
+// FAILTM on, FAILTM; NCS; the number of *MAT_ADD_EROSION criteria; JC damage on, D1..D5, EFMIN;
+// SIGP1, MXEPS, MNEPS, EFFEPS, VOLEPS (each on, value). eref per element: the inverse of its
+// reference Jacobian at the centre (9, by rows), when a rule has a strain criterion.
+
+// The eigenvalues of a symmetric tensor, ascending, by cyclic Jacobi rotations (only square
+// roots: Vulkan has no 64-bit trigonometry for the CPU's closed form, math.rs
+// principal_values; the two agree to round-off but where eigenvalues nearly coincide, where
+// the closed form loses digits).
+fn eigenvalues(t: S6) -> vec3<f64> {
+    var a = M3(vec3<f64>(t[0], t[3], t[5]), vec3<f64>(t[3], t[1], t[4]), vec3<f64>(t[5], t[4], t[2]));
+    for (var sweep = 0; sweep < 12; sweep = sweep + 1) {
+        let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        let dia = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if (off <= 1e-34lf * dia || off == 0.0lf) {
+            break;
+        }
+        for (var k = 0u; k < 3u; k = k + 1u) {
+            let p = select(0u, 1u, k == 2u);
+            let q = select(select(1u, 2u, k > 0u), 2u, k == 2u);
+            let apq = a[p][q];
+            if (apq == 0.0lf) {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0lf * apq);
+            var t1 = 1.0lf / (abs(theta) + sqrt(theta * theta + 1.0lf));
+            if (abs(theta) > 1e150lf) {
+                t1 = 0.5lf / abs(theta);
+            }
+            if (theta < 0.0lf) {
+                t1 = -t1;
+            }
+            let c = 1.0lf / sqrt(t1 * t1 + 1.0lf);
+            let sn = t1 * c;
+            let r = 3u - p - q;
+            let arp = a[r][p];
+            let arq = a[r][q];
+            a[p][p] = a[p][p] - t1 * apq;
+            a[q][q] = a[q][q] + t1 * apq;
+            a[p][q] = 0.0lf;
+            a[q][p] = 0.0lf;
+            a[r][p] = c * arp - sn * arq;
+            a[p][r] = a[r][p];
+            a[r][q] = sn * arp + c * arq;
+            a[q][r] = a[r][q];
+        }
+    }
+    let d0 = a[0][0];
+    let d1 = a[1][1];
+    let d2 = a[2][2];
+    let lo = min(d0, min(d1, d2));
+    let hi = max(d0, max(d1, d2));
+    return vec3<f64>(lo, d0 + d1 + d2 - lo - hi, hi);
+}
+
+// The principal logarithmic strains of element e, ascending (erosion.rs
+// principal_log_strains): F = J(x) J(x0)^-1 at the centre, B = F F^T, 1/2 ln of B's eigenvalues.
+fn log_strains(e: u32) -> vec3<f64> {
+    var x: P8;
+    for (var a = 0u; a < 8u; a = a + 1u) {
+        x[a] = ld(0u, conn[8u * e + a]);
+    }
+    let o = 9u * e;
+    let j0i = M3(vec3<f64>(eref[o], eref[o + 1u], eref[o + 2u]),
+                 vec3<f64>(eref[o + 3u], eref[o + 4u], eref[o + 5u]),
+                 vec3<f64>(eref[o + 6u], eref[o + 7u], eref[o + 8u]));
+    let f = mul3(centre_jacobian(x), j0i);
+    let b = mul3(f, transpose3(f));
+    let ev = eigenvalues(S6(b[0][0], b[1][1], b[2][2], 0.5lf * (b[0][1] + b[1][0]),
+                            0.5lf * (b[1][2] + b[2][1]), 0.5lf * (b[2][0] + b[0][2])));
+    let tiny = 2.2250738585072014e-308lf;
+    return vec3<f64>(0.5lf * ln64(max(ev[0], tiny)), 0.5lf * ln64(max(ev[1], tiny)), 0.5lf * ln64(max(ev[2], tiny)));
+}
 
 fn von_mises6(s: S6) -> f64 {
     let p = (s[0] + s[1] + s[2]) / 3.0lf;
@@ -806,7 +878,7 @@ fn von_mises6(s: S6) -> f64 {
 
 // Whether the rule at o holds for stress s, plastic strain eps_p at time t (ErosionRule::fails;
 // the damage is checked by the caller).
-fn rule_fails(o: u32, s: S6, eps_p: f64, t: f64) -> bool {
+fn rule_fails(o: u32, e: u32, s: S6, eps_p: f64, t: f64) -> bool {
     if (par[o] > 0.5lf && eps_p >= par[o + 1u]) {
         return true;
     }
@@ -826,6 +898,28 @@ fn rule_fails(o: u32, s: S6, eps_p: f64, t: f64) -> bool {
     }
     if (par[o + 8u] > 0.5lf && t >= par[o + 9u]) {
         held = held + 1u;
+    }
+    if (par[o + 19u] > 0.5lf && eigenvalues(s)[2] >= par[o + 20u]) {
+        held = held + 1u;
+    }
+    if (par[o + 21u] > 0.5lf || par[o + 23u] > 0.5lf || par[o + 25u] > 0.5lf || par[o + 27u] > 0.5lf) {
+        let ls = log_strains(e);
+        let vol = ls[0] + ls[1] + ls[2];
+        let dv = ls - vec3<f64>(vol / 3.0lf, vol / 3.0lf, vol / 3.0lf);
+        let eff = sqrt(2.0lf / 3.0lf * dot(dv, dv));
+        if (par[o + 21u] > 0.5lf && ls[2] >= par[o + 22u]) {
+            held = held + 1u;
+        }
+        if (par[o + 23u] > 0.5lf && ls[0] <= par[o + 24u]) {
+            held = held + 1u;
+        }
+        if (par[o + 25u] > 0.5lf && eff >= par[o + 26u]) {
+            held = held + 1u;
+        }
+        let vv = par[o + 28u];
+        if (par[o + 27u] > 0.5lf && ((vv > 0.0lf && vol >= vv) || (vv <= 0.0lf && vol <= vv))) {
+            held = held + 1u;
+        }
     }
     return held >= max(u32(par[o + 10u]), 1u);
 }
@@ -879,7 +973,7 @@ fn erode(e: u32, m: Mat, work: f64) -> f64 {
         }
         fails = ero[4u * e + 2u] >= 1.0lf;
     }
-    if (!fails && !rule_fails(o, s, eps_p, cf[T])) {
+    if (!fails && !rule_fails(o, e, s, eps_p, cf[T])) {
         return -1.0lf;
     }
     ero[4u * e] = 1.0lf;

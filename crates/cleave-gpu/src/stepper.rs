@@ -139,6 +139,24 @@ fn rigid_state(solver: &Solver) -> Vec<f64> {
     out
 }
 
+/// Per element, the inverse of its reference Jacobian at the centre (9 values, by rows), when
+/// an erosion rule has a strain criterion (solver/erosion.rs); else nothing.
+fn reference_jacobians(model: &cleave_core::model::Model) -> Vec<f64> {
+    if !model.erosion.iter().any(|d| d.rule.needs_strain()) {
+        return Vec::new();
+    }
+    let id = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let mut out = Vec::with_capacity(9 * model.num_elements());
+    for c in &model.conn {
+        let x0: [Vec3; 8] = c.map(|n| model.x0[n as usize]);
+        let inv =
+            cleave_core::math::inverse(&cleave_core::element::hex8::jacobian_at(&x0, [0.0; 3]))
+                .unwrap_or(id);
+        out.extend(inv.iter().flatten());
+    }
+    out
+}
+
 fn flat(v: &[Vec3]) -> Vec<f64> {
     v.iter().flatten().copied().collect()
 }
@@ -243,6 +261,7 @@ impl GpuStepper {
         let gps = zeros("gauss points", if sri { 104 * ne } else { 1 });
         let erodes = !model.erosion.is_empty();
         let ero = zeros("erosion", if erodes { 4 * ne } else { 1 });
+        let eref = f64s("reference jacobians", &reference_jacobians(model));
         let params = Params {
             ne: ne as u32,
             nn: nn as u32,
@@ -266,7 +285,7 @@ impl GpuStepper {
             contents: bytemuck::bytes_of(&params),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let bindings: [(&wgpu::Buffer, bool); 27] = [
+        let bindings: [(&wgpu::Buffer, bool); 28] = [
             (&cf_buf, false),
             (&cu_buf, false),
             (&par, true),
@@ -294,6 +313,7 @@ impl GpuStepper {
             (&npn, false),
             (&gps, false),
             (&ero, false),
+            (&eref, true),
         ];
         let mut layout_entries: Vec<wgpu::BindGroupLayoutEntry> = (bindings.iter().enumerate())
             .map(|(i, &(_, read_only))| wgpu::BindGroupLayoutEntry {
@@ -308,7 +328,7 @@ impl GpuStepper {
             })
             .collect();
         layout_entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 27,
+            binding: 28,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
@@ -328,7 +348,7 @@ impl GpuStepper {
             })
             .collect();
         entries.push(wgpu::BindGroupEntry {
-            binding: 27,
+            binding: 28,
             resource: uniform.as_entire_binding(),
         });
         let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {

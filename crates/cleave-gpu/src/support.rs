@@ -10,8 +10,7 @@
 //! motion; not with a given inertia), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM),
 //! `*LOAD_BODY`, `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and
 //! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 `*RIGIDWALL_PLANAR`, element erosion
-//! (FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION` MXPRES, MNPRES, SIGVM, FAILTM,
-//! NCS), the energy ledger, and every output (states and histories are read back at their times).
+//! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), the energy ledger, and every output (states and histories are read back at their times).
 
 use cleave_core::element::Shape;
 use cleave_core::model::{MaterialKind, Model};
@@ -28,24 +27,6 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
             "element separation (*MAT_ADD_SEPARATION; --no-separation runs the mesh unsplit)"
                 .into(),
         );
-    }
-    // erosion: the criteria on the element's principal stresses and strains are not yet on the
-    // GPU (they need 64-bit trigonometry, which Vulkan lacks)
-    for d in &model.erosion {
-        let r = &d.rule;
-        let principal = [
-            (r.max_principal.is_some(), "SIGP1"),
-            (r.max_principal_strain.is_some(), "MXEPS"),
-            (r.min_principal_strain.is_some(), "MNEPS"),
-            (r.effective_strain.is_some(), "EFFEPS"),
-            (r.volumetric_strain.is_some(), "VOLEPS"),
-        ];
-        if let Some((_, name)) = principal.iter().find(|(on, _)| *on) {
-            return Some(format!(
-                "the *MAT_ADD_EROSION criterion {name} (material {})",
-                model.materials[d.material].id
-            ));
-        }
     }
     if !model.contacts.is_empty() || !model.tied.is_empty() {
         return Some("contact (*CONTACT_...)".into());

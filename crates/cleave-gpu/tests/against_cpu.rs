@@ -658,7 +658,8 @@ fn fully_integrated_hexahedra_match_the_cpu() {
 /// Element erosion on the block of [`block`] (viscous hourglass), its rules set so that some
 /// elements erode during the run and some do not: FS at half the largest plastic strain the
 /// block reaches without erosion; Johnson-Cook damage (4340 steel, D1-D5 scaled so that it
-/// reaches 1 in the run); `*MAT_ADD_EROSION` SIGVM and FAILTM with NCS 2. The GPU erodes the
+/// reaches 1 in the run); `*MAT_ADD_EROSION` SIGVM and FAILTM with NCS 2; SIGP1, MXEPS or
+/// MNEPS, EFFEPS or VOLEPS, each at half the block's largest value without erosion. The GPU erodes the
 /// same elements as the CPU, books the same eroded energy, and its fields match to round-off.
 #[test]
 fn erosion_matches_the_cpu() {
@@ -706,6 +707,61 @@ fn erosion_matches_the_cpu() {
             },
         ),
     ];
+    // the principal criteria, each at half the largest value the block reaches without
+    // erosion: the largest principal stress, and the element's principal log strains
+    let mut cpu = Solver::new(&plain).unwrap();
+    cpu.run(&mut Record {
+        every,
+        ..Default::default()
+    })
+    .unwrap();
+    let sig1 = (cpu.state.stress.iter())
+        .map(|s| cleave_core::math::principal_values(s)[2])
+        .fold(f64::MIN, f64::max);
+    let strains: Vec<[f64; 3]> = (plain.conn.iter())
+        .map(|c| {
+            let x: [[f64; 3]; 8] = c.map(|n| cpu.positions()[n as usize]);
+            let x0: [[f64; 3]; 8] = c.map(|n| plain.x0[n as usize]);
+            let j = cleave_core::element::hex8::jacobian_at;
+            let j0 = cleave_core::math::inverse(&j(&x0, [0.0; 3])).unwrap();
+            cleave_core::erosion::principal_log_strains(&j(&x, [0.0; 3]), &j0)
+        })
+        .collect();
+    let top = |f: &dyn Fn(&[f64; 3]) -> f64| strains.iter().map(f).fold(f64::MIN, f64::max);
+    let eff = |e: &[f64; 3]| {
+        let v = (e[0] + e[1] + e[2]) / 3.0;
+        (2.0 / 3.0 * e.iter().map(|x| (x - v) * (x - v)).sum::<f64>()).sqrt()
+    };
+    let mut cases = cases;
+    cases.push((
+        "SIGP1",
+        plain.materials[0].kind.clone(),
+        ErosionRule {
+            max_principal: Some(0.5 * sig1),
+            ncs: 1,
+            ..Default::default()
+        },
+    ));
+    cases.push((
+        "MXEPS or MNEPS",
+        plain.materials[0].kind.clone(),
+        ErosionRule {
+            max_principal_strain: Some(0.5 * top(&|e| e[2])),
+            min_principal_strain: Some(-0.5 * top(&|e| -e[0])),
+            ncs: 1,
+            ..Default::default()
+        },
+    ));
+    cases.push((
+        "EFFEPS or VOLEPS",
+        plain.materials[0].kind.clone(),
+        ErosionRule {
+            effective_strain: Some(0.5 * top(&eff)),
+            volumetric_strain: Some(-0.5 * top(&|e| -(e[0] + e[1] + e[2]))),
+            ncs: 1,
+            ..Default::default()
+        },
+    ));
     let mut g = Some(g);
     for (name, kind, rule) in cases {
         let mut m = plain.clone();

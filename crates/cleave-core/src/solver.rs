@@ -1531,6 +1531,11 @@ impl<'m> Solver<'m> {
         self.finished = finished;
     }
 
+    /// The tied contacts' slave nodes and the face points they follow ([`crate::tied`]).
+    pub fn ties(&self) -> &[crate::tied::Tie] {
+        &self.ties
+    }
+
     /// Momentum sum m v^n over all nodes (at t^n).
     pub fn momentum(&self) -> Vec3 {
         let mut p = [0.0; 3];

@@ -18,8 +18,8 @@
 //!   start, it stays there exactly (`x_s = sum_a N_a x_a` is kept by the linear update). The
 //!   constraint does no work: `sum_a N_a f_s . v_a = f_s . v_s`.
 //! - A slave node may carry no SPC, prescribed motion or rigid body of its own, nor may the
-//!   face's nodes belong to a rigid body (errors naming the node); separation and `--gpu` are
-//!   refused where they are set up.
+//!   face's nodes belong to a rigid body (errors naming the node); separation is refused where
+//!   it is set up. The GPU step runs the same constraint (cleave-gpu, `tied` in step.wgsl).
 
 use crate::contact::surface::{exterior_faces, side_faces, FaceId};
 use crate::element::shape::face_corners;

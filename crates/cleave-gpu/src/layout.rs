@@ -32,6 +32,7 @@ use cleave_core::math::{norm, scale, sub};
 use cleave_core::model::{Hourglass, Model, MotionTarget, Vad};
 use cleave_core::setup::Setup;
 use cleave_core::solver::kernel_controls;
+use cleave_core::tied::Tie;
 
 /// The bit of `emat` that marks a tetrahedron.
 pub const TET: u32 = 1 << 31;
@@ -48,7 +49,8 @@ pub const MAT_STRIDE: usize = 14;
 ///   node's initial coordinate on the axis;
 /// - 1, a concentrated load (`*LOAD_NODE`): axis, SF, curve offset;
 /// - 2, a pressure segment (`*LOAD_SEGMENT`) the node carries: SF, curve offset, birth time,
-///   then its nodes N1 N2 N3 N4 (a triangle `N1 N2 N3 N3`).
+///   then its nodes N1 N2 N3 N4 (a triangle `N1 N2 N3 N3`);
+/// - 3, a tied slave node whose force the node takes (`crate::tied`): the slave, the weight.
 pub const NODE_STRIDE: usize = 8;
 /// The most rigid walls (the bits of `nflag` above the SPC's, the ledger's partial sums).
 pub const MAX_WALLS: usize = 8;
@@ -72,6 +74,10 @@ pub struct Layout {
     pub n_rigid: u32,
     pub rb_off: u32,
     pub rbi: Vec<u32>,
+    /// Tied contact: the number of ties and their offset in `par` (9 values each: the slave,
+    /// its face's 4 nodes, their weights).
+    pub n_ties: u32,
+    pub tie_off: u32,
 }
 
 /// Values per rigid body in `par`: mass, reference centre of mass (3), reference inertia (9,
@@ -87,7 +93,7 @@ pub const RB_STATE: usize = 48;
 impl Layout {
     /// The arrays of a model that [`crate::support::unsupported`] accepts (hexahedra of
     /// deformable materials, nodal constraints).
-    pub fn new(model: &Model, setup: &Setup) -> Self {
+    pub fn new(model: &Model, setup: &Setup, ties: &[Tie]) -> Self {
         let nn = model.num_nodes();
         let mut par = Vec::new();
         // the material slots: each element's material (again with the free-element step for
@@ -199,6 +205,16 @@ impl Layout {
                 actions.push((n, a));
             }
         }
+        // tied slave nodes' forces go to their face's nodes, in the ties' order
+        for t in ties {
+            for a in 0..4 {
+                let w = t.weights[a];
+                actions.push((
+                    t.masters[a],
+                    [3.0, t.slave as f64, w, 0.0, 0.0, 0.0, 0.0, 0.0],
+                ));
+            }
+        }
         for m in &setup.node_motion {
             if let MotionTarget::Node(n) = m.target {
                 let vad = match m.vad {
@@ -274,6 +290,12 @@ impl Layout {
             }
         }
         rbi.extend(bodies.iter().flat_map(|b| b.nodes.iter().copied()));
+        let tie_off = par.len() as u32;
+        for t in ties {
+            par.push(t.slave as f64);
+            par.extend(t.masters.iter().map(|&m| m as f64));
+            par.extend_from_slice(&t.weights);
+        }
         let wall_off = par.len() as u32;
         for wall in &model.rigid_walls {
             let d = sub(wall.head, wall.tail);
@@ -327,6 +349,8 @@ impl Layout {
             n_rigid: bodies.len() as u32,
             rb_off,
             rbi,
+            n_ties: ties.len() as u32,
+            tie_off,
         }
     }
 }
@@ -436,7 +460,7 @@ mod tests {
         };
         let model = box_model([3, 2, 2], [0.3, 0.2, 0.2], steel, 1.0);
         let setup = Setup::new(&model).unwrap();
-        let l = Layout::new(&model, &setup);
+        let l = Layout::new(&model, &setup, &[]);
         let nn = model.num_nodes();
         assert_eq!(l.nptr[nn] as usize, 8 * model.num_elements());
         let mut seen = vec![false; 8 * model.num_elements()];

@@ -39,8 +39,9 @@ struct Params {
     rb_off: u32,
     // 1 when some material erodes (the `ero` array is per element)
     erosion: u32,
-    pad1: u32,
-    pad2: u32,
+    // tied contact: the ties and their offset in par (slave, 4 face nodes, 4 weights)
+    n_ties: u32,
+    tie_off: u32,
     pad3: u32,
 }
 
@@ -2038,7 +2039,7 @@ fn node_loads(n: u32, t: f64) -> vec3<f64> {
     for (var k = mptr[n]; k < mptr[n + 1u]; k = k + 1u) {
         let o = prm.mot_off + NODE_STRIDE * k;
         let kind = par[o];
-        if (kind < 0.5lf) {
+        if (kind < 0.5lf || kind > 2.5lf) {
             continue;
         }
         if (kind < 1.5lf) {
@@ -2065,6 +2066,47 @@ fn node_loads(n: u32, t: f64) -> vec3<f64> {
     return fl;
 }
 
+// The forces of the tied slave nodes whose faces node n carries: each slave's whole force (its
+// elements' and loads') times the node's weight on the slave's face, in the ties' order
+// (solver/tied.rs transfer_tied_forces).
+fn tie_forces(n: u32, t: f64) -> vec3<f64> {
+    var f = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    for (var k = mptr[n]; k < mptr[n + 1u]; k = k + 1u) {
+        let o = prm.mot_off + NODE_STRIDE * k;
+        if (par[o] < 2.5lf) {
+            continue;
+        }
+        let sl = u32(par[o + 1u]);
+        f = f + (node_force(sl) + node_loads(sl, t)) * par[o + 2u];
+    }
+    return f;
+}
+
+// After the nodes: each tied slave node moves with its face, v_s = sum_a N_a v_a
+// (solver/tied.rs move_tied_nodes).
+@compute @workgroup_size(64)
+fn tied(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+        @builtin(num_workgroups) nw: vec3<u32>) {
+    let k = 64u * (wid.y * nw.x + wid.x) + lid.x;
+    if (k >= prm.n_ties || halted()) {
+        return;
+    }
+    let o = prm.tie_off + 9u * k;
+    let sl = u32(par[o]);
+    var v = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    var vn = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        let m = u32(par[o + 1u + a]);
+        let w = par[o + 5u + a];
+        v = v + ld(1u, m) * w;
+        vn = vn + vec3<f64>(vns[3u * m], vns[3u * m + 1u], vns[3u * m + 2u]) * w;
+    }
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        vs[3u * sl + i] = v[i];
+        vns[3u * sl + i] = vn[i];
+    }
+}
+
 @compute @workgroup_size(64)
 fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
          @builtin(num_workgroups) nw: vec3<u32>) {
@@ -2078,7 +2120,10 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
         let m = mass[n];
         let t = cf[T];
         let fl = node_loads(n, t);
-        let f = node_force(n) + fl;
+        var f = node_force(n) + fl;
+        if (prm.n_ties > 0u) {
+            f = f + tie_forces(n, t);
+        }
         let dt_mid = cf[DT_MID];
         let dp = cf[DT_PREV];
         let dt = cf[DT];

@@ -74,8 +74,8 @@ struct Params {
     n_part: u32,
     rb_off: u32,
     erosion: u32,
-    pad1: u32,
-    pad2: u32,
+    n_ties: u32,
+    tie_off: u32,
     pad3: u32,
 }
 
@@ -188,7 +188,7 @@ impl GpuStepper {
                 limit / per_elem as u64
             )));
         }
-        let lay = Layout::new(model, &solver.setup);
+        let lay = Layout::new(model, &solver.setup, solver.ties());
         let dev = &gpu.device;
         let groups_e = ne.div_ceil(GROUP);
         let groups_n = nn.div_ceil(GROUP);
@@ -231,7 +231,11 @@ impl GpuStepper {
         let cu_buf = u32s("control integers", &cu0);
         let v0: Vec<Vec3> = solver.half_step_velocities().iter().copied().collect();
         let state = StateBuffers {
-            x: f64s("x", &flat(&model.x0.to_vec())),
+            // the state's positions: a tied slave node starts on its face
+            x: f64s(
+                "x",
+                &flat(&solver.positions().iter().copied().collect::<Vec<_>>()),
+            ),
             v: f64s("v", &flat(&v0)),
             vn: f64s("v_n", &flat(&v0)),
             sig: zeros("stress", 6 * ne),
@@ -276,8 +280,8 @@ impl GpuStepper {
             n_part: n_part as u32,
             rb_off: lay.rb_off,
             erosion: erodes as u32,
-            pad1: 0,
-            pad2: 0,
+            n_ties: lay.n_ties,
+            tie_off: lay.tie_off,
             pad3: 0,
         };
         let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -388,8 +392,11 @@ impl GpuStepper {
             ("control", 1),
             ("rigid", lay.n_rigid as usize),
             ("nodes", groups_n),
-            ("finish", 1),
         ]);
+        if lay.n_ties > 0 {
+            passes.push(("tied", (lay.n_ties as usize).div_ceil(GROUP)));
+        }
+        passes.push(("finish", 1));
         let pipelines: Vec<(wgpu::ComputePipeline, usize)> =
             passes.iter().map(|&(e, g)| (pipeline(e), g)).collect();
         let staging = || {

@@ -9,7 +9,8 @@
 //! their extra nodes, `*CONSTRAINED_NODAL_RIGID_BODY`, their constraints and prescribed
 //! motion; not with a given inertia), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM),
 //! `*LOAD_BODY`, `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and
-//! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 `*RIGIDWALL_PLANAR`, element erosion
+//! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 `*RIGIDWALL_PLANAR`, tied contact
+//! (`*CONTACT_TIED_...`), element erosion
 //! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), the energy ledger, and every output (states and histories are read back at their times).
 
 use cleave_core::element::Shape;
@@ -28,7 +29,7 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
                 .into(),
         );
     }
-    if !model.contacts.is_empty() || !model.tied.is_empty() {
+    if !model.contacts.is_empty() {
         return Some("contact (*CONTACT_...)".into());
     }
     if model.rigid_walls.len() > crate::layout::MAX_WALLS {

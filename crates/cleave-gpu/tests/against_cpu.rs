@@ -837,3 +837,75 @@ fn erosion_matches_the_cpu() {
         );
     }
 }
+
+/// Tied contact: a block of 3 x 3 x 2 hexahedra tied on a coarser one of 2 x 2 x 1 (the
+/// interface's nodes do not match), the lower block clamped at its base, the upper one moving
+/// with a shear velocity under a body load and a load on a top corner; 150 steps, the GPU as
+/// the CPU, the slave nodes on their faces.
+#[test]
+fn tied_contact_matches_the_cpu() {
+    use cleave_core::mesh::Assembly;
+    use cleave_core::model::{ContactSurface, TiedDef, TiedSlave};
+    let mut a = Assembly::new("tied blocks", 1.0);
+    let steel = a.material(Material {
+        id: 0,
+        density: 7850.0,
+        young: 210e9,
+        poisson: 0.3,
+        kind: MaterialKind::PlasticKinematic {
+            sigy: 300e6,
+            etan: 2e9,
+            beta: 0.5,
+        },
+    });
+    let lower = a.part("lower", steel);
+    let upper = a.part("upper", steel);
+    a.mesh(BoxMesh::new([2, 2, 1], [0.02, 0.02, 0.01]), |_| lower);
+    let mut top = BoxMesh::new([3, 3, 2], [0.02, 0.02, 0.01]);
+    top.translate([0.0, 0.0, 0.01]);
+    let (up_nodes, _) = a.mesh(top, |_| upper);
+    let mut m = a.finish();
+    m.tied = vec![TiedDef {
+        id: 1,
+        slave: TiedSlave::Surface(ContactSurface::Part(upper)),
+        master: ContactSurface::Part(lower),
+    }];
+    for i in 0..m.x0.len() {
+        let x = m.x0[i];
+        if x[2] < 1e-9 {
+            m.spcs.push(Spc {
+                node: i as u32,
+                dof: [true, true, true, false, false, false],
+            });
+        }
+    }
+    for i in up_nodes.clone() {
+        let z = m.x0[i as usize][2];
+        m.v0.as_mut_slice()[i as usize] = [20.0 * z / 0.02, 0.0, -5.0];
+    }
+    m.curves.push(Curve {
+        id: 1,
+        t: vec![0.0, 5e-6, 1.0],
+        y: vec![0.0, 1.0, 1.0],
+    });
+    m.body_loads.push(BodyLoad {
+        axis: 1,
+        curve: Some(0),
+        sf: 5e5,
+    });
+    m.node_loads.push(NodeLoad {
+        node: up_nodes.end - 1,
+        axis: 0,
+        curve: 0,
+        sf: 3e4,
+    });
+    let (dt, _) = cleave_core::setup::estimate_time_step(&m).unwrap();
+    m.control.end_time = 150.0 * dt * m.control.tssfac;
+    let s = Solver::new(&m).unwrap();
+    assert!(
+        s.ties().len() >= 9,
+        "the interface's slave nodes are tied: {}",
+        s.ties().len()
+    );
+    compare_runs(m, "tied contact");
+}

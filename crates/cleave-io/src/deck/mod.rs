@@ -74,8 +74,9 @@ pub fn parse_deck(text: &str, file: &str) -> Result<Deck, DeckError> {
         }
     }
     let mut raw = transform::read(&blocks)?;
-    let warnings = std::mem::take(&mut raw.warnings);
-    let model = build::build(raw, file)?;
+    let mut warnings = std::mem::take(&mut raw.warnings);
+    let (model, more) = build::build(raw, file)?;
+    warnings.extend(more);
     Ok(Deck {
         model,
         warnings,

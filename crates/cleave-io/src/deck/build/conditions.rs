@@ -6,7 +6,8 @@ use std::collections::BTreeMap;
 use cleave_core::math::{cross, sub, Vec3};
 use cleave_core::model::{
     BodyLoad, ContactDef, ContactSurface, ExtraNodes, MaterialKind, Model, MotionTarget,
-    NodalRigidBody, NodeLoad, PrescribedMotion, PressureLoad, RigidWall, Spc, TiedDef, TiedSlave,
+    NodalRigidBody, NodeLoad, PrescribedMotion, PressureLoad, RigidWall, SegmentSet, Spc, TiedDef,
+    TiedSlave,
 };
 
 use super::mesh::dedup;
@@ -226,7 +227,11 @@ impl Builder<'_> {
                 });
                 continue;
             }
-            let slave = self.surface(&c.slave, &c.src, ids)?;
+            let slave = if c.slave.typ == 4 {
+                self.node_set_surface(m, c, ids)?
+            } else {
+                self.surface(&c.slave, &c.src, ids)?
+            };
             let master = match &c.master {
                 None => None,
                 Some(s) => Some(self.surface(s, &c.src, ids)?),
@@ -407,6 +412,68 @@ impl Builder<'_> {
             }
         }
         Ok(())
+    }
+
+    /// The slave side of a nodes-to-surface contact given as a node set (SSTYP 4): the exterior
+    /// faces all of whose nodes are in the set, as a segment set of its own (the next free id),
+    /// so the set's surface nodes are checked with their faces' normals (a
+    /// node's facing test needs its surface). A set node on no such face (inside the body, or
+    /// on a face the set covers only in part) is not checked: a warning counts them, and a
+    /// set with no such face at all is an error.
+    fn node_set_surface(
+        &self,
+        m: &mut Model,
+        c: &crate::deck::raw::RawContact,
+        ids: &Ids,
+    ) -> Result<ContactSurface, DeckError> {
+        use cleave_core::contact::surface::{exterior_faces, face_nodes};
+        let id = c.slave.id.unwrap_or(0);
+        let set = self.find(&ids.node_sets, id, &c.src, "SSID", "node set")?;
+        let mut in_set = vec![false; m.num_nodes()];
+        for &n in &m.node_sets[set].nodes {
+            in_set[n as usize] = true;
+        }
+        let mut on_face = vec![false; m.num_nodes()];
+        let mut segments = Vec::new();
+        for (e, f) in exterior_faces(&m.conn, |_| true) {
+            let nodes = face_nodes(&m.conn[e as usize], f);
+            if nodes.iter().all(|&n| in_set[n as usize]) {
+                for n in nodes {
+                    on_face[n as usize] = true;
+                }
+                segments.push(nodes);
+            }
+        }
+        if segments.is_empty() {
+            return Err(self
+                .err(
+                    &c.src,
+                    format!("node set {id}: no exterior face has all its nodes in the set, so no node of it can be checked for contact; give the slave side as parts or a segment set"),
+                )
+                .with_field("SSID"));
+        }
+        let off = m.node_sets[set]
+            .nodes
+            .iter()
+            .filter(|&&n| !on_face[n as usize])
+            .count();
+        if off > 0 {
+            self.warn(format!(
+                "{}:{}: {}: {off} of node set {id}'s nodes lie on no exterior face whose nodes are all in the set, and are not checked for contact",
+                c.src.file, c.src.line, c.src.keyword
+            ));
+        }
+        // an id of its own, past the deck's (the writer writes it as a segment set)
+        let id = m
+            .segment_sets
+            .iter()
+            .map(|s| s.id)
+            .max()
+            .unwrap_or(0)
+            .max(0)
+            + 1;
+        m.segment_sets.push(SegmentSet { id, segments });
+        Ok(ContactSurface::SegmentSet(m.segment_sets.len() - 1))
     }
 
     fn surface(&self, s: &RawSurface, src: &Src, ids: &Ids) -> Result<ContactSurface, DeckError> {

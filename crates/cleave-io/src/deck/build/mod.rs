@@ -16,8 +16,8 @@ use cleave_core::model::Model;
 use super::error::DeckError;
 use super::raw::{RawDeck, Src};
 
-/// Builds and validates the model.
-pub fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
+/// Builds and validates the model; returns it with the warnings of the build.
+pub fn build(raw: RawDeck, file: &str) -> Result<(Model, Vec<String>), DeckError> {
     if raw.elems.is_empty() {
         return Err(DeckError::deck(
             file,
@@ -29,7 +29,10 @@ pub fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         control: raw.control.clone(),
         ..Model::default()
     };
-    let b = Builder { raw: &raw };
+    let b = Builder {
+        raw: &raw,
+        warnings: Default::default(),
+    };
     let ids = b.mesh(&mut model)?;
     b.conditions(&mut model, &ids)?;
     if raw.termination.is_none() {
@@ -38,7 +41,7 @@ pub fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             "no *CONTROL_TERMINATION with a positive ENDTIM: the run has no end time",
         ));
     }
-    Ok(model)
+    Ok((model, b.warnings.into_inner()))
 }
 
 /// Deck id to index maps of everything that can be referenced.
@@ -58,9 +61,16 @@ pub struct Ids {
 
 pub struct Builder<'a> {
     pub raw: &'a RawDeck,
+    /// What the build found worth saying (one line each, naming file and line).
+    pub warnings: std::cell::RefCell<Vec<String>>,
 }
 
 impl Builder<'_> {
+    /// Adds a warning.
+    pub fn warn(&self, message: String) {
+        self.warnings.borrow_mut().push(message);
+    }
+
     /// An error at an item's line (in the file it was read from).
     pub fn err(&self, src: &Src, message: impl Into<String>) -> DeckError {
         DeckError::at(&src.file, src.line, Some(&src.keyword), message)

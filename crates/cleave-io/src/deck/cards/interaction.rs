@@ -93,7 +93,8 @@ fn surface(
 /// (`one_way`: only the slave side's nodes are checked against the master side's faces): card 1
 /// `SSID MSID SSTYP MSTYP SBOXID MBOXID SPR MPR` (types 0 segment set, 2 part set, 3 part; id
 /// 0: everything; a nodes-to-surface slave given as parts or segments stands for their surface
-/// nodes, as only those can touch, and a node set, SSTYP 4, is an error for now); optional
+/// nodes, as only those can touch; a node set, SSTYP 4, for the exterior faces whose nodes are
+/// all in it, `build::conditions`); optional
 /// card 2 `FS FD DC VC VDC PENCHK BT DT` (blank: 0); further optional cards ignored.
 pub fn contact(
     r: &mut Reader<'_>,
@@ -119,13 +120,7 @@ fn contact_cards(
     tied: bool,
 ) -> Result<(), DeckError> {
     let c = r.required(W10, "SSID MSID SSTYP MSTYP SBOXID MBOXID SPR MPR")?;
-    if !tied && one_way && c.i64_or(2, "SSTYP", 0)? == 4 {
-        return Err(c.field_err(
-            "SSTYP",
-            "4 (a node set) not supported yet for the slave side of NODES_TO_SURFACE: give the slave as parts (2 part set, 3 part) or a segment set (0); their surface nodes are checked".to_string(),
-        ));
-    }
-    let slave = if tied && c.i64_or(2, "SSTYP", 0)? == 4 {
+    let slave = if (tied || one_way) && c.i64_or(2, "SSTYP", 0)? == 4 {
         RawSurface {
             id: Some(c.id(0, "SSID")?),
             typ: 4,

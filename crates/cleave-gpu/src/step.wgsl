@@ -1352,7 +1352,13 @@ fn sri_element(e: u32, m: Mat) -> ElemOut {
 
 fn element(e: u32) -> ElemOut {
     if ((emat[e] & RIGID_EL) != 0u) {
-        // an element of a rigid part: it moves with its body, no stress, no step limit
+        // an element of a rigid part: it moves with its body, no stress, no step limit. Its
+        // corner forces are zeroed each step: ELFORM 13's pressure correction adds to them
+        // (a rigid tetrahedron takes part in the averages, as on the CPU)
+        for (var i = 0u; i < 12u; i = i + 1u) {
+            fe_lo[12u * e + i] = 0.0lf;
+            fe_hi[12u * e + i] = 0.0lf;
+        }
         return ElemOut(true, BIG, 0.0lf, 0.0lf);
     }
     let m = material(emat[e] & SLOT);

@@ -189,6 +189,14 @@ impl GpuStepper {
             )));
         }
         let lay = Layout::new(model, &solver.setup, solver.ties());
+        // the parameters (loads, ties, rigid bodies' nodes) bind as one array too
+        let par_bytes = 8 * lay.par.len() as u64;
+        if par_bytes > limit {
+            return Err(GpuError::TooLarge(format!(
+                "the model's parameters (loads, ties, rigid bodies' nodes) need an array of {par_bytes} bytes; {} binds at most {limit} bytes per array",
+                gpu.info.name
+            )));
+        }
         let dev = &gpu.device;
         let groups_e = ne.div_ceil(GROUP);
         let groups_n = nn.div_ceil(GROUP);

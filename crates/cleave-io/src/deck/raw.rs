@@ -198,6 +198,8 @@ pub struct SetRule {
     pub delete: bool,
     pub kind: RuleKind,
     pub ids: Vec<i64>,
+    /// The field (E1..E7) each id was read from, for messages.
+    pub fields: Vec<u8>,
 }
 
 /// What a `*SET_NODE_GENERAL` rule's ids are.
@@ -341,7 +343,9 @@ pub struct Offsets {
     pub set: i64,
     /// IDFOFF: curves.
     pub curve: i64,
-    /// IDDOFF: other `*DEFINE_` ids (none that cleave reads refers to one).
+    /// IDDOFF: other `*DEFINE_` ids. Coordinate systems are the only ones cleave reads, and a
+    /// transformed include may not define them; the CID fields in one keep their ids (naming the
+    /// main deck's systems).
     pub define: i64,
     /// IDROFF: every other id (sections, hourglass definitions).
     pub other: i64,

@@ -420,8 +420,8 @@ impl Builder<'_> {
                 line: rule.line,
             };
             let mut nodes: Vec<u32> = Vec::new();
-            for (k, &id) in rule.ids.iter().enumerate() {
-                let field = format!("E{}", k + 1);
+            for (&id, &i) in rule.ids.iter().zip(&rule.fields) {
+                let field = format!("E{i}");
                 match rule.kind {
                     RuleKind::All => {}
                     RuleKind::Node => nodes.push(self.find(&ids.nodes, id, &src, &field, "node")?),

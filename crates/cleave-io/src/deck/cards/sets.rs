@@ -183,9 +183,11 @@ pub fn node_general(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
             }
         };
         let mut ids = Vec::new();
+        let mut fields = Vec::new();
         for i in 1..8 {
             if let Some(v) = c.ref_id(i, &format!("E{i}"))? {
                 ids.push(v);
+                fields.push(i as u8);
             }
         }
         if ids.is_empty() && !matches!(kind, RuleKind::All) {
@@ -196,6 +198,7 @@ pub fn node_general(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
             delete,
             kind,
             ids,
+            fields,
         });
     }
     deck.node_sets.push(RawSet {

@@ -228,6 +228,11 @@ pub fn check(a: &CheckArgs) -> Result<(), Failure> {
         .filter_map(|b| b.unlumped.as_ref().map(|u| u.mass))
         .sum();
     println!("mass        {:e}", setup.mass.iter().sum::<f64>() + given);
+    // whether `run --gpu` would take the deck, and if not, the first thing it lacks
+    match cleave_gpu::support::unsupported(m, &setup) {
+        None => println!("gpu         runs with --gpu"),
+        Some(what) => println!("gpu         --gpu does not run {what} yet"),
+    }
     println!("end time    {:e}", m.control.end_time);
     match estimate_time_step(m) {
         Some((dt, e)) if dt > 0.0 && dt.is_finite() => {

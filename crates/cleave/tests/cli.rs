@@ -473,7 +473,8 @@ fn bad_meshes_exit_2_naming_file_and_line() {
 }
 
 /// `cleave check` lists what it read: the files (the Gmsh mesh the deck includes), every
-/// keyword with its count, the warnings, and each part's shapes and formulation.
+/// keyword with its count, the warnings, each part's shapes and formulation, and whether
+/// `--gpu` takes the deck.
 #[test]
 fn check_lists_files_keywords_and_the_shapes_of_each_part() {
     let deck = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -496,4 +497,15 @@ fn check_lists_files_keywords_and_the_shapes_of_each_part() {
         text.contains("1 hexahedron (one-point hexahedron)"),
         "{text}"
     );
+    // whether --gpu takes it: the disc separates
+    assert!(
+        text.contains("gpu         --gpu does not run element separation"),
+        "{text}"
+    );
+    // the Taylor bar runs on the GPU
+    let bar =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/taylor-bar.k");
+    let out = cleave(&["check", bar.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("gpu         runs with --gpu"), "{text}");
 }

@@ -138,6 +138,21 @@ fn block(hourglass: Hourglass) -> Model {
     m
 }
 
+/// A second part, a copy of part 1 changed by `edit`, taking the elements whose stored
+/// corners' mean height `z` makes `takes(z)` true.
+fn second_part(m: &mut Model, edit: impl FnOnce(&mut Part), takes: impl Fn(f64) -> bool) {
+    let mut p = m.parts[0].clone();
+    p.id = 2;
+    edit(&mut p);
+    m.parts.push(p);
+    for e in 0..m.num_elements() {
+        let zc: f64 = m.conn[e].iter().map(|&n| m.x0[n as usize][2]).sum::<f64>() / 8.0;
+        if takes(zc) {
+            m.elem_part[e] = 1;
+        }
+    }
+}
+
 fn run_cpu(m: &Model, every: f64) -> Vec<Row> {
     let mut s = Solver::new(m).unwrap();
     let mut r = Record {
@@ -195,16 +210,7 @@ fn loaded_block(hourglass: Hourglass) -> Model {
         q1: 1.2,
         q2: 0.1,
     });
-    let mut upper = m.parts[0].clone();
-    upper.id = 2;
-    upper.hourglass = Some(0);
-    m.parts.push(Part { ..upper });
-    for e in 0..m.num_elements() {
-        let zc: f64 = m.conn[e].iter().map(|&n| m.x0[n as usize][2]).sum::<f64>() / 8.0;
-        if zc > 0.03 {
-            m.elem_part[e] = 1;
-        }
-    }
+    second_part(&mut m, |p| p.hourglass = Some(0), |z| z > 0.03);
     let node = |x: f64, y: f64, z: f64| -> u32 {
         (m.x0
             .iter()
@@ -481,16 +487,7 @@ fn tetrahedra_and_wedges_match_the_cpu() {
             // part 2 (the lower half) in a section of ELFORM 10
             m.sections
                 .push(cleave_core::model::Section { id: 2, elform: 10 });
-            let mut lower = m.parts[0].clone();
-            lower.id = 2;
-            lower.section = 1;
-            m.parts.push(Part { ..lower });
-            for e in 0..ne {
-                let zc: f64 = m.conn[e].iter().map(|&n| m.x0[n as usize][2]).sum::<f64>() / 8.0;
-                if zc < 0.03 {
-                    m.elem_part[e] = 1;
-                }
-            }
+            second_part(&mut m, |p| p.section = 1, |z| z < 0.03);
         }
         let (dt, _) = cleave_core::setup::estimate_time_step(&m).unwrap();
         m.control.end_time = 150.0 * dt * m.control.tssfac;
@@ -540,16 +537,7 @@ fn rigid_bodies_match_the_cpu() {
                 con2: 0,
             };
             m.materials.push(steel);
-            let mut cap = m.parts[0].clone();
-            cap.id = 2;
-            cap.material = 1;
-            m.parts.push(Part { ..cap });
-            for e in 0..m.num_elements() {
-                let zc: f64 = m.conn[e].iter().map(|&n| m.x0[n as usize][2]).sum::<f64>() / 8.0;
-                if zc > 0.05 {
-                    m.elem_part[e] = 1;
-                }
-            }
+            second_part(&mut m, |p| p.material = 1, |z| z > 0.05);
             let vad = if case.contains("velocity") {
                 Vad::Velocity
             } else {
@@ -655,16 +643,7 @@ fn fully_integrated_hexahedra_match_the_cpu() {
         if case.ends_with("over 1") {
             m.sections
                 .push(cleave_core::model::Section { id: 2, elform: 1 });
-            let mut lower = m.parts[0].clone();
-            lower.id = 2;
-            lower.section = 1;
-            m.parts.push(Part { ..lower });
-            for e in 0..m.num_elements() {
-                let zc: f64 = m.conn[e].iter().map(|&n| m.x0[n as usize][2]).sum::<f64>() / 8.0;
-                if zc < 0.03 {
-                    m.elem_part[e] = 1;
-                }
-            }
+            second_part(&mut m, |p| p.section = 1, |z| z < 0.03);
         }
         compare_runs(m, case);
     }

@@ -174,6 +174,21 @@ fn run_gpu(g: Gpu, m: &Model, every: f64) -> (Vec<Row>, Gpu) {
     (r.rows, st.into_gpu())
 }
 
+/// Both solvers of model `m` run to the end, the CPU's and the GPU's (outputs every `every`),
+/// for a test that looks at state beyond what [`Record`] keeps; and the device back.
+fn end_states(g: Gpu, m: &Model, every: f64) -> (Solver<'_>, Solver<'_>, Gpu) {
+    let record = || Record {
+        every,
+        ..Default::default()
+    };
+    let mut s = Solver::new(m).unwrap();
+    let mut st = GpuStepper::new(g, &s).unwrap();
+    st.run(&mut s, &mut record()).unwrap();
+    let mut c = Solver::new(m).unwrap();
+    c.run(&mut record()).unwrap();
+    (c, s, st.into_gpu())
+}
+
 /// Largest |a - b| over the largest |a|, for each field.
 fn compare(a: &Row, b: &Row) -> [f64; 4] {
     fn rel<const N: usize>(a: &[[f64; N]], b: &[[f64; N]]) -> f64 {
@@ -408,23 +423,7 @@ fn every_plastic_law_matches_the_cpu() {
         if name.starts_with("Johnson-Cook") {
             // the history the GPU hands back: as the CPU's
             let Some(g) = gpu() else { return };
-            let every = m.control.end_time / 7.0;
-            let mut s = Solver::new(&m).unwrap();
-            let mut st = GpuStepper::new(g, &s).unwrap();
-            st.run(
-                &mut s,
-                &mut Record {
-                    every,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
-            let mut c = Solver::new(&m).unwrap();
-            c.run(&mut Record {
-                every,
-                ..Default::default()
-            })
-            .unwrap();
+            let (c, s, _) = end_states(g, &m, m.control.end_time / 7.0);
             let worst = |f: &dyn Fn(&cleave_core::material::History) -> f64| {
                 let scale = c
                     .state
@@ -573,24 +572,8 @@ fn rigid_bodies_match_the_cpu() {
         }
         // the body moves and turns: its state comes back as the CPU's
         let Some(g) = gpu() else { return };
-        let every = m.control.end_time / 7.0;
-        let mut s = Solver::new(&m).unwrap();
+        let (c, s, _) = end_states(g, &m, m.control.end_time / 7.0);
         assert_eq!(s.setup.rigid.len(), 1, "{case}");
-        let mut st = GpuStepper::new(g, &s).unwrap();
-        st.run(
-            &mut s,
-            &mut Record {
-                every,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let mut c = Solver::new(&m).unwrap();
-        c.run(&mut Record {
-            every,
-            ..Default::default()
-        })
-        .unwrap();
         let (a, b) = (&c.state.rigid[0], &s.state.rigid[0]);
         let speed = a
             .v_cm
@@ -761,24 +744,8 @@ fn erosion_matches_the_cpu() {
         let mut m = plain.clone();
         m.materials[0].kind = kind;
         m.erosion = vec![ErosionDef { material: 0, rule }];
-        let gpu = g.take().unwrap();
-        let mut s = Solver::new(&m).unwrap();
-        let mut st = GpuStepper::new(gpu, &s).unwrap();
-        st.run(
-            &mut s,
-            &mut Record {
-                every,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        g = Some(st.into_gpu());
-        let mut c = Solver::new(&m).unwrap();
-        c.run(&mut Record {
-            every,
-            ..Default::default()
-        })
-        .unwrap();
+        let (c, s, back) = end_states(g.take().unwrap(), &m, every);
+        g = Some(back);
         let n = c.eroded_count();
         eprintln!("{name}: {n} of {} elements eroded", m.num_elements());
         assert!(n > 0 && n < m.num_elements(), "{name}: {n} eroded");

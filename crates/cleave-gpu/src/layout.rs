@@ -42,6 +42,8 @@ pub const RIGID: u32 = 1 << 30;
 pub const NP: u32 = 1 << 29;
 /// The bit of `emat` that marks a fully integrated, selectively reduced hexahedron (ELFORM 2).
 pub const SRI: u32 = 1 << 28;
+/// The bits of `emat` that hold the material slot.
+pub const SLOT: u32 = (1 << 28) - 1;
 /// Values per material slot in `par`.
 pub const MAT_STRIDE: usize = 14;
 /// Values per node action in `par` (at `mot_off + NODE_STRIDE k`), the first its kind:
@@ -352,6 +354,27 @@ impl Layout {
             n_ties: ties.len() as u32,
             tie_off,
         }
+    }
+
+    /// The features the model uses, as WGSL constants put before step.wgsl (`HAS_RIGID`,
+    /// `HAS_TET`, `HAS_SRI`, `HAS_EROSION`, and `LAWS`, a bit per law in use: 1 elastic,
+    /// 2 bilinear plastic, 4 Johnson-Cook, 8 piecewise linear). The paths that are off are
+    /// constant-false branches the driver's compiler drops, so a model of elastic hexahedra
+    /// runs a kernel without the registers of every other path.
+    pub fn shader_constants(&self, erodes: bool) -> String {
+        let any = |bit: u32| self.emat.iter().any(|&b| b & bit != 0);
+        let mut laws = 0u32;
+        for &b in self.emat.iter().filter(|&&b| b & RIGID == 0) {
+            let slot = (b & SLOT) as usize;
+            laws |= 1 << (self.par[slot * MAT_STRIDE + 5].round() as u32).min(3);
+        }
+        format!(
+            "const HAS_RIGID: bool = {};\nconst HAS_TET: bool = {};\nconst HAS_SRI: bool = {};\n\
+             const HAS_EROSION: bool = {erodes};\nconst LAWS: u32 = {laws}u;\n",
+            any(RIGID),
+            any(TET),
+            any(SRI),
+        )
     }
 }
 

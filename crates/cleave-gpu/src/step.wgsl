@@ -21,6 +21,11 @@
 //                         placed, constraints and rigid walls; partials
 //   finish (1 group)      kinetic energy, external work; halts at output times and errors
 // Every sum is taken in a fixed order (no float atomics): the same bits on every run.
+//
+// The host puts the model's features before this text as constants (layout.rs
+// shader_constants: HAS_RIGID, HAS_TET, HAS_SRI, HAS_EROSION, LAWS); the paths a model does not
+// use are constant-false branches that the driver drops, so their registers do not weigh on
+// the kernels of the others.
 
 struct Params {
     ne: u32,
@@ -445,8 +450,8 @@ fn update_elastic(lambda: f64, g: f64, s: S6, d: S6) -> S6 {
 // *MAT_ELASTIC (law 0), *MAT_PLASTIC_KINEMATIC (law 1, radial return with mixed hardening),
 // Johnson-Cook (law 2) and *MAT_024 (law 3), over the interval dt.
 fn update_material(m: Mat, p: Point, d: S6, dt: f64) -> Point {
-    if (m.law > 1.5lf) {
-        if (m.law < 2.5lf) {
+    if ((LAWS & 12u) != 0u && m.law > 1.5lf) {
+        if ((LAWS & 4u) != 0u && m.law < 2.5lf) {
             return update_johnson_cook(m, p, d, dt);
         }
         var o = p;
@@ -459,7 +464,7 @@ fn update_material(m: Mat, p: Point, d: S6, dt: f64) -> Point {
     }
     var o = p;
     o.sigma = update_elastic(m.lambda, m.shear, p.sigma, d);
-    if (m.law < 0.5lf) {
+    if ((LAWS & 2u) == 0u || m.law < 0.5lf) {
         return o;
     }
     let s = o.sigma;
@@ -1004,8 +1009,12 @@ struct Stress {
 fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, dt_prev: f64, np: bool, theta_bar: f64) -> Stress {
     var st = Stress(false, Point(S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf), 0.0lf, S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf)), 0.0lf, 0.0lf, 0.0lf);
     var p = Point(S6(sig[6u * e], sig[6u * e + 1u], sig[6u * e + 2u], sig[6u * e + 3u], sig[6u * e + 4u], sig[6u * e + 5u]),
-                  hist[7u * e],
-                  S6(hist[7u * e + 1u], hist[7u * e + 2u], hist[7u * e + 3u], hist[7u * e + 4u], hist[7u * e + 5u], hist[7u * e + 6u]));
+                  0.0lf, S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf));
+    // (a model of elastic parts alone keeps no history: it stays zero)
+    if (LAWS != 1u) {
+        p.eps_p = hist[7u * e];
+        p.back = S6(hist[7u * e + 1u], hist[7u * e + 2u], hist[7u * e + 3u], hist[7u * e + 4u], hist[7u * e + 5u], hist[7u * e + 6u]);
+    }
     var de_int = 0.0lf;
     var q = 0.0lf;
     var eps_v_rate = 0.0lf;
@@ -1033,7 +1042,7 @@ fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, d
         let r = hughes_winget(vec3<f64>(hw * (l[2][1] - l[1][2]), hw * (l[0][2] - l[2][0]), hw * (l[1][0] - l[0][1])));
         p.sigma = rotate_sym(r, p.sigma);
         // (laws 2 and 3 keep scalars in the back stress slots: not turned)
-        if (m.law < 1.5lf && (p.back[0] != 0.0lf || p.back[1] != 0.0lf || p.back[2] != 0.0lf || p.back[3] != 0.0lf || p.back[4] != 0.0lf || p.back[5] != 0.0lf)) {
+        if (LAWS != 1u && m.law < 1.5lf && (p.back[0] != 0.0lf || p.back[1] != 0.0lf || p.back[2] != 0.0lf || p.back[3] != 0.0lf || p.back[4] != 0.0lf || p.back[5] != 0.0lf)) {
             p.back = rotate_sym(r, p.back);
         }
         let old = p.sigma;
@@ -1052,9 +1061,13 @@ fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, d
     bq[e] = q;
     for (var i = 0u; i < 6u; i = i + 1u) {
         sig[6u * e + i] = p.sigma[i];
-        hist[7u * e + 1u + i] = p.back[i];
     }
-    hist[7u * e] = p.eps_p;
+    if (LAWS != 1u) {
+        for (var i = 0u; i < 6u; i = i + 1u) {
+            hist[7u * e + 1u + i] = p.back[i];
+        }
+        hist[7u * e] = p.eps_p;
+    }
     st.ok = true;
     st.p = p;
     st.q = q;
@@ -1351,7 +1364,7 @@ fn sri_element(e: u32, m: Mat) -> ElemOut {
 }
 
 fn element(e: u32) -> ElemOut {
-    if ((emat[e] & RIGID_EL) != 0u) {
+    if (HAS_RIGID && (emat[e] & RIGID_EL) != 0u) {
         // an element of a rigid part: it moves with its body, no stress, no step limit. Its
         // corner forces are zeroed each step: ELFORM 13's pressure correction adds to them
         // (a rigid tetrahedron takes part in the averages, as on the CPU)
@@ -1362,21 +1375,113 @@ fn element(e: u32) -> ElemOut {
         return ElemOut(true, BIG, 0.0lf, 0.0lf);
     }
     let m = material(emat[e] & SLOT);
-    if ((emat[e] & TET_EL) != 0u) {
+    if (HAS_TET && (emat[e] & TET_EL) != 0u) {
         return tet_element(e, m);
     }
-    if ((emat[e] & SRI) != 0u) {
+    if (HAS_SRI && (emat[e] & SRI) != 0u) {
         return sri_element(e, m);
     }
-    // the one-point hexahedron, also on a wedge's degenerate corners (shape.rs)
-    var out = ElemOut(false, BIG, 0.0lf, 0.0lf);
-    var x: P8;
-    var v: P8;
-    for (var a = 0u; a < 8u; a = a + 1u) {
-        let n = conn[8u * e + a];
-        x[a] = ld(0u, n);
-        v[a] = ld(1u, n);
+    return hex_element(e, m);
+}
+
+// ---------------------------------------------------------------- the one-point hexahedron
+// hex8.rs, also on a wedge's degenerate corners (shape.rs). Written for registers: the corners
+// are read once into values indexed only by constants, the hourglass rates are taken before
+// the stress update, and b_a and gamma_a are formed again, corner by corner, where they are
+// used (the same operations in the same order as kernel.rs, so the same bits), so that no
+// per-corner array outlives its use.
+
+alias Q4 = array<vec3<f64>, 4>;
+
+// b_a = 1/8 (s_a J^-T) at the centre, from the rows of J^-1.
+fn hex_b(a: u32, jinv: M3) -> vec3<f64> {
+    return 0.125lf * (sx(a) * jinv[0] + sy(a) * jinv[1] + sz(a) * jinv[2]);
+}
+
+// gx_al = sum_a Gamma_al,a x_a (each Gamma is +-1: the sums are exact in any grouping but
+// are kept in corner order).
+fn hex_gx(x: P8) -> Q4 {
+    return Q4(hex_gx_mode(0u, x), hex_gx_mode(1u, x), hex_gx_mode(2u, x), hex_gx_mode(3u, x));
+}
+fn hex_gx_mode(al: u32, x: P8) -> vec3<f64> {
+    return gamma_base(al, 0u) * x[0] + gamma_base(al, 1u) * x[1] + gamma_base(al, 2u) * x[2]
+        + gamma_base(al, 3u) * x[3] + gamma_base(al, 4u) * x[4] + gamma_base(al, 5u) * x[5]
+        + gamma_base(al, 6u) * x[6] + gamma_base(al, 7u) * x[7];
+}
+
+// Corner a's hourglass shape vectors gamma_al,a = Gamma_al,a - gx_al . b_a (Flanagan-Belytschko).
+fn hex_gamma(a: u32, b: vec3<f64>, gx: Q4) -> vec4<f64> {
+    return vec4<f64>(gamma_base(0u, a) - (gx[0][0] * b[0] + gx[0][1] * b[1] + gx[0][2] * b[2]),
+                     gamma_base(1u, a) - (gx[1][0] * b[0] + gx[1][1] * b[1] + gx[1][2] * b[2]),
+                     gamma_base(2u, a) - (gx[2][0] * b[0] + gx[2][1] * b[1] + gx[2][2] * b[2]),
+                     gamma_base(3u, a) - (gx[3][0] * b[0] + gx[3][1] * b[1] + gx[3][2] * b[2]));
+}
+
+// Corner a's share of sum_a |b_a|^2 and of the hourglass rates qd_al += v_a gamma_al,a.
+struct Rates {
+    bb: f64,
+    qd: Q4,
+}
+fn hex_rate(r: Rates, a: u32, v: vec3<f64>, jinv: M3, gx: Q4) -> Rates {
+    let b = hex_b(a, jinv);
+    let g = hex_gamma(a, b, gx);
+    return Rates(r.bb + (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]),
+                 Q4(r.qd[0] + v * g[0], r.qd[1] + v * g[1], r.qd[2] + v * g[2], r.qd[3] + v * g[3]));
+}
+
+// Mode al's hourglass force from its rate (viscous: coef qd; stiffness: old + coef qd), stored
+// at hgf[k..k+3]; its energy increment 1/2 (old + new) qd dt is added to de in component order.
+struct Mode {
+    f: vec3<f64>,
+    de: f64,
+}
+fn hex_mode(k: u32, qd: vec3<f64>, coef: f64, stiff: bool, dt_prev: f64, de: f64) -> Mode {
+    var o = Mode(vec3<f64>(0.0lf), de);
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        let old = hgf[k + i];
+        var fnew = coef * qd[i];
+        if (stiff) {
+            fnew = old + coef * qd[i];
+        }
+        hgf[k + i] = fnew;
+        o.de = o.de + 0.5lf * (old + fnew) * qd[i] * dt_prev;
+        o.f[i] = fnew;
     }
+    return o;
+}
+
+// Corner a's force f_a = -V (sigma - q I) b_a - sum_al f_hg,al gamma_al,a, stored.
+fn hex_corner(e: u32, a: u32, vol: f64, s: S6, fhg: Q4, jinv: M3, gx: Q4) {
+    let ba = hex_b(a, jinv);
+    let g = hex_gamma(a, ba, gx);
+    var f = vec3<f64>(-vol * (s[0] * ba[0] + s[3] * ba[1] + s[5] * ba[2]),
+                      -vol * (s[3] * ba[0] + s[1] * ba[1] + s[4] * ba[2]),
+                      -vol * (s[5] * ba[0] + s[4] * ba[1] + s[2] * ba[2]));
+    f = f - fhg[0] * g[0];
+    f = f - fhg[1] * g[1];
+    f = f - fhg[2] * g[2];
+    f = f - fhg[3] * g[3];
+    let k = 12u * e + 3u * (a & 3u);
+    if (a < 4u) {
+        fe_lo[k] = f[0];
+        fe_lo[k + 1u] = f[1];
+        fe_lo[k + 2u] = f[2];
+    } else {
+        fe_hi[k] = f[0];
+        fe_hi[k + 1u] = f[1];
+        fe_hi[k + 2u] = f[2];
+    }
+}
+
+fn hex_element(e: u32, m: Mat) -> ElemOut {
+    var out = ElemOut(false, BIG, 0.0lf, 0.0lf);
+    let c = 8u * e;
+    let n = array<u32, 8>(conn[c], conn[c + 1u], conn[c + 2u], conn[c + 3u], conn[c + 4u],
+                          conn[c + 5u], conn[c + 6u], conn[c + 7u]);
+    let x = P8(ld(0u, n[0]), ld(0u, n[1]), ld(0u, n[2]), ld(0u, n[3]), ld(0u, n[4]),
+               ld(0u, n[5]), ld(0u, n[6]), ld(0u, n[7]));
+    let v = P8(ld(1u, n[0]), ld(1u, n[1]), ld(1u, n[2]), ld(1u, n[3]), ld(1u, n[4]),
+               ld(1u, n[5]), ld(1u, n[6]), ld(1u, n[7]));
     let dt_prev = cf[DT_PREV];
     let stiff = m.hg > 0.5lf;
     let jn = centre_jacobian(x);
@@ -1387,86 +1492,60 @@ fn element(e: u32) -> ElemOut {
     let jinv = inv3(jn, detn);
     let vol = 8.0lf * detn;
     let l_vol = cbrt64(vol);
-    var b: P8;
-    for (var a = 0u; a < 8u; a = a + 1u) {
-        b[a] = 0.125lf * (sx(a) * jinv[0] + sy(a) * jinv[1] + sz(a) * jinv[2]);
-    }
     let jv = centre_jacobian(v);
+    let c2max = hex_c2max(x);
+    let gx = hex_gx(x);
+
+    // 6a: the hourglass rates qd_al = sum_a v_a gamma_al,a (and sum_a |b_a|^2 for the
+    // stiffness form), before the stress update so that x and v die here
+    var r = Rates(0.0lf, Q4(vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf)));
+    r = hex_rate(r, 0u, v[0], jinv, gx);
+    r = hex_rate(r, 1u, v[1], jinv, gx);
+    r = hex_rate(r, 2u, v[2], jinv, gx);
+    r = hex_rate(r, 3u, v[3], jinv, gx);
+    r = hex_rate(r, 4u, v[4], jinv, gx);
+    r = hex_rate(r, 5u, v[5], jinv, gx);
+    r = hex_rate(r, 6u, v[6], jinv, gx);
+    r = hex_rate(r, 7u, v[7], jinv, gx);
 
     // 1-4: stress update over the previous interval
     let st = stress_update(e, m, jn, jv, 8.0lf, l_vol, dt_prev, false, 0.0lf);
     if (!st.ok) {
         return out;
     }
-    let p = st.p;
-    let q = st.q;
-    let eps_v_rate = st.eps_v_rate;
-    let de_int = st.de_int;
 
-    // 5: corner forces f_a = -V (sigma - q I) b_a
-    let s = S6(p.sigma[0] - q, p.sigma[1] - q, p.sigma[2] - q, p.sigma[3], p.sigma[4], p.sigma[5]);
-    var f: P8;
-    for (var a = 0u; a < 8u; a = a + 1u) {
-        let ba = b[a];
-        f[a] = vec3<f64>(-vol * (s[0] * ba[0] + s[3] * ba[1] + s[5] * ba[2]),
-                         -vol * (s[3] * ba[0] + s[1] * ba[1] + s[4] * ba[2]),
-                         -vol * (s[5] * ba[0] + s[4] * ba[1] + s[2] * ba[2]));
-    }
-
-    // 6: hourglass
-    var gamma: array<array<f64, 8>, 4>;
-    for (var al = 0u; al < 4u; al = al + 1u) {
-        var gx = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
-        for (var a = 0u; a < 8u; a = a + 1u) {
-            gx = gx + gamma_base(al, a) * x[a];
-        }
-        for (var a = 0u; a < 8u; a = a + 1u) {
-            gamma[al][a] = gamma_base(al, a) - (gx[0] * b[a][0] + gx[1] * b[a][1] + gx[2] * b[a][2]);
-        }
-    }
+    // 6b: the hourglass forces, viscous or stiffness
     var coef: f64;
     if (stiff) {
-        var bb = 0.0lf;
-        for (var a = 0u; a < 8u; a = a + 1u) {
-            bb = bb + (b[a][0] * b[a][0] + b[a][1] * b[a][1] + b[a][2] * b[a][2]);
-        }
-        coef = m.qh * (m.lambda + 2.0lf * m.shear) * vol * bb / 8.0lf * dt_prev;
+        coef = m.qh * (m.lambda + 2.0lf * m.shear) * vol * r.bb / 8.0lf * dt_prev;
     } else {
         coef = m.qh * m.density * m.wave_speed * l_vol * l_vol / 4.0lf;
     }
-    var de_hg = 0.0lf;
-    for (var al = 0u; al < 4u; al = al + 1u) {
-        var qd = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
-        for (var a = 0u; a < 8u; a = a + 1u) {
-            qd = qd + v[a] * gamma[al][a];
-        }
-        for (var i = 0u; i < 3u; i = i + 1u) {
-            let k = 12u * e + 3u * al + i;
-            let old = hgf[k];
-            var fnew = coef * qd[i];
-            if (stiff) {
-                fnew = old + coef * qd[i];
-            }
-            hgf[k] = fnew;
-            de_hg = de_hg + 0.5lf * (old + fnew) * qd[i] * dt_prev;
-            for (var a = 0u; a < 8u; a = a + 1u) {
-                f[a][i] = f[a][i] - fnew * gamma[al][a];
-            }
-        }
-    }
-    for (var a = 0u; a < 4u; a = a + 1u) {
-        for (var i = 0u; i < 3u; i = i + 1u) {
-            fe_lo[12u * e + 3u * a + i] = f[a][i];
-            fe_hi[12u * e + 3u * a + i] = f[a + 4u][i];
-        }
-    }
+    let k = 12u * e;
+    let m0 = hex_mode(k, r.qd[0], coef, stiff, dt_prev, 0.0lf);
+    let m1 = hex_mode(k + 3u, r.qd[1], coef, stiff, dt_prev, m0.de);
+    let m2 = hex_mode(k + 6u, r.qd[2], coef, stiff, dt_prev, m1.de);
+    let m3 = hex_mode(k + 9u, r.qd[3], coef, stiff, dt_prev, m2.de);
+    let fhg = Q4(m0.f, m1.f, m2.f, m3.f);
+
+    // 5: corner forces
+    let p = st.p;
+    let q = st.q;
+    let s = S6(p.sigma[0] - q, p.sigma[1] - q, p.sigma[2] - q, p.sigma[3], p.sigma[4], p.sigma[5]);
+    hex_corner(e, 0u, vol, s, fhg, jinv, gx);
+    hex_corner(e, 1u, vol, s, fhg, jinv, gx);
+    hex_corner(e, 2u, vol, s, fhg, jinv, gx);
+    hex_corner(e, 3u, vol, s, fhg, jinv, gx);
+    hex_corner(e, 4u, vol, s, fhg, jinv, gx);
+    hex_corner(e, 5u, vol, s, fhg, jinv, gx);
+    hex_corner(e, 6u, vol, s, fhg, jinv, gx);
+    hex_corner(e, 7u, vol, s, fhg, jinv, gx);
 
     // 7: stable time step l_c / (Q + sqrt(Q^2 + c^2)), l_c = V / largest face area
-    // the faces in hex8.rs FACES order
-    out.dt = stable_dt(vol / (0.5lf * sqrt(hex_c2max(x))), m.step_speed, eps_v_rate, m);
+    out.dt = stable_dt(vol / (0.5lf * sqrt(c2max)), m.step_speed, st.eps_v_rate, m);
     out.ok = true;
-    out.de_int = de_int;
-    out.de_hg = de_hg;
+    out.de_int = st.de_int;
+    out.de_hg = m3.de;
     return out;
 }
 
@@ -1483,7 +1562,7 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     var ee = 0.0lf;
     var en = 0.0lf;
     if (run && e < prm.ne) {
-        if (prm.erosion != 0u && ero[4u * e] != 0.0lf) {
+        if (HAS_EROSION && prm.erosion != 0u && ero[4u * e] != 0.0lf) {
             // eroded: no force, no time step
             for (var i = 0u; i < 12u; i = i + 1u) {
                 fe_lo[12u * e + i] = 0.0lf;
@@ -1496,7 +1575,7 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
                 id = e;
                 ei = r.de_int;
                 eh = r.de_hg;
-                if (prm.erosion != 0u && (emat[e] & RIGID_EL) == 0u) {
+                if (HAS_EROSION && prm.erosion != 0u && (emat[e] & RIGID_EL) == 0u) {
                     let gone = erode(e, material(emat[e] & SLOT), r.de_int + r.de_hg);
                     if (gone >= 0.0lf) {
                         ee = gone;
@@ -1560,7 +1639,7 @@ fn np_theta(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     if (e >= prm.ne || halted() || (emat[e] & NP) == 0u) {
         return;
     }
-    if (prm.erosion != 0u && ero[4u * e] != 0.0lf) {
+    if (HAS_EROSION && prm.erosion != 0u && ero[4u * e] != 0.0lf) {
         // an eroded tetrahedron leaves the averages
         npe[3u * e] = 0.0lf;
         npe[3u * e + 1u] = 0.0lf;

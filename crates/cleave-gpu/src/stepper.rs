@@ -370,7 +370,9 @@ impl GpuStepper {
         });
         let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("step.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("step.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(
+                (lay.shader_constants(erodes) + include_str!("step.wgsl")).into(),
+            ),
         });
         let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("step"),

@@ -104,6 +104,12 @@ const W_HALF: u32 = 27u;
 const DT_CRIT: u32 = 28u;
 const E_ERODED: u32 = 29u;
 const N_ERODED: u32 = 30u;
+// plain copies of the halt flag (1 once halted) and of "a step is pending" (1): every thread of
+// the per-element and per-node passes reads them, and one atomic load of a single word per
+// thread would queue them all on it; only the one-group passes (commit, control, finish) and
+// the host write them, between dispatches
+const HALTED: u32 = 22u;
+const PENDING: u32 = 23u;
 const WALL_FORCE: u32 = 32u; // 4 per wall: normal force, force x y z
 // cu: control integers
 const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error
@@ -111,7 +117,6 @@ const ERROR: u32 = 1u;     // 1 inverted element, 2 time step below the floor, 3
 const INVERTED: u32 = 2u;  // lowest inverted element (atomic min)
 const NONFINITE: u32 = 3u; // lowest node with a non-finite velocity (atomic min)
 const DT_ELEM: u32 = 4u;
-const PENDING_X: u32 = 5u;
 const FINISHED: u32 = 6u;
 
 const MAT_STRIDE: u32 = 14u;
@@ -128,7 +133,7 @@ const NODE_STRIDE: u32 = 8u;
 const BIG: f64 = 1.7976931348623157e308lf;
 
 fn halted() -> bool {
-    return atomicLoad(&cu[HALT]) != 0u;
+    return cf[HALTED] != 0.0lf;
 }
 
 fn finite(x: f64) -> bool {
@@ -203,14 +208,15 @@ fn inv3(a: M3, d: f64) -> M3 {
                   (a[0][0] * a[1][1] - a[0][1] * a[1][0]) * i));
 }
 
+// (written out, with constant indices only: a loop's indices into a local array can send the
+// array to memory on a GPU that does not unroll it)
 fn mul3(a: M3, b: M3) -> M3 {
-    var c: M3;
-    for (var i = 0u; i < 3u; i = i + 1u) {
-        for (var j = 0u; j < 3u; j = j + 1u) {
-            c[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
-        }
-    }
-    return c;
+    return M3(row_mul3(a[0], b), row_mul3(a[1], b), row_mul3(a[2], b));
+}
+fn row_mul3(r: vec3<f64>, b: M3) -> vec3<f64> {
+    return vec3<f64>(r[0] * b[0][0] + r[1] * b[1][0] + r[2] * b[2][0],
+                     r[0] * b[0][1] + r[1] * b[1][1] + r[2] * b[2][1],
+                     r[0] * b[0][2] + r[1] * b[1][2] + r[2] * b[2][2]);
 }
 
 fn transpose3(a: M3) -> M3 {
@@ -1047,10 +1053,9 @@ fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, d
         }
         let old = p.sigma;
         p = update_material(m, p, d, dt_prev);
-        var avg: S6;
-        for (var i = 0u; i < 6u; i = i + 1u) {
-            avg[i] = 0.5lf * (old[i] + p.sigma[i]);
-        }
+        let ns = p.sigma;
+        let avg = S6(0.5lf * (old[0] + ns[0]), 0.5lf * (old[1] + ns[1]), 0.5lf * (old[2] + ns[2]),
+                     0.5lf * (old[3] + ns[3]), 0.5lf * (old[4] + ns[4]), 0.5lf * (old[5] + ns[5]));
         de_int = vol_mid * ddot6(avg, d);
         eps_v_rate = l[0][0] + l[1][1] + l[2][2];
         if (eps_v_rate < 0.0lf) {
@@ -1059,14 +1064,22 @@ fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, d
         de_int = de_int - vol_mid * 0.5lf * (bq[e] + q) * eps_v_rate * dt_prev;
     }
     bq[e] = q;
-    for (var i = 0u; i < 6u; i = i + 1u) {
-        sig[6u * e + i] = p.sigma[i];
-    }
+    let o = 6u * e;
+    sig[o] = p.sigma[0];
+    sig[o + 1u] = p.sigma[1];
+    sig[o + 2u] = p.sigma[2];
+    sig[o + 3u] = p.sigma[3];
+    sig[o + 4u] = p.sigma[4];
+    sig[o + 5u] = p.sigma[5];
     if (LAWS != 1u) {
-        for (var i = 0u; i < 6u; i = i + 1u) {
-            hist[7u * e + 1u + i] = p.back[i];
-        }
-        hist[7u * e] = p.eps_p;
+        let h = 7u * e;
+        hist[h] = p.eps_p;
+        hist[h + 1u] = p.back[0];
+        hist[h + 2u] = p.back[1];
+        hist[h + 3u] = p.back[2];
+        hist[h + 4u] = p.back[3];
+        hist[h + 5u] = p.back[4];
+        hist[h + 6u] = p.back[5];
     }
     st.ok = true;
     st.p = p;
@@ -1436,18 +1449,18 @@ struct Mode {
     de: f64,
 }
 fn hex_mode(k: u32, qd: vec3<f64>, coef: f64, stiff: bool, dt_prev: f64, de: f64) -> Mode {
-    var o = Mode(vec3<f64>(0.0lf), de);
-    for (var i = 0u; i < 3u; i = i + 1u) {
-        let old = hgf[k + i];
-        var fnew = coef * qd[i];
-        if (stiff) {
-            fnew = old + coef * qd[i];
-        }
-        hgf[k + i] = fnew;
-        o.de = o.de + 0.5lf * (old + fnew) * qd[i] * dt_prev;
-        o.f[i] = fnew;
+    let old = vec3<f64>(hgf[k], hgf[k + 1u], hgf[k + 2u]);
+    var f = coef * qd;
+    if (stiff) {
+        f = old + coef * qd;
     }
-    return o;
+    hgf[k] = f[0];
+    hgf[k + 1u] = f[1];
+    hgf[k + 2u] = f[2];
+    var d = de + 0.5lf * (old[0] + f[0]) * qd[0] * dt_prev;
+    d = d + 0.5lf * (old[1] + f[1]) * qd[1] * dt_prev;
+    d = d + 0.5lf * (old[2] + f[2]) * qd[2] * dt_prev;
+    return Mode(f, d);
 }
 
 // Corner a's force f_a = -V (sigma - q I) b_a - sum_al f_hg,al gamma_al,a, stored.
@@ -1920,7 +1933,7 @@ fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
 fn positions(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
              @builtin(num_workgroups) nw: vec3<u32>) {
     let n = 64u * (wid.y * nw.x + wid.x) + lid.x;
-    if (n >= prm.nn || halted() || atomicLoad(&cu[PENDING_X]) == 0u) {
+    if (n >= prm.nn || halted() || cf[PENDING] == 0.0lf) {
         return;
     }
     let dt = cf[DT];
@@ -1934,11 +1947,11 @@ fn commit() {
     if (halted()) {
         return;
     }
-    if (atomicLoad(&cu[PENDING_X]) != 0u) {
+    if (cf[PENDING] != 0.0lf) {
         cf[T] = cf[T] + cf[DT];
         cf[DT_PREV] = cf[DT];
         cf[STEP] = cf[STEP] + 1.0lf;
-        atomicStore(&cu[PENDING_X], 0u);
+        cf[PENDING] = 0.0lf;
         // the rigid bodies commit their placement (solver.rs update_positions)
         for (var b = 0u; b < prm.n_rigid; b = b + 1u) {
             let so = RB_STATE * b;
@@ -1973,6 +1986,7 @@ var<workgroup> c_en: array<f64, 256>;
 fn fail(kind: u32) {
     atomicStore(&cu[ERROR], kind);
     atomicStore(&cu[HALT], 3u);
+    cf[HALTED] = 1.0lf;
 }
 
 @compute @workgroup_size(256)
@@ -2427,10 +2441,12 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
     if (cf[STEP] == 0.0lf) {
         cf[E_INIT] = ke + cf[E_INT] + cf[E_HG] - cf[E_EXT];
     }
-    atomicStore(&cu[PENDING_X], 1u);
+    cf[PENDING] = 1.0lf;
     if (atomicLoad(&cu[FINISHED]) != 0u) {
         atomicStore(&cu[HALT], 2u);
+        cf[HALTED] = 1.0lf;
     } else if (cf[T] >= cf[T_STOP] * (1.0lf - 1e-12lf)) {
         atomicStore(&cu[HALT], 1u);
+        cf[HALTED] = 1.0lf;
     }
 }

@@ -37,6 +37,7 @@ mod cf {
     pub const DT_INIT: usize = 19;
     pub const DT_MIN: usize = 20;
     pub const END_TIME: usize = 21;
+    pub const HALTED: usize = 22;
     pub const E_ERODED: usize = 29;
     pub const WALL_FORCE: usize = 32;
     pub const LEN: usize = 64;
@@ -630,6 +631,11 @@ impl GpuStepper {
                         bytemuck::bytes_of(&obs.next_due()),
                     );
                     q.write_buffer(&self.cu, (cu::HALT * 4) as u64, bytemuck::bytes_of(&0u32));
+                    q.write_buffer(
+                        &self.cf,
+                        (cf::HALTED * 8) as u64,
+                        bytemuck::bytes_of(&0.0f64),
+                    );
                 }
             }
         }

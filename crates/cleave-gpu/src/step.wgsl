@@ -9,8 +9,9 @@
 // element/sri.rs, element/nodal_pressure.rs, material/, rigid.rs, solver.rs), operation for
 // operation; the Rust doc comments there carry the formulas and their sources.
 //
-// One step is seven dispatches (eleven with ELFORM 13: np_theta and np_node_theta before the
-// elements, np_node_p and np_correct after), each a no-op once `halt` is set:
+// One step is six dispatches, seven with rigid bodies (four more with ELFORM 13: np_theta and
+// np_node_theta before the elements, np_node_p and np_correct after), each a no-op once `halt`
+// is set:
 //   positions (per node)  x^n = x^(n-1) + dt v^(n-1/2), if a step is pending
 //   commit (1 thread)     t, dt_prev, step; the rigid bodies' placement; body acceleration at
 //                         t^n and t^(n-1)
@@ -1983,6 +1984,30 @@ var<workgroup> c_eh: array<f64, 256>;
 var<workgroup> c_ee: array<f64, 256>;
 var<workgroup> c_en: array<f64, 256>;
 
+// An element group's partials: its smallest time step and the element giving it, its
+// internal, hourglass and eroded energy increments and its number of eroded elements.
+struct EPart {
+    dt: f64,
+    id: u32,
+    ei: f64,
+    eh: f64,
+    ee: f64,
+    en: f64,
+}
+fn epart_at(g: u32) -> EPart {
+    let o = 6u * g;
+    return EPart(epart[o], u32(epart[o + 1u]), epart[o + 2u], epart[o + 3u], epart[o + 4u], epart[o + 5u]);
+}
+// r then p: the smaller step (the lower element on a tie), the sums in that order.
+fn epart_add(r: EPart, p: EPart) -> EPart {
+    var o = EPart(r.dt, r.id, r.ei + p.ei, r.eh + p.eh, r.ee + p.ee, r.en + p.en);
+    if (p.dt < r.dt || (p.dt == r.dt && p.id < r.id)) {
+        o.dt = p.dt;
+        o.id = p.id;
+    }
+    return o;
+}
+
 fn fail(kind: u32) {
     atomicStore(&cu[ERROR], kind);
     atomicStore(&cu[HALT], 3u);
@@ -1993,32 +2018,30 @@ fn fail(kind: u32) {
 fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     let run = !halted();
     let l = lid.x;
-    var dt = BIG;
-    var id = 0xffffffffu;
-    var ei = 0.0lf;
-    var eh = 0.0lf;
-    var ee = 0.0lf;
-    var en = 0.0lf;
+    // thread l takes the element groups' partials l, l + 256, ... in that order, read four
+    // groups ahead so that their loads overlap
+    var r = EPart(BIG, 0xffffffffu, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
     if (run) {
-        for (var g = l; g < prm.groups_e; g = g + 256u) {
-            let d = epart[6u * g];
-            let i = u32(epart[6u * g + 1u]);
-            if (d < dt || (d == dt && i < id)) {
-                dt = d;
-                id = i;
-            }
-            ei = ei + epart[6u * g + 2u];
-            eh = eh + epart[6u * g + 3u];
-            ee = ee + epart[6u * g + 4u];
-            en = en + epart[6u * g + 5u];
+        var g = l;
+        while (g + 768u < prm.groups_e) {
+            let p0 = epart_at(g);
+            let p1 = epart_at(g + 256u);
+            let p2 = epart_at(g + 512u);
+            let p3 = epart_at(g + 768u);
+            r = epart_add(epart_add(epart_add(epart_add(r, p0), p1), p2), p3);
+            g = g + 1024u;
+        }
+        while (g < prm.groups_e) {
+            r = epart_add(r, epart_at(g));
+            g = g + 256u;
         }
     }
-    c_dt[l] = dt;
-    c_id[l] = id;
-    c_ei[l] = ei;
-    c_eh[l] = eh;
-    c_ee[l] = ee;
-    c_en[l] = en;
+    c_dt[l] = r.dt;
+    c_id[l] = r.id;
+    c_ei[l] = r.ei;
+    c_eh[l] = r.eh;
+    c_ee[l] = r.ee;
+    c_en[l] = r.en;
     workgroupBarrier();
     for (var s = 128u; s > 0u; s = s >> 1u) {
         if (l < s) {
@@ -2092,6 +2115,7 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
 
 const MAX_PART: u32 = 38u; // 6 + 4 x 8 rigid walls
 var<workgroup> n_s: array<f64, 64>;
+var<workgroup> n_s6: array<array<f64, 6>, 64>;
 
 // What a constraint does to a node's velocity: the new v^(n+1/2), v^n kept consistent, and
 // the work of the reaction impulse split into its halves before and after t^n
@@ -2346,11 +2370,26 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
     let l = lid.x;
     let g = wid.y * nw.x + wid.x;
     let keep = l == 0u && run && g < prm.groups_n;
-    for (var k = 0u; k < 6u; k = k + 1u) {
-        let s = group_sum(l, acc[k]);
-        if (keep) {
-            npart[prm.n_part * g + k] = s;
+    // the ledger's six values in one tree (the same shape for each as group_sum's)
+    n_s6[l] = acc;
+    workgroupBarrier();
+    for (var s = 32u; s > 0u; s = s >> 1u) {
+        if (l < s) {
+            let a = n_s6[l];
+            let b = n_s6[l + s];
+            n_s6[l] = array<f64, 6>(a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5]);
         }
+        workgroupBarrier();
+    }
+    if (keep) {
+        let t = n_s6[0];
+        let o = prm.n_part * g;
+        npart[o] = t[0];
+        npart[o + 1u] = t[1];
+        npart[o + 2u] = t[2];
+        npart[o + 3u] = t[3];
+        npart[o + 4u] = t[4];
+        npart[o + 5u] = t[5];
     }
     for (var k = 0u; k < 4u * prm.n_walls; k = k + 1u) {
         let s = group_sum(l, wacc[k]);
@@ -2378,6 +2417,33 @@ fn group_sum(l: u32, val: f64) -> f64 {
 
 // ---------------------------------------------------------------- finish: the ledger
 
+// Thread l's sums of the six ledger values over the node groups' partials l, l + 256, ...,
+// added in that order; the partials are read four groups ahead so that their loads overlap.
+fn ledger_sums(l: u32) -> array<f64, 6> {
+    var a = array<f64, 6>(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+    let np = prm.n_part;
+    var g = l;
+    while (g + 768u < prm.groups_n) {
+        let p0 = part6(np * g);
+        let p1 = part6(np * (g + 256u));
+        let p2 = part6(np * (g + 512u));
+        let p3 = part6(np * (g + 768u));
+        a = add6(add6(add6(add6(a, p0), p1), p2), p3);
+        g = g + 1024u;
+    }
+    while (g < prm.groups_n) {
+        a = add6(a, part6(np * g));
+        g = g + 256u;
+    }
+    return a;
+}
+fn part6(o: u32) -> array<f64, 6> {
+    return array<f64, 6>(npart[o], npart[o + 1u], npart[o + 2u], npart[o + 3u], npart[o + 4u], npart[o + 5u]);
+}
+fn add6(a: array<f64, 6>, b: array<f64, 6>) -> array<f64, 6> {
+    return array<f64, 6>(a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5]);
+}
+
 var<workgroup> f_s: array<f64, 256>;
 var<workgroup> f_tot: array<f64, MAX_PART>;
 
@@ -2385,9 +2451,17 @@ var<workgroup> f_tot: array<f64, MAX_PART>;
 fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
     let run = !halted();
     let l = lid.x;
+    // each thread's sums over the partials g = l, l + 256, ... in that order, the six values of
+    // the ledger together (the walls' below, value by value)
+    var six = array<f64, 6>(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+    if (run) {
+        six = ledger_sums(l);
+    }
     for (var k = 0u; k < prm.n_part; k = k + 1u) {
         var acc = 0.0lf;
-        if (run) {
+        if (k < 6u) {
+            acc = six[k];
+        } else if (run) {
             for (var g = l; g < prm.groups_n; g = g + 256u) {
                 acc = acc + npart[prm.n_part * g + k];
             }

@@ -399,11 +399,11 @@ impl GpuStepper {
         if np {
             passes.extend([("np_node_p", groups_n), ("np_correct", groups_e)]);
         }
-        passes.extend([
-            ("control", 1),
-            ("rigid", lay.n_rigid as usize),
-            ("nodes", groups_n),
-        ]);
+        passes.push(("control", 1));
+        if lay.n_rigid > 0 {
+            passes.push(("rigid", lay.n_rigid as usize));
+        }
+        passes.push(("nodes", groups_n));
         if lay.n_ties > 0 {
             passes.push(("tied", (lay.n_ties as usize).div_ceil(GROUP)));
         }

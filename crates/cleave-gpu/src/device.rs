@@ -33,6 +33,8 @@ pub struct Gpu {
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
     pub limits: wgpu::Limits,
+    /// Whether the device was opened with timestamp queries (`GpuStepper::profile`).
+    pub timestamps: bool,
 }
 
 impl Gpu {
@@ -65,9 +67,15 @@ impl Gpu {
             )));
         };
         let limits = adapter.limits();
+        // timestamps, where the device has them, time each pass in `cleave bench --gpu`
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let mut features = wgpu::Features::SHADER_F64;
+        if timestamps {
+            features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("cleave"),
-            required_features: wgpu::Features::SHADER_F64,
+            required_features: features,
             required_limits: limits.clone(),
             ..Default::default()
         }))
@@ -77,6 +85,7 @@ impl Gpu {
             queue,
             info: adapter.get_info(),
             limits,
+            timestamps,
         })
     }
 

@@ -20,6 +20,13 @@ use wgpu::util::DeviceExt;
 use crate::device::{Gpu, GpuError};
 use crate::layout::{Layout, RB_STATE};
 
+/// Dispatch `groups` groups of `p` (over a second dimension past the per-dimension limit).
+fn dispatch(pass: &mut wgpu::ComputePass<'_>, p: &wgpu::ComputePipeline, groups: usize) {
+    pass.set_pipeline(p);
+    let x = groups.clamp(1, MAX_DIM);
+    pass.dispatch_workgroups(x as u32, groups.div_ceil(MAX_DIM).max(1) as u32, 1);
+}
+
 /// Control floats (`cf` in step.wgsl).
 mod cf {
     pub const T: usize = 0;
@@ -94,8 +101,10 @@ struct StateBuffers {
 /// A model on the GPU, ready to step.
 pub struct GpuStepper {
     gpu: Gpu,
-    /// The step's passes in order, each with its number of groups.
-    pipelines: Vec<(wgpu::ComputePipeline, usize)>,
+    /// The step's passes in order, each with its entry point and number of groups.
+    pipelines: Vec<(&'static str, wgpu::ComputePipeline, usize)>,
+    /// Bytes of the buffers on the device.
+    device_bytes: u64,
     bind_group: wgpu::BindGroup,
     cf: wgpu::Buffer,
     cu: wgpu::Buffer,
@@ -408,8 +417,10 @@ impl GpuStepper {
             passes.push(("tied", (lay.n_ties as usize).div_ceil(GROUP)));
         }
         passes.push(("finish", 1));
-        let pipelines: Vec<(wgpu::ComputePipeline, usize)> =
-            passes.iter().map(|&(e, g)| (pipeline(e), g)).collect();
+        let pipelines: Vec<(&'static str, wgpu::ComputePipeline, usize)> =
+            passes.iter().map(|&(e, g)| (e, pipeline(e), g)).collect();
+        let device_bytes =
+            bindings.iter().map(|(b, _)| b.size()).sum::<u64>() + uniform.size() + 2 * CTL_BYTES;
         let staging = || {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("control read-back"),
@@ -421,6 +432,7 @@ impl GpuStepper {
         let ctl_staging = [staging(), staging()];
         Ok(Self {
             pipelines,
+            device_bytes,
             bind_group,
             cf: cf_buf,
             cu: cu_buf,
@@ -458,10 +470,8 @@ impl GpuStepper {
             });
             pass.set_bind_group(0, &self.bind_group, &[]);
             for _ in 0..steps {
-                for &(ref p, g) in &self.pipelines {
-                    pass.set_pipeline(p);
-                    let x = g.clamp(1, MAX_DIM);
-                    pass.dispatch_workgroups(x as u32, g.div_ceil(MAX_DIM).max(1) as u32, 1);
+                for (_, p, g) in &self.pipelines {
+                    dispatch(&mut pass, p, *g);
                 }
             }
         }
@@ -469,6 +479,99 @@ impl GpuStepper {
         enc.copy_buffer_to_buffer(&self.cf, 0, s, 0, (cf::LEN * 8) as u64);
         enc.copy_buffer_to_buffer(&self.cu, 0, s, (cf::LEN * 8) as u64, (cu::LEN * 4) as u64);
         enc.finish()
+    }
+
+    /// Bytes of the buffers this stepper keeps on the device (the model, the state and the
+    /// scratch arrays of the passes).
+    pub fn device_bytes(&self) -> u64 {
+        self.device_bytes
+    }
+
+    /// Take `steps` steps with each pass in a compute pass of its own, timed by the device's
+    /// timestamps, and return each pass's share of their sum, in the step's order; `None` when
+    /// the device has no timestamp queries or the steps did not all run (an output time, the
+    /// end or a failure came first). The solver's time and step move on with the steps taken.
+    /// For benchmarks: the separate passes cost more than a plain step's.
+    pub fn profile(
+        &mut self,
+        solver: &mut Solver,
+        steps: usize,
+    ) -> Option<Vec<(&'static str, f64)>> {
+        let passes = self.pipelines.len();
+        let queries = 2 * passes * steps;
+        if !self.gpu.timestamps || queries > wgpu::QUERY_SET_MAX_QUERIES as usize {
+            return None;
+        }
+        let dev = &self.gpu.device;
+        let set = dev.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("pass times"),
+            ty: wgpu::QueryType::Timestamp,
+            count: queries as u32,
+        });
+        let bytes = 8 * queries as u64;
+        let resolved = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("pass times"),
+            size: bytes,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let read = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("pass times read-back"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        // no output time inside the profiled steps
+        self.gpu.queue.write_buffer(
+            &self.cf,
+            (cf::T_STOP * 8) as u64,
+            bytemuck::bytes_of(&f64::MAX),
+        );
+        let mut enc = dev.create_command_encoder(&Default::default());
+        for k in 0..steps {
+            for (i, (name, p, g)) in self.pipelines.iter().enumerate() {
+                let q = (2 * (k * passes + i)) as u32;
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(name),
+                    timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
+                        query_set: &set,
+                        beginning_of_pass_write_index: Some(q),
+                        end_of_pass_write_index: Some(q + 1),
+                    }),
+                });
+                pass.set_bind_group(0, &self.bind_group, &[]);
+                dispatch(&mut pass, p, *g);
+            }
+        }
+        enc.resolve_query_set(&set, 0..queries as u32, &resolved, 0);
+        enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, bytes);
+        let s = &self.ctl_staging[0];
+        enc.copy_buffer_to_buffer(&self.cf, 0, s, 0, (cf::LEN * 8) as u64);
+        enc.copy_buffer_to_buffer(&self.cu, 0, s, (cf::LEN * 8) as u64, (cu::LEN * 4) as u64);
+        self.gpu.queue.submit([enc.finish()]);
+        let c = self.read_control(0);
+        read.slice(..).map_async(wgpu::MapMode::Read, |_| {});
+        let _ = dev.poll(wgpu::PollType::wait_indefinitely());
+        let ticks: Vec<u64> =
+            bytemuck::pod_collect_to_vec(&read.slice(..).get_mapped_range().ok()?);
+        if c.halt() != 0 {
+            return None;
+        }
+        c.apply(solver);
+        let period = f64::from(self.gpu.queue.get_timestamp_period()) * 1e-9;
+        let mut secs = vec![0.0; passes];
+        for k in 0..steps {
+            for (i, s) in secs.iter_mut().enumerate() {
+                let q = 2 * (k * passes + i);
+                *s += ticks[q + 1].saturating_sub(ticks[q]) as f64 * period;
+            }
+        }
+        let total: f64 = secs.iter().sum();
+        (total > 0.0).then(|| {
+            (self.pipelines.iter().zip(secs))
+                .map(|((name, _, _), s)| (*name, s / total))
+                .collect()
+        })
     }
 
     /// Wait for the read-back of `staging` and decode it.

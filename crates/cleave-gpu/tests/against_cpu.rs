@@ -870,3 +870,44 @@ fn tied_contact_matches_the_cpu() {
     );
     compare_runs(m, "tied contact");
 }
+
+/// `cleave bench --gpu` times each pass over ten steps taken with every pass in a compute pass
+/// of its own: those steps are the model's steps (the run goes on from them to the same end
+/// state, bit for bit, as a run without them), and the passes' shares add up to one.
+#[test]
+fn profiled_steps_are_the_same_steps() {
+    let Some(g) = gpu() else { return };
+    let m = block(Hourglass::Viscous);
+    let end = m.control.end_time;
+    let (plain, g) = run_gpu(g, &m, end);
+    let mut s = Solver::new(&m).unwrap();
+    let mut st = GpuStepper::new(g, &s).unwrap();
+    let shares = st.profile(&mut s, 10);
+    let mut r = Record {
+        every: end,
+        ..Default::default()
+    };
+    st.run(&mut s, &mut r).unwrap();
+    assert_eq!(plain.last(), r.rows.last(), "the end states differ");
+    match shares {
+        Some(sh) => {
+            let total: f64 = sh.iter().map(|(_, f)| f).sum();
+            assert!((total - 1.0).abs() < 1e-12, "{sh:?}");
+            assert!(sh.iter().all(|&(_, f)| f >= 0.0), "{sh:?}");
+            let names: Vec<&str> = sh.iter().map(|(n, _)| *n).collect();
+            assert_eq!(
+                names,
+                [
+                    "positions",
+                    "commit",
+                    "elements",
+                    "control",
+                    "nodes",
+                    "finish"
+                ]
+            );
+            eprintln!("passes over 10 steps: {sh:?}");
+        }
+        None => eprintln!("SKIPPED the shares: the device has no timestamp queries"),
+    }
+}

@@ -13,6 +13,9 @@ use cleave_io::output::peak_rss_mb;
 use crate::cli::BenchArgs;
 use crate::failure::Failure;
 
+/// Steps taken with every GPU pass timed on its own, before the timed run (`--gpu`).
+const PROFILED_STEPS: usize = 10;
+
 pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
     let n = ((a.elements.unwrap_or(100_000) as f64).cbrt().round() as usize).max(1);
     let steel = Material {
@@ -45,20 +48,39 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
     let prepared = crate::run::prepare(model);
     let (mut solver, _) = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
     let mut device = String::new();
+    let mut gpu_lines = Vec::new();
+    let mut step0 = 0;
     let timing = if a.gpu {
         let mut g = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &solver)?;
         device = format!(", GPU {}", g.gpu().describe());
+        gpu_lines.push(format!(
+            "  device memory {:.1} MB in buffers",
+            g.device_bytes() as f64 / 1048576.0
+        ));
+        // each pass's share, from 10 steps with a timestamp around every pass (not timed)
+        if let Some(shares) = g.profile(&mut solver, PROFILED_STEPS) {
+            let parts: Vec<String> = (shares.iter())
+                .map(|(name, f)| format!("{name} {:.1}%", 100.0 * f))
+                .collect();
+            gpu_lines.push(format!(
+                "  GPU passes ({PROFILED_STEPS} steps, device timestamps): {}",
+                parts.join(", ")
+            ));
+        } else {
+            gpu_lines.push("  GPU passes: not timed (the device has no timestamp queries)".into());
+        }
+        step0 = solver.state.step;
         super::run_quiet_gpu(&mut g, &mut solver)?
     } else {
         super::run_quiet(&pool, &mut solver)?
     };
     let secs = timing.secs;
-    let result = solver.state.step;
+    let result = solver.state.step - step0;
     let ne = n * n * n;
     let us = 1e6 * secs / (result as f64 * ne as f64);
     let rss = peak_rss_mb();
     println!(
-        "bench cube: {ne} elements, {} nodes solved, {result} steps, {} thread(s){device}{}",
+        "bench cube: {ne} elements, {} nodes solved, {result} steps timed, {} thread(s){device}{}",
         solver.positions().len(),
         a.threads,
         if a.separation {
@@ -68,6 +90,9 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
         }
     );
     println!("  {us:.4} us per element step");
+    for l in &gpu_lines {
+        println!("{l}");
+    }
     println!(
         "  peak memory {rss:.1} MB ({:.0} bytes per element)",
         rss * 1048576.0 / ne as f64

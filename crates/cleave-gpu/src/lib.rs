@@ -22,4 +22,4 @@ pub mod stepper;
 pub mod support;
 
 pub use device::{Gpu, GpuError};
-pub use stepper::GpuStepper;
+pub use stepper::{Checkpointing, GpuStepper};

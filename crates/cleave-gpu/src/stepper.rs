@@ -105,6 +105,9 @@ pub struct GpuStepper {
     pipelines: Vec<(&'static str, wgpu::ComputePipeline, usize)>,
     /// Bytes of the buffers on the device.
     device_bytes: u64,
+    /// The buffers that carry the state from one step to the next, in the order of
+    /// [`Self::save`].
+    persistent: Vec<wgpu::Buffer>,
     bind_group: wgpu::BindGroup,
     cf: wgpu::Buffer,
     cu: wgpu::Buffer,
@@ -430,9 +433,26 @@ impl GpuStepper {
             })
         };
         let ctl_staging = [staging(), staging()];
+        let mut persistent = vec![
+            cf_buf.clone(),
+            cu_buf.clone(),
+            state.x.clone(),
+            state.v.clone(),
+            state.vn.clone(),
+            state.sig.clone(),
+            state.hist.clone(),
+            state.hg.clone(),
+            state.bq.clone(),
+            rb.clone(),
+            gps.clone(),
+        ];
+        if erodes {
+            persistent.push(ero.clone());
+        }
         Ok(Self {
             pipelines,
             device_bytes,
+            persistent,
             bind_group,
             cf: cf_buf,
             cu: cu_buf,
@@ -479,6 +499,67 @@ impl GpuStepper {
         enc.copy_buffer_to_buffer(&self.cf, 0, s, 0, (cf::LEN * 8) as u64);
         enc.copy_buffer_to_buffer(&self.cu, 0, s, (cf::LEN * 8) as u64, (cu::LEN * 4) as u64);
         enc.finish()
+    }
+
+    /// The state on the device between two steps, as bytes, for a restart file: every buffer
+    /// that carries from one step to the next (the control block, positions, velocities,
+    /// stresses, histories, hourglass forces, bulk viscosity, rigid bodies, Gauss points,
+    /// erosion), each as its length (u64, little-endian) and its bytes. Taken at a halt (an
+    /// output or restart time), it is what [`Self::load`] takes up to go on bit for bit.
+    pub fn save(&self) -> Vec<u8> {
+        let mut out = Vec::new();
+        for b in &self.persistent {
+            let bytes = self.download_bytes(b);
+            out.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
+            out.extend_from_slice(&bytes);
+        }
+        out
+    }
+
+    /// Take up a state of [`Self::save`] made by a stepper of the same model, and fill the
+    /// solver's mirror from it; the error says what does not match.
+    pub fn load(&mut self, solver: &mut Solver, bytes: &[u8]) -> Result<(), String> {
+        let mut rest = bytes;
+        let mut parts = Vec::with_capacity(self.persistent.len());
+        for b in &self.persistent {
+            let (len, tail) = rest
+                .split_at_checked(8)
+                .ok_or("the GPU state is cut short")?;
+            let len = u64::from_le_bytes(len.try_into().expect("8 bytes"));
+            if len != b.size() {
+                return Err(format!(
+                    "the GPU state holds an array of {len} bytes where this model has {}",
+                    b.size()
+                ));
+            }
+            let (data, tail) = tail
+                .split_at_checked(len as usize)
+                .ok_or("the GPU state is cut short")?;
+            parts.push(data);
+            rest = tail;
+        }
+        if !rest.is_empty() {
+            return Err("the GPU state holds more arrays than this model".into());
+        }
+        let q = &self.gpu.queue;
+        for (b, data) in self.persistent.iter().zip(parts) {
+            q.write_buffer(b, 0, data);
+        }
+        // it was saved halted: running again from here
+        q.write_buffer(&self.cu, (cu::HALT * 4) as u64, bytemuck::bytes_of(&0u32));
+        q.write_buffer(
+            &self.cf,
+            (cf::HALTED * 8) as u64,
+            bytemuck::bytes_of(&0.0f64),
+        );
+        let mut enc = self.gpu.device.create_command_encoder(&Default::default());
+        let s = &self.ctl_staging[0];
+        enc.copy_buffer_to_buffer(&self.cf, 0, s, 0, (cf::LEN * 8) as u64);
+        enc.copy_buffer_to_buffer(&self.cu, 0, s, (cf::LEN * 8) as u64, (cu::LEN * 4) as u64);
+        q.submit([enc.finish()]);
+        let c = self.read_control(0);
+        self.mirror(solver, &c);
+        Ok(())
     }
 
     /// Bytes of the buffers this stepper keeps on the device (the model, the state and the
@@ -597,6 +678,11 @@ impl GpuStepper {
 
     /// Read one state array back (`n` f64).
     fn download(&self, buf: &wgpu::Buffer) -> Vec<f64> {
+        bytemuck::pod_collect_to_vec(&self.download_bytes(buf))
+    }
+
+    /// Read one buffer back as bytes (NaNs where the device is lost).
+    fn download_bytes(&self, buf: &wgpu::Buffer) -> Vec<u8> {
         let size = buf.size();
         let staging = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("state read-back"),
@@ -610,8 +696,8 @@ impl GpuStepper {
         staging.slice(..).map_async(wgpu::MapMode::Read, |_| {});
         let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
         let out = match staging.slice(..).get_mapped_range() {
-            Ok(bytes) => bytemuck::pod_collect_to_vec(&bytes),
-            Err(_) => vec![f64::NAN; (size / 8) as usize],
+            Ok(bytes) => bytes.to_vec(),
+            Err(_) => bytemuck::cast_slice(&vec![f64::NAN; (size / 8) as usize]).to_vec(),
         };
         staging.unmap();
         out
@@ -688,14 +774,28 @@ impl GpuStepper {
     /// ([`Observer::next_due`]) and at the end, and the time and step in between
     /// ([`Observer::tick`]).
     pub fn run(&mut self, solver: &mut Solver, obs: &mut dyn Observer) -> Result<(), RunError> {
+        self.run_checkpointed(solver, &mut NoCheckpoints(obs))
+    }
+
+    /// [`Self::run`], with restart files: the GPU also halts at the times `obs` asks for one
+    /// ([`Checkpointing::checkpoint_due`]) and hands it the state ([`Self::save`]); when it
+    /// says a signal asks to stop, the run halts at the next step, hands over the state there
+    /// and returns unfinished ([`Solver::is_finished`] false).
+    pub fn run_checkpointed(
+        &mut self,
+        solver: &mut Solver,
+        obs: &mut dyn Checkpointing,
+    ) -> Result<(), RunError> {
+        let stop_at = |obs: &dyn Checkpointing| obs.next_due().min(obs.checkpoint_due());
         let queue = &self.gpu.queue;
         queue.write_buffer(
             &self.cf,
             (cf::T_STOP * 8) as u64,
-            bytemuck::bytes_of(&obs.next_due()),
+            bytemuck::bytes_of(&stop_at(obs)),
         );
         let mut in_flight: Vec<(usize, Instant)> = Vec::new();
         let mut next_staging = 0;
+        let mut stopping = false;
         loop {
             while in_flight.len() < 2 {
                 let cmd = self.record(self.batch, next_staging);
@@ -712,6 +812,15 @@ impl GpuStepper {
                 }
                 c.apply(solver);
                 obs.tick(solver);
+                if !stopping && obs.stop_asked() {
+                    // halt at the next step (the batches recorded already run to it)
+                    stopping = true;
+                    self.gpu.queue.write_buffer(
+                        &self.cf,
+                        (cf::T_STOP * 8) as u64,
+                        bytemuck::bytes_of(&0.0f64),
+                    );
+                }
                 continue;
             }
             // the batch still in flight does nothing once halted: let it finish
@@ -727,11 +836,19 @@ impl GpuStepper {
                     if h == 2 {
                         return Ok(());
                     }
+                    let t = solver.state.t;
+                    if stopping || t >= obs.checkpoint_due() * (1.0 - 1e-12) {
+                        obs.checkpoint(solver, self.save())
+                            .map_err(RunError::Output)?;
+                        if stopping {
+                            return Ok(());
+                        }
+                    }
                     let q = &self.gpu.queue;
                     q.write_buffer(
                         &self.cf,
                         (cf::T_STOP * 8) as u64,
-                        bytemuck::bytes_of(&obs.next_due()),
+                        bytemuck::bytes_of(&stop_at(obs)),
                     );
                     q.write_buffer(&self.cu, (cu::HALT * 4) as u64, bytemuck::bytes_of(&0u32));
                     q.write_buffer(
@@ -742,6 +859,44 @@ impl GpuStepper {
                 }
             }
         }
+    }
+}
+
+/// An observer of a GPU run that also takes restart files ([`GpuStepper::run_checkpointed`]).
+pub trait Checkpointing: Observer {
+    /// The next time a restart file is due (infinity: none).
+    fn checkpoint_due(&self) -> f64;
+    /// Whether a signal asks the run to stop (asked after each batch of steps).
+    fn stop_asked(&mut self) -> bool;
+    /// Keep the state `gpu_state` ([`GpuStepper::save`]) of the step the solver's mirror shows,
+    /// and move the next time due on.
+    fn checkpoint(&mut self, solver: &Solver, gpu_state: Vec<u8>) -> std::io::Result<()>;
+}
+
+/// A plain observer: no restart files.
+struct NoCheckpoints<'a>(&'a mut dyn Observer);
+
+impl Observer for NoCheckpoints<'_> {
+    fn observe(&mut self, solver: &Solver) -> std::io::Result<()> {
+        self.0.observe(solver)
+    }
+    fn next_due(&self) -> f64 {
+        self.0.next_due()
+    }
+    fn tick(&mut self, solver: &Solver) {
+        self.0.tick(solver)
+    }
+}
+
+impl Checkpointing for NoCheckpoints<'_> {
+    fn checkpoint_due(&self) -> f64 {
+        f64::INFINITY
+    }
+    fn stop_asked(&mut self) -> bool {
+        false
+    }
+    fn checkpoint(&mut self, _: &Solver, _: Vec<u8>) -> std::io::Result<()> {
+        Ok(())
     }
 }
 

@@ -40,6 +40,9 @@ pub struct Header {
     pub deck: String,
     pub fingerprint: u64,
     pub no_separation: bool,
+    /// Made by a GPU run (`--gpu`): the state is the device's ([`cleave_gpu::GpuStepper::save`]),
+    /// which only a GPU run of the same deck continues.
+    pub gpu: bool,
     /// The run's end time (a continued run keeps it unless `--end-time` says otherwise).
     pub end_time: f64,
     /// Time and step of the state it holds.
@@ -122,7 +125,17 @@ impl Header {
         deck: &Path,
         fingerprint: u64,
         no_separation: bool,
+        gpu: bool,
     ) -> Result<(), Failure> {
+        if self.gpu != gpu {
+            return Err(Failure::Input(format!(
+                "--restart {}: it was made by a run {} --gpu, which keeps its state {}; continue it {} --gpu",
+                file.display(),
+                if self.gpu { "with" } else { "without" },
+                if self.gpu { "on the device" } else { "on the CPU" },
+                if self.gpu { "with" } else { "without" },
+            )));
+        }
         if self.no_separation != no_separation {
             return Err(Failure::Input(format!(
                 "--restart {}: it was made {} --no-separation; give the same option",
@@ -190,23 +203,40 @@ impl Checkpoints {
     /// After the step that reached `t`: whether a restart file is due, and whether a signal
     /// asks the run to stop (a file is then written too).
     pub fn poll(&mut self, t: f64) -> (bool, bool) {
-        self.stopped_by = self.interrupt.as_ref().and_then(|i| i.received());
+        let stop = self.signalled();
         let due = t >= self.next * (1.0 - 1e-12);
-        if due {
-            if let Some(e) = self.every {
-                self.next = next_multiple(t, e);
-            }
-        }
-        (due || self.stopped_by.is_some(), self.stopped_by.is_some())
+        (due || stop, stop)
     }
 
-    /// Write the restart file of the state `s` with the output's `out`.
-    pub fn write(&mut self, s: &Solver, out: OutputSaved) -> std::io::Result<()> {
+    /// The next time a restart file is due (infinity: none).
+    pub fn next_due(&self) -> f64 {
+        self.next
+    }
+
+    /// Whether a signal asks the run to stop (and which, in `stopped_by`).
+    pub fn signalled(&mut self) -> bool {
+        self.stopped_by = self.interrupt.as_ref().and_then(|i| i.received());
+        self.stopped_by.is_some()
+    }
+
+    /// Write the restart file of the state `s` (the solver's, or a GPU run's `state` when
+    /// given) with the output's `out`, and move the next time due past `s`'s.
+    pub fn write(
+        &mut self,
+        s: &Solver,
+        out: OutputSaved,
+        state: Option<Vec<u8>>,
+    ) -> std::io::Result<()> {
+        if let Some(e) = self.every {
+            if s.state.t >= self.next * (1.0 - 1e-12) {
+                self.next = next_multiple(s.state.t, e);
+            }
+        }
         self.header.t = s.state.t;
         self.header.step = s.state.step;
         let head = postcard::to_stdvec(&self.header).map_err(std::io::Error::other)?;
         let out = postcard::to_stdvec(&out).map_err(std::io::Error::other)?;
-        let solver = s.save_state();
+        let solver = state.unwrap_or_else(|| s.save_state());
         let mut tmp = self.path.as_os_str().to_owned();
         tmp.push(".tmp");
         let mut f = std::fs::File::create(&tmp)?;

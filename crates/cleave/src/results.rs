@@ -555,6 +555,30 @@ impl<'m> RunOutput<'m> {
     }
 }
 
+/// A GPU run's restart files: the same schedule and signals as the CPU's, the device's state.
+impl cleave_gpu::Checkpointing for RunOutput<'_> {
+    fn checkpoint_due(&self) -> f64 {
+        self.checkpoints
+            .as_ref()
+            .map_or(f64::INFINITY, Checkpoints::next_due)
+    }
+
+    fn stop_asked(&mut self) -> bool {
+        self.checkpoints
+            .as_mut()
+            .is_some_and(Checkpoints::signalled)
+    }
+
+    fn checkpoint(&mut self, s: &Solver, gpu_state: Vec<u8>) -> std::io::Result<()> {
+        let Some(mut c) = self.checkpoints.take() else {
+            return Ok(());
+        };
+        let written = self.saved().and_then(|o| c.write(s, o, Some(gpu_state)));
+        self.checkpoints = Some(c);
+        written
+    }
+}
+
 impl Observer for RunOutput<'_> {
     /// The earliest of the next times of every output.
     fn next_due(&self) -> f64 {
@@ -580,7 +604,7 @@ impl Observer for RunOutput<'_> {
         };
         let (write, stop) = c.poll(s.state.t);
         let written = if write {
-            self.saved().and_then(|o| c.write(s, o))
+            self.saved().and_then(|o| c.write(s, o, None))
         } else {
             Ok(())
         };

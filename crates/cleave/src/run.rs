@@ -167,18 +167,13 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             )));
         }
     }
-    if a.gpu && (a.restart.is_some() || a.checkpoint_every.is_some()) {
-        return Err(Failure::Input(
-            "--checkpoint-every and --restart do not work with --gpu yet (the GPU step keeps its state on the device): run them without --gpu".into(),
-        ));
-    }
     // a continued run keeps its end time unless told another
     let end_time = a.end_time.or(resume.as_ref().map(|r| r.header.end_time));
     let mut deck_model = load_model(&a.deck, end_time, a.no_separation)?;
     let fingerprint = restart::fingerprint(&mut deck_model);
     if let (Some(r), Some(file)) = (&resume, &a.restart) {
         r.header
-            .check(file, &a.deck, fingerprint, a.no_separation)?;
+            .check(file, &a.deck, fingerprint, a.no_separation, a.gpu)?;
         if deck_model.control.end_time <= r.header.t {
             return Err(Failure::Input(format!(
                 "--restart {}: it holds the state at t = {:e}, not before the end time {:e}: give a later --end-time",
@@ -202,13 +197,14 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    if let (Some(r), Some(file)) = (&resume, &a.restart) {
-        solver.restore_state(&r.solver).map_err(|e| {
-            Failure::Input(format!(
-                "--restart {}: cannot continue from it: {e}",
-                file.display()
-            ))
-        })?;
+    let cannot_continue = |e: String| {
+        Failure::Input(format!(
+            "--restart {}: cannot continue from it: {e}",
+            a.restart.as_deref().unwrap_or(Path::new("")).display()
+        ))
+    };
+    if let (Some(r), false) = (&resume, a.gpu) {
+        solver.restore_state(&r.solver).map_err(cannot_continue)?;
     }
     // the GPU: found and the deck checked before any output is written
     let mut gpu = if a.gpu {
@@ -216,7 +212,13 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         if let Some(what) = cleave_gpu::support::unsupported(model, &solver.setup) {
             return Err(cleave_gpu::GpuError::Unsupported(what).into());
         }
-        let stepper = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &solver)?;
+        let mut stepper = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &solver)?;
+        // a GPU run's restart file holds the device's state
+        if let Some(r) = &resume {
+            stepper
+                .load(&mut solver, &r.solver)
+                .map_err(cannot_continue)?;
+        }
         if !a.quiet {
             eprintln!("running on the GPU: {}", stepper.gpu().describe());
         }
@@ -248,8 +250,9 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     );
     status.first_step = solver.state.step;
     out.status = Some(status);
-    if gpu.is_none() {
-        // signals stop the CPU loop between two steps, with a restart file
+    {
+        // signals stop the loop between two steps (the GPU's at its next halt), with a
+        // restart file
         let interrupt = Interrupt::listen()
             .map_err(|e| Failure::Other(format!("cannot listen to signals: {e}")))?;
         let header = restart::Header {
@@ -257,6 +260,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             deck: a.deck.display().to_string(),
             fingerprint,
             no_separation: a.no_separation,
+            gpu: a.gpu,
             end_time: model.control.end_time,
             t: 0.0,
             step: 0,
@@ -274,7 +278,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         st.loop_start = loop_start;
     }
     let result = match &mut gpu {
-        Some(g) => g.run(&mut solver, &mut out),
+        Some(g) => g.run_checkpointed(&mut solver, &mut out),
         None => pool.install(|| solver.run(&mut out)),
     };
     let loop_seconds = loop_start.elapsed().as_secs_f64();
@@ -302,14 +306,15 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             let file = c.map_or(dir.join(restart::FILE), |c| c.path().to_path_buf());
             Err(Failure::Interrupted(
                 format!(
-                    "{} at t = {:e}, step {}; the restart file {} holds this state and the output in {} is complete up to it: continue with `cleave run {} --restart {}`",
+                    "{} at t = {:e}, step {}; the restart file {} holds this state and the output in {} is complete up to it: continue with `cleave run {} --restart {}{}`",
                     signal_name(sig),
                     solver.state.t,
                     solver.state.step,
                     file.display(),
                     dir.display(),
                     a.deck.display(),
-                    file.display()
+                    file.display(),
+                    if a.gpu { " --gpu" } else { "" }
                 ),
                 sig,
             ))

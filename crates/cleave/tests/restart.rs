@@ -11,6 +11,9 @@
 //!   lists only complete states, a parseable summary.json), and continues from its last
 //!   restart file to the same bytes.
 //! - A restart file of another deck, of another version, or damaged is refused (exit 2).
+//! - A GPU run (`--gpu`) continued from its restart file, written on schedule or at SIGTERM,
+//!   gives the same bytes as a GPU run never stopped; a CPU run's file and a GPU run's are
+//!   each refused by the other kind of run.
 
 mod common;
 
@@ -366,16 +369,95 @@ fn a_restart_file_of_another_deck_version_or_damaged_is_refused() {
         &["run", &deck, "-o", os, "--checkpoint-every", "0"],
         &["--checkpoint-every"],
     );
+}
+
+/// A GPU run (`--gpu`; lavapipe where there is no GPU, which `.ci/run` installs) keeps the
+/// device's state in its restart files: continued from the last one, or from the one written
+/// when SIGTERM stopped it midway, it writes the same bytes as a GPU run never stopped. A CPU
+/// run's file is refused by a GPU run, and the other way round, with a message that says so.
+/// Without a device with f64 shaders the test says SKIPPED.
+#[cfg(unix)]
+#[test]
+fn a_gpu_run_continues_from_its_restart_file() {
+    let d = tmp("restart-gpu");
+    let deck = example(&d, "taylor-bar", &[]);
+    let probe = d.join("probe");
+    let p = cleave(&[
+        "run",
+        &deck,
+        "-q",
+        "--gpu",
+        "--end-time",
+        "1e-6",
+        "-o",
+        probe.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&p.stderr);
+    if p.status.code() == Some(1) && err.contains("--gpu:") {
+        eprintln!("SKIPPED: {err}");
+        return;
+    }
+    assert_eq!(p.status.code(), Some(0), "{err}");
+    // restart files every 1.1e-5: one, then continued
+    check_continuation(&d, &deck, "1.1e-5", &["--end-time", "2e-5", "--gpu"]);
+
+    // SIGTERM midway
+    let full = d.join("full-sig");
+    let out = d.join("sig");
+    let (fs, os) = (full.to_str().unwrap(), out.to_str().unwrap());
+    run_ok(&["run", &deck, "-q", "--gpu", "--end-time", "3e-5", "-o", fs]);
+    let mut child = spawn(&["run", &deck, "-q", "--gpu", "--end-time", "3e-5", "-o", os]);
+    wait_for(&mut child, &out.join("states/state_00002.vtu"));
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let res = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&res.stderr);
+    assert_eq!(res.status.code(), Some(143), "{err}");
+    assert!(err.contains("--restart") && err.contains("--gpu"), "{err}");
+    let ckpt = out.join("restart.ckpt");
+    let cs = ckpt.to_str().unwrap();
+    run_ok(&["run", &deck, "-q", "--gpu", "-o", os, "--restart", cs]);
+    assert_same_output(&full, &out);
+
+    // a GPU run's file is not a CPU run's, nor the other way round
+    let cpu = d.join("cpu");
+    let cpus = cpu.to_str().unwrap();
+    let refused = |args: &[&str], want: &str| {
+        let r = cleave(args);
+        let e = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{e}");
+        assert!(e.contains(want), "{e}");
+    };
+    refused(
+        &["run", &deck, "-q", "-o", cpus, "--restart", cs],
+        "continue it with --gpu",
+    );
+    run_ok(&[
+        "run",
+        &deck,
+        "-q",
+        "-o",
+        cpus,
+        "--end-time",
+        "6e-6",
+        "--checkpoint-every",
+        "5e-6",
+    ]);
+    let cpu_ckpt = cpu.join("restart.ckpt");
     refused(
         &[
             "run",
             &deck,
-            "-o",
-            os,
-            "--checkpoint-every",
-            "1e-6",
+            "-q",
             "--gpu",
+            "-o",
+            cpus,
+            "--restart",
+            cpu_ckpt.to_str().unwrap(),
         ],
-        &["--gpu"],
+        "continue it without --gpu",
     );
 }

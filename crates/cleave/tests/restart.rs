@@ -181,6 +181,22 @@ fn spawn(args: &[&str]) -> Child {
         .unwrap()
 }
 
+/// Once the run writing into `out` has written its third state (its loop runs), SIGTERM it;
+/// it must stop with exit 143. Its standard error.
+#[cfg(unix)]
+fn terminate(mut child: Child, out: &Path) -> String {
+    wait_for(&mut child, &out.join("states/state_00002.vtu"));
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let res = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&res.stderr).into_owned();
+    assert_eq!(res.status.code(), Some(143), "{err}");
+    err
+}
+
 /// Continue `deck` into `out` from the restart file `ckpt`.
 fn continue_from(deck: &str, out: &Path, ckpt: &Path) {
     let (o, c) = (out.to_str().unwrap(), ckpt.to_str().unwrap());
@@ -202,17 +218,8 @@ fn sigterm_stops_with_a_restart_file_and_the_run_continues() {
     let (deck, full) = long_run(&d);
     let out = d.join("out");
     let os = out.to_str().unwrap();
-    let mut child = spawn(&["run", &deck, "-q", "-o", os]);
-    // a state beyond the first: the loop runs
-    wait_for(&mut child, &out.join("states/state_00002.vtu"));
-    let kill = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let res = child.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&res.stderr);
-    assert_eq!(res.status.code(), Some(143), "{err}");
+    let child = spawn(&["run", &deck, "-q", "-o", os]);
+    let err = terminate(child, &out);
     assert!(
         err.contains("SIGTERM") && err.contains("--restart"),
         "{err}"
@@ -406,16 +413,8 @@ fn a_gpu_run_continues_from_its_restart_file() {
     let out = d.join("sig");
     let (fs, os) = (full.to_str().unwrap(), out.to_str().unwrap());
     run_ok(&["run", &deck, "-q", "--gpu", "--end-time", "3e-5", "-o", fs]);
-    let mut child = spawn(&["run", &deck, "-q", "--gpu", "--end-time", "3e-5", "-o", os]);
-    wait_for(&mut child, &out.join("states/state_00002.vtu"));
-    let kill = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let res = child.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&res.stderr);
-    assert_eq!(res.status.code(), Some(143), "{err}");
+    let child = spawn(&["run", &deck, "-q", "--gpu", "--end-time", "3e-5", "-o", os]);
+    let err = terminate(child, &out);
     assert!(err.contains("--restart") && err.contains("--gpu"), "{err}");
     let ckpt = out.join("restart.ckpt");
     let cs = ckpt.to_str().unwrap();

@@ -294,9 +294,6 @@ pub const FACING: f64 = 0.2;
 /// Nodes per parallel task of the detection.
 const NODE_CHUNK: usize = 256;
 
-/// Regions (search boxes of the pending faces) per parallel task of an incremental search.
-const REGION_CHUNK: usize = 64;
-
 /// A node's candidates due within about this many steps (at the last step's growth of the
 /// motion bound) are looked at every step; the others only when the earliest of them is due
 /// (module docs).
@@ -1046,24 +1043,13 @@ impl Side {
     /// The permutation that puts the nodes in space order (Morton order of their positions
     /// `x`, those of the full build): `order[k].1` is the node to go to place k.
     fn space_order(&self, x: Points) -> Vec<(u64, u32)> {
-        // in parallel: the bounds (min and max, exact in any order), the keys, and the sort
-        // (the keys are distinct: one order for any number of threads)
-        let b = self
-            .nodes
-            .par_iter()
-            .with_min_len(NODE_CHUNK)
-            .fold(Aabb::empty, |mut b, &n| {
-                let p = x[n as usize];
-                if p.iter().all(|v| v.is_finite()) {
-                    b.include(p);
-                }
-                b
-            })
-            .reduce(Aabb::empty, |mut a, b| {
-                a.include(b.min);
-                a.include(b.max);
-                a
-            });
+        let mut b = Aabb::empty();
+        for &n in &self.nodes {
+            let p = x[n as usize];
+            if p.iter().all(|v| v.is_finite()) {
+                b.include(p);
+            }
+        }
         let h = b.extent() / ((1u64 << 21) - 1) as f64;
         let cell = |v: f64, lo: f64| -> u64 {
             let q = ((v - lo) / h).floor();
@@ -1074,7 +1060,7 @@ impl Side {
             }
         };
         let mut order = Vec::with_capacity(self.nodes.len());
-        order.par_extend(self.nodes.par_iter().enumerate().map(|(k, &n)| {
+        for (k, &n) in self.nodes.iter().enumerate() {
             let p = x[n as usize];
             let c: [u64; 3] = std::array::from_fn(|d| cell(p[d], b.min[d]));
             let mut key = 0u64;
@@ -1083,9 +1069,9 @@ impl Side {
                     key |= ((cd >> bit) & 1) << (3 * bit + d);
                 }
             }
-            (key, k as u32)
-        }));
-        order.par_sort_unstable();
+            order.push((key, k as u32));
+        }
+        order.sort_unstable();
         order
     }
 
@@ -1110,17 +1096,11 @@ impl Side {
 
     /// Boxes and spheres of the faces that have none yet, from positions `x_ref`.
     fn box_new_faces(&mut self, x_ref: Points, margin: f64) {
-        let new = self.boxed..self.faces.len();
-        self.faces[new.clone()]
-            .par_iter()
-            .zip(self.boxes[new.clone()].par_iter_mut())
-            .zip(self.spheres[new].par_iter_mut())
-            .with_min_len(NODE_CHUNK)
-            .for_each(|((face, b), s)| {
-                *b = search_box(face, x_ref, margin).into();
-                let (c, reach) = search_sphere(face, x_ref, margin);
-                *s = Sphere::new(c, reach);
-            });
+        for f in self.boxed..self.faces.len() {
+            self.boxes[f] = search_box(&self.faces[f], x_ref, margin).into();
+            let (c, reach) = search_sphere(&self.faces[f], x_ref, margin);
+            self.spheres[f] = Sphere::new(c, reach);
+        }
         self.boxed = self.faces.len();
     }
 }
@@ -2060,33 +2040,20 @@ impl Contact {
             let point = |q: u32| x_ref[new_nodes[q as usize] as usize];
             pass.extra
                 .build_with(&fs.boxes[fs.base..], new_nodes.len(), point);
-            // the nodes in the regions, by chunks of regions in parallel (a set: sorted and
-            // deduplicated below, the same for any number of threads)
             scratch.clear();
-            let (grid, extra) = (&pass.grid, &pass.extra);
-            let found: Vec<Vec<u32>> = region
-                .par_chunks(REGION_CHUNK)
-                .map(|bs| {
-                    let mut out = Vec::new();
-                    for b in bs {
-                        grid.points_in(b, |q| x_ref[ns.nodes[q as usize] as usize], &mut out);
-                        let start = out.len();
-                        extra.points_in(b, point, &mut out);
-                        for q in &mut out[start..] {
-                            *q += nbase as u32;
-                        }
-                    }
-                    out
-                })
-                .collect();
-            for f in &found {
-                scratch.extend_from_slice(f);
+            for b in region.iter() {
+                pass.grid
+                    .points_in(b, |q| x_ref[ns.nodes[q as usize] as usize], scratch);
+                let start = scratch.len();
+                pass.extra.points_in(b, point, scratch);
+                for q in &mut scratch[start..] {
+                    *q += nbase as u32;
+                }
             }
-            drop(found);
             // nodes that became or stopped being leads (all at the failed faces' corners, so
             // in their boxes already; listed again for safety)
             scratch.extend(regrouped[pass.node_side].iter().map(|&(i, _)| i));
-            scratch.par_sort_unstable();
+            scratch.sort_unstable();
             scratch.dedup();
             let Pass {
                 grid,

@@ -545,6 +545,11 @@ impl GpuStepper {
         for (b, data) in self.persistent.iter().zip(parts) {
             q.write_buffer(b, 0, data);
         }
+        // the deck's controls are this run's (a continued run may be given another end time)
+        let deck = control_block(solver);
+        for k in [cf::TSSFAC, cf::DT_INIT, cf::DT_MIN, cf::END_TIME] {
+            q.write_buffer(&self.cf, (k * 8) as u64, bytemuck::bytes_of(&deck[k]));
+        }
         // it was saved halted: running again from here
         q.write_buffer(&self.cu, (cu::HALT * 4) as u64, bytemuck::bytes_of(&0u32));
         q.write_buffer(
@@ -580,7 +585,7 @@ impl GpuStepper {
     ) -> Option<Vec<(&'static str, f64)>> {
         let passes = self.pipelines.len();
         let queries = 2 * passes * steps;
-        if !self.gpu.timestamps || queries > wgpu::QUERY_SET_MAX_QUERIES as usize {
+        if steps == 0 || !self.gpu.timestamps || queries > wgpu::QUERY_SET_MAX_QUERIES as usize {
             return None;
         }
         let dev = &self.gpu.device;
@@ -635,10 +640,10 @@ impl GpuStepper {
         let _ = dev.poll(wgpu::PollType::wait_indefinitely());
         let ticks: Vec<u64> =
             bytemuck::pod_collect_to_vec(&read.slice(..).get_mapped_range().ok()?);
+        c.apply(solver);
         if c.halt() != 0 {
             return None;
         }
-        c.apply(solver);
         let period = f64::from(self.gpu.queue.get_timestamp_period()) * 1e-9;
         let mut secs = vec![0.0; passes];
         for k in 0..steps {
@@ -836,6 +841,11 @@ impl GpuStepper {
                     if h == 2 {
                         return Ok(());
                     }
+                    // a halted step is a place to stop too (with frequent output every batch
+                    // may halt, and the check after a batch that runs through never comes)
+                    if !stopping && obs.stop_asked() {
+                        stopping = true;
+                    }
                     let t = solver.state.t;
                     if stopping || t >= obs.checkpoint_due() * (1.0 - 1e-12) {
                         obs.checkpoint(solver, self.save())
@@ -866,7 +876,8 @@ impl GpuStepper {
 pub trait Checkpointing: Observer {
     /// The next time a restart file is due (infinity: none).
     fn checkpoint_due(&self) -> f64;
-    /// Whether a signal asks the run to stop (asked after each batch of steps).
+    /// Whether a signal asks the run to stop (asked after each batch of steps and at each
+    /// halt).
     fn stop_asked(&mut self) -> bool;
     /// Keep the state `gpu_state` ([`GpuStepper::save`]) of the step the solver's mirror shows,
     /// and move the next time due on.

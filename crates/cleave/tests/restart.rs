@@ -407,8 +407,37 @@ fn a_gpu_run_continues_from_its_restart_file() {
     assert_eq!(p.status.code(), Some(0), "{err}");
     // restart files every 1.1e-5: one, then continued
     check_continuation(&d, &deck, "1.1e-5", &["--end-time", "2e-5", "--gpu"]);
+    // continued to a later end time than the one it was made with
+    let part = d.join("part");
+    let ckpt = part.join("restart.ckpt");
+    run_ok(&[
+        "run",
+        &deck,
+        "-q",
+        "--gpu",
+        "-o",
+        part.to_str().unwrap(),
+        "--restart",
+        ckpt.to_str().unwrap(),
+        "--end-time",
+        "2.5e-5",
+    ]);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(part.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["status"], "finished");
+    let t = s["end_time"].as_f64().unwrap();
+    assert!((t - 2.5e-5).abs() < 1e-12, "ended at {t}");
 
-    // SIGTERM midway
+    // SIGTERM midway, in a run that halts for glstat at every step (a signal must be seen at
+    // a halt too, not only after a batch that runs through)
+    let text = std::fs::read_to_string(&deck).unwrap();
+    let every_step = text.replace(
+        "*DATABASE_GLSTAT\n$#      dt\n      5e-7",
+        "*DATABASE_GLSTAT\n$#      dt\n      1e-9",
+    );
+    assert_ne!(text, every_step, "the glstat card of the Taylor bar deck");
+    let deck = d.join("every-step.k").to_str().unwrap().to_string();
+    std::fs::write(&deck, every_step).unwrap();
     let full = d.join("full-sig");
     let out = d.join("sig");
     let (fs, os) = (full.to_str().unwrap(), out.to_str().unwrap());

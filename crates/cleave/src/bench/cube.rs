@@ -67,7 +67,10 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
                 parts.join(", ")
             ));
         } else {
-            gpu_lines.push("  GPU passes: not timed (the device has no timestamp queries)".into());
+            gpu_lines.push(
+                "  GPU passes: not timed (no timestamp queries on the device, or the run ended within the profiled steps)"
+                    .into(),
+            );
         }
         step0 = solver.state.step;
         super::run_quiet_gpu(&mut g, &mut solver)?

@@ -495,10 +495,15 @@ impl GpuStepper {
                 }
             }
         }
+        self.copy_control(&mut enc, staging);
+        enc.finish()
+    }
+
+    /// Record the copy of the control block (`cf`, then `cu`) into read-back buffer `staging`.
+    fn copy_control(&self, enc: &mut wgpu::CommandEncoder, staging: usize) {
         let s = &self.ctl_staging[staging];
         enc.copy_buffer_to_buffer(&self.cf, 0, s, 0, (cf::LEN * 8) as u64);
         enc.copy_buffer_to_buffer(&self.cu, 0, s, (cf::LEN * 8) as u64, (cu::LEN * 4) as u64);
-        enc.finish()
     }
 
     /// The state on the device between two steps, as bytes, for a restart file: every buffer
@@ -558,9 +563,7 @@ impl GpuStepper {
             bytemuck::bytes_of(&0.0f64),
         );
         let mut enc = self.gpu.device.create_command_encoder(&Default::default());
-        let s = &self.ctl_staging[0];
-        enc.copy_buffer_to_buffer(&self.cf, 0, s, 0, (cf::LEN * 8) as u64);
-        enc.copy_buffer_to_buffer(&self.cu, 0, s, (cf::LEN * 8) as u64, (cu::LEN * 4) as u64);
+        self.copy_control(&mut enc, 0);
         q.submit([enc.finish()]);
         let c = self.read_control(0);
         self.mirror(solver, &c);
@@ -631,9 +634,7 @@ impl GpuStepper {
         }
         enc.resolve_query_set(&set, 0..queries as u32, &resolved, 0);
         enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, bytes);
-        let s = &self.ctl_staging[0];
-        enc.copy_buffer_to_buffer(&self.cf, 0, s, 0, (cf::LEN * 8) as u64);
-        enc.copy_buffer_to_buffer(&self.cu, 0, s, (cf::LEN * 8) as u64, (cu::LEN * 4) as u64);
+        self.copy_control(&mut enc, 0);
         self.gpu.queue.submit([enc.finish()]);
         let c = self.read_control(0);
         read.slice(..).map_async(wgpu::MapMode::Read, |_| {});

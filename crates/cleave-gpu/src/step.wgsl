@@ -1090,11 +1090,11 @@ fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, d
     return st;
 }
 
-// The stable step l_c / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1 l_c |tr L| in compression
-// (kernel.rs stable_dt).
+// The stable step l_c / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1 l_c |tr L| in compression,
+// tr L < -1e-12 c / l_c: a rate of round-off size is none (kernel.rs stable_dt, ROUND_OFF_RATE)
 fn stable_dt(lc: f64, c: f64, eps_v_rate: f64, m: Mat) -> f64 {
     var qv = 0.0lf;
-    if (eps_v_rate < 0.0lf) {
+    if (eps_v_rate * lc < -1e-12lf * c) {
         qv = m.q2 * c + m.q1 * lc * abs(eps_v_rate);
     }
     return lc / (qv + sqrt(qv * qv + c * c));

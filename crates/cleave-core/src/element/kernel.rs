@@ -223,16 +223,27 @@ pub(super) fn update_stress(
 
 /// Part 7: the stable time step `l_c / (Q + sqrt(Q^2 + c^2))` of an element of
 /// characteristic length `lc` and step speed `c`, with `Q = Q2 c + Q1 l_c |tr L|` in
-/// compression (`eps_v_rate` < 0), else 0 (LS-DYNA theory manual, eq. 22.11).
+/// compression, else 0 (LS-DYNA theory manual, eq. 22.11).
+///
+/// Compression means `tr L < -ROUND_OFF_RATE c / l_c`: `Q` jumps from 0 to `Q2 c` (6% of the
+/// step with the default Q2) as the rate crosses zero, so a volume-preserving motion (a shear,
+/// a rotation), whose rate is zero up to round-off, would have its step set by the sign of
+/// the round-off, and two machines that round differently (a GPU fusing a multiply and an add)
+/// would take different steps. A rate of `1e-12 c / l_c` compresses the element by a
+/// millionth of a millionth of its volume while a wave crosses it: no physics is lost.
 #[inline(always)]
 pub(super) fn stable_dt(lc: f64, c: f64, eps_v_rate: f64, ctl: &KernelControls) -> f64 {
-    let qv = if eps_v_rate < 0.0 {
+    let qv = if eps_v_rate * lc < -ROUND_OFF_RATE * c {
         ctl.q2 * c + ctl.q1 * lc * eps_v_rate.abs()
     } else {
         0.0
     };
     lc / (qv + (qv * qv + c * c).sqrt())
 }
+
+/// The volumetric strain rate, in units of `c / l_c`, below which [`stable_dt`] counts an
+/// element as not compressed (step.wgsl uses the same value).
+pub const ROUND_OFF_RATE: f64 = 1e-12;
 
 /// The corner forces of an element at x^n from the state its last [`hex8_step`] left (the
 /// stress, the bulk viscosity q, the generalized hourglass forces), without changing it: the
@@ -513,6 +524,29 @@ pub(crate) mod tests {
         )
         .unwrap();
         assert!((out.dt_crit - 0.01 / p.wave_speed).abs() < 1e-12 * out.dt_crit.max(1e-30) + 1e-18);
+    }
+
+    /// The step's bulk-viscosity term: Q = Q2 c + Q1 l_c |tr L| in compression gives
+    /// l_c / (Q + sqrt(Q^2 + c^2)); a rate of round-off size (a shear's tr L, 1e-16 c / l_c
+    /// either side of zero) gives l_c / c on both sides, so the sign of the round-off does not
+    /// choose the step (the GPU, which fuses multiplies and adds, and the CPU round shear rates
+    /// to opposite signs).
+    #[test]
+    fn round_off_rates_do_not_cut_the_step() {
+        let (lc, c) = (0.01, 5000.0);
+        let k = ctl();
+        let bare = lc / c;
+        for rate in [0.0, 1e-16 * c / lc, -1e-16 * c / lc, -0.9e-12 * c / lc] {
+            assert_eq!(stable_dt(lc, c, rate, &k), bare, "rate {rate:e}");
+        }
+        for rate in [-1.1e-12 * c / lc, -1e-3 * c / lc, -2.0 * c / lc] {
+            let q = k.q2 * c + k.q1 * lc * rate.abs();
+            let want = lc / (q + (q * q + c * c).sqrt());
+            let got = stable_dt(lc, c, rate, &k);
+            assert_eq!(got, want, "rate {rate:e}");
+            // Q2 alone shortens the step by 1 - 1/(Q2 + sqrt(1 + Q2^2)), 5.8% at Q2 = 0.06
+            assert!(got < 0.95 * bare);
+        }
     }
 
     /// The forces `hex8_corner_forces` works out again from the state a step left are the

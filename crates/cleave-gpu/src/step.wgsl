@@ -1400,10 +1400,11 @@ fn element(e: u32) -> ElemOut {
 
 // ---------------------------------------------------------------- the one-point hexahedron
 // hex8.rs, also on a wedge's degenerate corners (shape.rs). Written for registers: the corners
-// are read once into values indexed only by constants, the hourglass rates are taken before
-// the stress update, and b_a and gamma_a are formed again, corner by corner, where they are
-// used (the same operations in the same order as kernel.rs, so the same bits), so that no
-// per-corner array outlives its use.
+// are read into values indexed only by constants, the hourglass rates are taken before the
+// stress update, the corners' positions are read again after it for the corner forces (J^-1
+// and gx formed again: kept across the update they cost 8% of the step on an H100), and b_a
+// and gamma_a are formed again, corner by corner, where they are used (the same operations in
+// the same order as kernel.rs, so the same bits), so that no per-corner array outlives its use.
 
 alias Q4 = array<vec3<f64>, 4>;
 
@@ -1489,44 +1490,17 @@ fn hex_corner(e: u32, a: u32, vol: f64, s: S6, fhg: Q4, jinv: M3, gx: Q4) {
 
 fn hex_element(e: u32, m: Mat) -> ElemOut {
     var out = ElemOut(false, BIG, 0.0lf, 0.0lf);
-    let c = 8u * e;
-    let n = array<u32, 8>(conn[c], conn[c + 1u], conn[c + 2u], conn[c + 3u], conn[c + 4u],
-                          conn[c + 5u], conn[c + 6u], conn[c + 7u]);
-    let x = P8(ld(0u, n[0]), ld(0u, n[1]), ld(0u, n[2]), ld(0u, n[3]), ld(0u, n[4]),
-               ld(0u, n[5]), ld(0u, n[6]), ld(0u, n[7]));
-    let v = P8(ld(1u, n[0]), ld(1u, n[1]), ld(1u, n[2]), ld(1u, n[3]), ld(1u, n[4]),
-               ld(1u, n[5]), ld(1u, n[6]), ld(1u, n[7]));
     let dt_prev = cf[DT_PREV];
     let stiff = m.hg > 0.5lf;
-    let jn = centre_jacobian(x);
-    let detn = det3(jn);
-    if (!positive(detn)) {
+    // 6a and 1-4: the hourglass rates and the stress update, from the corners read once
+    let h = hex_kinematics(e, m, dt_prev);
+    if (!h.ok) {
         return out;
     }
-    let jinv = inv3(jn, detn);
-    let vol = 8.0lf * detn;
-    let l_vol = cbrt64(vol);
-    let jv = centre_jacobian(v);
-    let c2max = hex_c2max(x);
-    let gx = hex_gx(x);
-
-    // 6a: the hourglass rates qd_al = sum_a v_a gamma_al,a (and sum_a |b_a|^2 for the
-    // stiffness form), before the stress update so that x and v die here
-    var r = Rates(0.0lf, Q4(vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf)));
-    r = hex_rate(r, 0u, v[0], jinv, gx);
-    r = hex_rate(r, 1u, v[1], jinv, gx);
-    r = hex_rate(r, 2u, v[2], jinv, gx);
-    r = hex_rate(r, 3u, v[3], jinv, gx);
-    r = hex_rate(r, 4u, v[4], jinv, gx);
-    r = hex_rate(r, 5u, v[5], jinv, gx);
-    r = hex_rate(r, 6u, v[6], jinv, gx);
-    r = hex_rate(r, 7u, v[7], jinv, gx);
-
-    // 1-4: stress update over the previous interval
-    let st = stress_update(e, m, jn, jv, 8.0lf, l_vol, dt_prev, false, 0.0lf);
-    if (!st.ok) {
-        return out;
-    }
+    let st = h.st;
+    let r = h.r;
+    let vol = h.vol;
+    let l_vol = h.l_vol;
 
     // 6b: the hourglass forces, viscous or stiffness
     var coef: f64;
@@ -1542,7 +1516,15 @@ fn hex_element(e: u32, m: Mat) -> ElemOut {
     let m3 = hex_mode(k + 9u, r.qd[3], coef, stiff, dt_prev, m2.de);
     let fhg = Q4(m0.f, m1.f, m2.f, m3.f);
 
-    // 5: corner forces
+    // 5: corner forces, from the corners read again (J^-1 and gx formed again from them, the
+    // same operations on the same values: the same bits), so that neither is held in
+    // registers across the stress update
+    let c = 8u * e;
+    let x = P8(ld(0u, conn[c]), ld(0u, conn[c + 1u]), ld(0u, conn[c + 2u]), ld(0u, conn[c + 3u]),
+               ld(0u, conn[c + 4u]), ld(0u, conn[c + 5u]), ld(0u, conn[c + 6u]), ld(0u, conn[c + 7u]));
+    let jn = centre_jacobian(x);
+    let jinv = inv3(jn, det3(jn));
+    let gx = hex_gx(x);
     let p = st.p;
     let q = st.q;
     let s = S6(p.sigma[0] - q, p.sigma[1] - q, p.sigma[2] - q, p.sigma[3], p.sigma[4], p.sigma[5]);
@@ -1556,10 +1538,64 @@ fn hex_element(e: u32, m: Mat) -> ElemOut {
     hex_corner(e, 7u, vol, s, fhg, jinv, gx);
 
     // 7: stable time step l_c / (Q + sqrt(Q^2 + c^2)), l_c = V / largest face area
-    out.dt = stable_dt(vol / (0.5lf * sqrt(c2max)), m.step_speed, st.eps_v_rate, m);
+    out.dt = stable_dt(vol / (0.5lf * sqrt(h.c2max)), m.step_speed, st.eps_v_rate, m);
     out.ok = true;
     out.de_int = st.de_int;
     out.de_hg = m3.de;
+    return out;
+}
+
+// What the hexahedron's first parts leave for its forces: the hourglass rates, the updated
+// stress, the volume, its cube root and the largest face's squared doubled area.
+struct HexKin {
+    ok: bool,
+    st: Stress,
+    r: Rates,
+    vol: f64,
+    l_vol: f64,
+    c2max: f64,
+}
+
+fn hex_kinematics(e: u32, m: Mat, dt_prev: f64) -> HexKin {
+    var out = HexKin(false, Stress(false, Point(S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf), 0.0lf,
+                         S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf)), 0.0lf, 0.0lf, 0.0lf),
+                     Rates(0.0lf, Q4(vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf))),
+                     0.0lf, 0.0lf, 0.0lf);
+    let c = 8u * e;
+    let n = array<u32, 8>(conn[c], conn[c + 1u], conn[c + 2u], conn[c + 3u], conn[c + 4u],
+                          conn[c + 5u], conn[c + 6u], conn[c + 7u]);
+    let x = P8(ld(0u, n[0]), ld(0u, n[1]), ld(0u, n[2]), ld(0u, n[3]), ld(0u, n[4]),
+               ld(0u, n[5]), ld(0u, n[6]), ld(0u, n[7]));
+    let v = P8(ld(1u, n[0]), ld(1u, n[1]), ld(1u, n[2]), ld(1u, n[3]), ld(1u, n[4]),
+               ld(1u, n[5]), ld(1u, n[6]), ld(1u, n[7]));
+    let jn = centre_jacobian(x);
+    let detn = det3(jn);
+    if (!positive(detn)) {
+        return out;
+    }
+    let jinv = inv3(jn, detn);
+    out.vol = 8.0lf * detn;
+    out.l_vol = cbrt64(out.vol);
+    let jv = centre_jacobian(v);
+    out.c2max = hex_c2max(x);
+    let gx = hex_gx(x);
+
+    // 6a: the hourglass rates qd_al = sum_a v_a gamma_al,a (and sum_a |b_a|^2 for the
+    // stiffness form), before the stress update so that x and v die here
+    var r = Rates(0.0lf, Q4(vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf)));
+    r = hex_rate(r, 0u, v[0], jinv, gx);
+    r = hex_rate(r, 1u, v[1], jinv, gx);
+    r = hex_rate(r, 2u, v[2], jinv, gx);
+    r = hex_rate(r, 3u, v[3], jinv, gx);
+    r = hex_rate(r, 4u, v[4], jinv, gx);
+    r = hex_rate(r, 5u, v[5], jinv, gx);
+    r = hex_rate(r, 6u, v[6], jinv, gx);
+    r = hex_rate(r, 7u, v[7], jinv, gx);
+    out.r = r;
+
+    // 1-4: stress update over the previous interval
+    out.st = stress_update(e, m, jn, jv, 8.0lf, out.l_vol, dt_prev, false, 0.0lf);
+    out.ok = out.st.ok;
     return out;
 }
 

@@ -105,12 +105,15 @@ const W_HALF: u32 = 27u;
 const DT_CRIT: u32 = 28u;
 const E_ERODED: u32 = 29u;
 const N_ERODED: u32 = 30u;
-// plain copies of the halt flag (1 once halted) and of "a step is pending" (1): every thread of
+// plain copies of the halt flag (1 once halted) and of "positions due" (1 from the first step
+// on: the positions pass moves the nodes at the start of each later step): every thread of
 // the per-element and per-node passes reads them, and one atomic load of a single word per
 // thread would queue them all on it; only the one-group passes (commit, control, finish) and
 // the host write them, between dispatches
 const HALTED: u32 = 22u;
 const PENDING: u32 = 23u;
+// 1 when the step that halted is still to be ended (its time advanced): see advance()
+const COMMIT_DUE: u32 = 24u;
 const WALL_FORCE: u32 = 32u; // 4 per wall: normal force, force x y z
 // cu: control integers
 const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error
@@ -1965,7 +1968,7 @@ fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
     rb_set_mat(so + 24u, mul3(hughes_winget(omega * (0.5lf * dt)), rot));
 }
 
-// ---------------------------------------------------------------- positions and commit
+// ---------------------------------------------------------------- positions, end of a step
 
 @compute @workgroup_size(64)
 fn positions(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
@@ -1980,35 +1983,52 @@ fn positions(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id
     }
 }
 
-@compute @workgroup_size(1)
-fn commit() {
-    if (halted()) {
-        return;
-    }
-    if (cf[PENDING] != 0.0lf) {
-        cf[T] = cf[T] + cf[DT];
-        cf[DT_PREV] = cf[DT];
-        cf[STEP] = cf[STEP] + 1.0lf;
-        cf[PENDING] = 0.0lf;
-        // the rigid bodies commit their placement (solver.rs update_positions)
-        for (var b = 0u; b < prm.n_rigid; b = b + 1u) {
-            let so = RB_STATE * b;
-            for (var i = 0u; i < 12u; i = i + 1u) {
-                rb[so + 36u + i] = rb[so + select(6u + i - 3u, i, i < 3u)];
-            }
-            for (var i = 0u; i < 3u; i = i + 1u) {
-                rb[so + i] = rb[so + 21u + i];
-            }
-            for (var i = 0u; i < 9u; i = i + 1u) {
-                rb[so + 6u + i] = rb[so + 24u + i];
-            }
+// The end of a step (solver.rs update_positions): t^(n+1) = t^n + dt, the step counted, the
+// rigid bodies' placements committed, and the body loads' accelerations at the new time. The
+// finish pass does it at the end of every step that does not halt; a step that halts (for
+// output, a restart file, the end, an error) leaves it to the next batch's commit pass, so
+// that the host reads the state at t^n.
+fn advance() {
+    cf[T] = cf[T] + cf[DT];
+    cf[DT_PREV] = cf[DT];
+    cf[STEP] = cf[STEP] + 1.0lf;
+    for (var b = 0u; b < prm.n_rigid; b = b + 1u) {
+        let so = RB_STATE * b;
+        for (var i = 0u; i < 12u; i = i + 1u) {
+            rb[so + 36u + i] = rb[so + select(6u + i - 3u, i, i < 3u)];
+        }
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            rb[so + i] = rb[so + 21u + i];
+        }
+        for (var i = 0u; i < 9u; i = i + 1u) {
+            rb[so + 6u + i] = rb[so + 24u + i];
         }
     }
+    body_loads_now();
+}
+
+// The body loads' accelerations at t and at t - dt_prev.
+fn body_loads_now() {
     let g = body_acceleration(cf[T]);
     let gp = body_acceleration(cf[T] - cf[DT_PREV]);
     for (var i = 0u; i < 3u; i = i + 1u) {
         cf[G_NOW + i] = g[i];
         cf[G_PREV + i] = gp[i];
+    }
+}
+
+// First in each batch of steps: the end of the step that halted, if one did (COMMIT_DUE), and
+// the body loads at the start of a run.
+@compute @workgroup_size(1)
+fn commit() {
+    if (halted()) {
+        return;
+    }
+    if (cf[COMMIT_DUE] != 0.0lf) {
+        cf[COMMIT_DUE] = 0.0lf;
+        advance();
+    } else {
+        body_loads_now();
     }
 }
 
@@ -2566,12 +2586,17 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
     if (cf[STEP] == 0.0lf) {
         cf[E_INIT] = ke + cf[E_INT] + cf[E_HG] - cf[E_EXT];
     }
+    // the positions are due at every step from here on (the next positions pass)
     cf[PENDING] = 1.0lf;
     if (atomicLoad(&cu[FINISHED]) != 0u) {
         atomicStore(&cu[HALT], 2u);
         cf[HALTED] = 1.0lf;
+        cf[COMMIT_DUE] = 1.0lf;
     } else if (cf[T] >= cf[T_STOP] * (1.0lf - 1e-12lf)) {
         atomicStore(&cu[HALT], 1u);
         cf[HALTED] = 1.0lf;
+        cf[COMMIT_DUE] = 1.0lf;
+    } else {
+        advance();
     }
 }

@@ -45,6 +45,8 @@ mod cf {
     pub const DT_MIN: usize = 20;
     pub const END_TIME: usize = 21;
     pub const HALTED: usize = 22;
+    pub const PENDING: usize = 23;
+    pub const COMMIT_DUE: usize = 24;
     pub const E_ERODED: usize = 29;
     pub const WALL_FORCE: usize = 32;
     pub const LEN: usize = 64;
@@ -103,6 +105,8 @@ pub struct GpuStepper {
     gpu: Gpu,
     /// The step's passes in order, each with its entry point and number of groups.
     pipelines: Vec<(&'static str, wgpu::ComputePipeline, usize)>,
+    /// The end of a step that halted, and the body loads at the start: first in each batch.
+    commit: wgpu::ComputePipeline,
     /// Bytes of the buffers on the device.
     device_bytes: u64,
     /// The buffers that carry the state from one step to the next, in the order of
@@ -402,8 +406,10 @@ impl GpuStepper {
                 cache: None,
             })
         };
-        // (entry point, groups); the passes of ELFORM 13 only where it is used
-        let mut passes = vec![("positions", groups_n), ("commit", 1)];
+        // (entry point, groups) of each step; the passes of ELFORM 13 only where it is used.
+        // The end of a step (time, step count) is the finish pass's, and the commit pass's
+        // once at the start of each batch for a step that halted
+        let mut passes = vec![("positions", groups_n)];
         if np {
             passes.extend([("np_theta", groups_e), ("np_node_theta", groups_n)]);
         }
@@ -422,6 +428,7 @@ impl GpuStepper {
         passes.push(("finish", 1));
         let pipelines: Vec<(&'static str, wgpu::ComputePipeline, usize)> =
             passes.iter().map(|&(e, g)| (e, pipeline(e), g)).collect();
+        let commit = pipeline("commit");
         let device_bytes =
             bindings.iter().map(|(b, _)| b.size()).sum::<u64>() + uniform.size() + 2 * CTL_BYTES;
         let staging = || {
@@ -451,6 +458,7 @@ impl GpuStepper {
         }
         Ok(Self {
             pipelines,
+            commit,
             device_bytes,
             persistent,
             bind_group,
@@ -489,6 +497,7 @@ impl GpuStepper {
                 timestamp_writes: None,
             });
             pass.set_bind_group(0, &self.bind_group, &[]);
+            dispatch(&mut pass, &self.commit, 1);
             for _ in 0..steps {
                 for (_, p, g) in &self.pipelines {
                     dispatch(&mut pass, p, *g);
@@ -546,6 +555,8 @@ impl GpuStepper {
         if !rest.is_empty() {
             return Err("the GPU state holds more arrays than this model".into());
         }
+        // (the control block is the first array, its size checked above)
+        let cf_saved = parts[0];
         let q = &self.gpu.queue;
         for (b, data) in self.persistent.iter().zip(parts) {
             q.write_buffer(b, 0, data);
@@ -555,7 +566,19 @@ impl GpuStepper {
         for k in [cf::TSSFAC, cf::DT_INIT, cf::DT_MIN, cf::END_TIME] {
             q.write_buffer(&self.cf, (k * 8) as u64, bytemuck::bytes_of(&deck[k]));
         }
-        // it was saved halted: running again from here
+        // it was saved halted: running again from here, the step it halted at to be ended
+        // first if it had begun (a file of an earlier cleave, which ended a step at the
+        // start of the next, has no COMMIT_DUE of its own)
+        let pending = f64::from_le_bytes(
+            cf_saved[8 * cf::PENDING..8 * cf::PENDING + 8]
+                .try_into()
+                .expect("8 bytes"),
+        );
+        q.write_buffer(
+            &self.cf,
+            (cf::COMMIT_DUE * 8) as u64,
+            bytemuck::bytes_of(&pending),
+        );
         q.write_buffer(&self.cu, (cu::HALT * 4) as u64, bytemuck::bytes_of(&0u32));
         q.write_buffer(
             &self.cf,
@@ -617,6 +640,12 @@ impl GpuStepper {
             bytemuck::bytes_of(&f64::MAX),
         );
         let mut enc = dev.create_command_encoder(&Default::default());
+        {
+            // the end of the step before, if it halted (not timed: once per batch)
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            dispatch(&mut pass, &self.commit, 1);
+        }
         for k in 0..steps {
             for (i, (name, p, g)) in self.pipelines.iter().enumerate() {
                 let q = (2 * (k * passes + i)) as u32;

@@ -897,14 +897,7 @@ fn profiled_steps_are_the_same_steps() {
             let names: Vec<&str> = sh.iter().map(|(n, _)| *n).collect();
             assert_eq!(
                 names,
-                [
-                    "positions",
-                    "commit",
-                    "elements",
-                    "control",
-                    "nodes",
-                    "finish"
-                ]
+                ["positions", "elements", "control", "nodes", "finish"]
             );
             eprintln!("passes over 10 steps: {sh:?}");
         }

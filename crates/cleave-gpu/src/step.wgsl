@@ -1664,13 +1664,12 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     }
     if (l == 0u && run && grp < prm.groups_e) {
         let g = grp;
-        let ge = prm.groups_e;
-        epart[g] = r_dt[0];
-        epart[ge + g] = f64(r_id[0]);
-        epart[2u * ge + g] = r_ei[0];
-        epart[3u * ge + g] = r_eh[0];
-        epart[4u * ge + g] = r_ee[0];
-        epart[5u * ge + g] = r_en[0];
+        epart[6u * g] = r_dt[0];
+        epart[6u * g + 1u] = f64(r_id[0]);
+        epart[6u * g + 2u] = r_ei[0];
+        epart[6u * g + 3u] = r_eh[0];
+        epart[6u * g + 4u] = r_ee[0];
+        epart[6u * g + 5u] = r_en[0];
     }
 }
 
@@ -2051,12 +2050,9 @@ struct EPart {
     ee: f64,
     en: f64,
 }
-// (epart holds each value of every group together, value k of group g at k groups_e + g, so
-// that consecutive threads read consecutive words: one group reads them all, and read value by
-// value, group by group, they took 2 us per round of four partials at a million elements)
 fn epart_at(g: u32) -> EPart {
-    let ge = prm.groups_e;
-    return EPart(epart[g], u32(epart[ge + g]), epart[2u * ge + g], epart[3u * ge + g], epart[4u * ge + g], epart[5u * ge + g]);
+    let o = 6u * g;
+    return EPart(epart[o], u32(epart[o + 1u]), epart[o + 2u], epart[o + 3u], epart[o + 4u], epart[o + 5u]);
 }
 // r then p: the smaller step (the lower element on a tie), the sums in that order.
 fn epart_add(r: EPart, p: EPart) -> EPart {
@@ -2078,23 +2074,18 @@ fn fail(kind: u32) {
 fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     let run = !halted();
     let l = lid.x;
-    // thread l takes the element groups' partials l, l + 256, ... in that order, read eight
+    // thread l takes the element groups' partials l, l + 256, ... in that order, read four
     // groups ahead so that their loads overlap
     var r = EPart(BIG, 0xffffffffu, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
     if (run) {
         var g = l;
-        while (g + 1792u < prm.groups_e) {
+        while (g + 768u < prm.groups_e) {
             let p0 = epart_at(g);
             let p1 = epart_at(g + 256u);
             let p2 = epart_at(g + 512u);
             let p3 = epart_at(g + 768u);
-            let p4 = epart_at(g + 1024u);
-            let p5 = epart_at(g + 1280u);
-            let p6 = epart_at(g + 1536u);
-            let p7 = epart_at(g + 1792u);
             r = epart_add(epart_add(epart_add(epart_add(r, p0), p1), p2), p3);
-            r = epart_add(epart_add(epart_add(epart_add(r, p4), p5), p6), p7);
-            g = g + 2048u;
+            g = g + 1024u;
         }
         while (g < prm.groups_e) {
             r = epart_add(r, epart_at(g));
@@ -2447,20 +2438,19 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
         workgroupBarrier();
     }
     if (keep) {
-        // value k of group g at k groups_n + g (as epart)
         let t = n_s6[0];
-        let gn = prm.groups_n;
-        npart[g] = t[0];
-        npart[gn + g] = t[1];
-        npart[2u * gn + g] = t[2];
-        npart[3u * gn + g] = t[3];
-        npart[4u * gn + g] = t[4];
-        npart[5u * gn + g] = t[5];
+        let o = prm.n_part * g;
+        npart[o] = t[0];
+        npart[o + 1u] = t[1];
+        npart[o + 2u] = t[2];
+        npart[o + 3u] = t[3];
+        npart[o + 4u] = t[4];
+        npart[o + 5u] = t[5];
     }
     for (var k = 0u; k < 4u * prm.n_walls; k = k + 1u) {
         let s = group_sum(l, wacc[k]);
         if (keep) {
-            npart[(6u + k) * prm.groups_n + g] = s;
+            npart[prm.n_part * g + 6u + k] = s;
         }
     }
 }
@@ -2484,32 +2474,27 @@ fn group_sum(l: u32, val: f64) -> f64 {
 // ---------------------------------------------------------------- finish: the ledger
 
 // Thread l's sums of the six ledger values over the node groups' partials l, l + 256, ...,
-// added in that order; the partials are read eight groups ahead so that their loads overlap.
+// added in that order; the partials are read four groups ahead so that their loads overlap.
 fn ledger_sums(l: u32) -> array<f64, 6> {
     var a = array<f64, 6>(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+    let np = prm.n_part;
     var g = l;
-    while (g + 1792u < prm.groups_n) {
-        let p0 = part6(g);
-        let p1 = part6(g + 256u);
-        let p2 = part6(g + 512u);
-        let p3 = part6(g + 768u);
-        let p4 = part6(g + 1024u);
-        let p5 = part6(g + 1280u);
-        let p6 = part6(g + 1536u);
-        let p7 = part6(g + 1792u);
+    while (g + 768u < prm.groups_n) {
+        let p0 = part6(np * g);
+        let p1 = part6(np * (g + 256u));
+        let p2 = part6(np * (g + 512u));
+        let p3 = part6(np * (g + 768u));
         a = add6(add6(add6(add6(a, p0), p1), p2), p3);
-        a = add6(add6(add6(add6(a, p4), p5), p6), p7);
-        g = g + 2048u;
+        g = g + 1024u;
     }
     while (g < prm.groups_n) {
-        a = add6(a, part6(g));
+        a = add6(a, part6(np * g));
         g = g + 256u;
     }
     return a;
 }
-fn part6(g: u32) -> array<f64, 6> {
-    let gn = prm.groups_n;
-    return array<f64, 6>(npart[g], npart[gn + g], npart[2u * gn + g], npart[3u * gn + g], npart[4u * gn + g], npart[5u * gn + g]);
+fn part6(o: u32) -> array<f64, 6> {
+    return array<f64, 6>(npart[o], npart[o + 1u], npart[o + 2u], npart[o + 3u], npart[o + 4u], npart[o + 5u]);
 }
 fn add6(a: array<f64, 6>, b: array<f64, 6>) -> array<f64, 6> {
     return array<f64, 6>(a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5]);
@@ -2534,7 +2519,7 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
             acc = six[k];
         } else if (run) {
             for (var g = l; g < prm.groups_n; g = g + 256u) {
-                acc = acc + npart[k * prm.groups_n + g];
+                acc = acc + npart[prm.n_part * g + k];
             }
         }
         f_s[l] = acc;

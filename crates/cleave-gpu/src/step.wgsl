@@ -9,18 +9,23 @@
 // element/sri.rs, element/nodal_pressure.rs, material/, rigid.rs, solver.rs), operation for
 // operation; the Rust doc comments there carry the formulas and their sources.
 //
-// One step is six dispatches, seven with rigid bodies (four more with ELFORM 13: np_theta and
+// One step is five dispatches, six with rigid bodies (four more with ELFORM 13: np_theta and
 // np_node_theta before the elements, np_node_p and np_correct after), each a no-op once `halt`
 // is set:
-//   positions (per node)  x^n = x^(n-1) + dt v^(n-1/2), if a step is pending
-//   commit (1 thread)     t, dt_prev, step; the rigid bodies' placement; body acceleration at
-//                         t^n and t^(n-1)
+//   positions (per node)  x^n = x^(n-1) + dt v^(n-1/2), from the second step on
 //   elements (per elem)   stress update, corner forces, element time step; group partials
 //   control (1 group)     smallest time step and energy sums (fixed tree); dt^(n+1/2)
 //   rigid (1 group/body)  force and moment of each rigid body (fixed tree), its 6-dof update
 //   nodes (per node)      force gather in a fixed order, v^(n+1/2), rigid bodies' nodes
 //                         placed, constraints and rigid walls; partials
-//   finish (1 group)      kinetic energy, external work; halts at output times and errors
+//   finish (1 group)      kinetic energy, external work; halts at output times and errors;
+//                         else ends the step (advance: t, dt_prev, step, the rigid bodies'
+//                         placements, body accelerations at t^(n+1) and t^n)
+// and each batch of steps starts with
+//   commit (1 thread)     the end of a step that halted (COMMIT_DUE), so that the host read
+//                         the state at t^n; the body accelerations at the start of a run
+// (A batch that runs through leaves the control block one step on: t^(n+1), the progress bar's
+// time; a halt leaves it at t^n.)
 // Every sum is taken in a fixed order (no float atomics): the same bits on every run.
 //
 // The host puts the model's features before this text as constants (layout.rs

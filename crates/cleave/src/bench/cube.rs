@@ -66,13 +66,16 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
                 "  GPU passes ({PROFILED_STEPS} steps, device timestamps): {}",
                 parts.join(", ")
             ));
+            // the profiled steps ran through (none halted): the last of them ended, its time
+            // advanced to that of the first timed step, which the count below must include
+            step0 = solver.state.step - 1;
         } else {
             gpu_lines.push(
                 "  GPU passes: not timed (no timestamp queries on the device, or the run ended within the profiled steps)"
                     .into(),
             );
+            step0 = solver.state.step;
         }
-        step0 = solver.state.step;
         super::run_quiet_gpu(&mut g, &mut solver)?
     } else {
         super::run_quiet(&pool, &mut solver)?

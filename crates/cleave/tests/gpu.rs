@@ -106,6 +106,44 @@ fn gpu_refuses_what_it_lacks_by_name() {
     assert!(!d.join("gpu").exists(), "no output is started");
 }
 
+/// The benchmarks that need separation or contact are refused with `--gpu` by the feature the
+/// GPU lacks (exit 2, nothing run), never run on the CPU instead.
+#[test]
+fn gpu_benchmarks_that_need_what_it_lacks_are_refused() {
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["bench", "ball", "--gpu", "--elements", "256"],
+            "--gpu does not run element separation",
+        ),
+        (
+            &[
+                "bench",
+                "ball",
+                "--gpu",
+                "--elements",
+                "256",
+                "--no-separation",
+            ],
+            "--gpu does not run contact (*CONTACT_...)",
+        ),
+        (
+            &["bench", "paper-tables", "--gpu"],
+            "`cleave bench paper-tables` runs element separation and contact",
+        ),
+        (
+            &["bench", "fragmentation", "--gpu"],
+            "`cleave bench fragmentation` runs element separation and contact",
+        ),
+    ];
+    for (args, says) in cases {
+        let out = cleave(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?}: nothing measured");
+    }
+}
+
 #[test]
 fn gpu_numerical_failure_names_what_the_cpu_names() {
     let d = tmp("gpu-unstable");

@@ -133,6 +133,19 @@ impl BallRun {
 
 pub fn bench_ball(a: &BenchArgs) -> Result<(), Failure> {
     let end = a.end_time.unwrap_or(WINDOW);
+    if a.gpu {
+        // refused by the feature the GPU lacks, as `cleave run --gpu` refuses the deck (the
+        // ball always has contact), never run on the CPU instead
+        let mut model = ball_impact(a.elements.unwrap_or(2800), end).map_err(Failure::Input)?;
+        if a.no_separation {
+            model.separations.clear();
+        }
+        let prepared = crate::run::prepare(model);
+        let (solver, _) = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
+        let what = cleave_gpu::support::unsupported(&prepared.model, &solver.setup)
+            .unwrap_or_else(|| "the ball benchmark".into());
+        return Err(cleave_gpu::GpuError::Unsupported(what).into());
+    }
     let r = run_ball(a.elements.unwrap_or(2800), end, !a.no_separation, a.threads)?;
     if a.json {
         println!("{}", r.to_json());

@@ -1565,10 +1565,8 @@ struct HexKin {
 }
 
 fn hex_kinematics(e: u32, m: Mat, dt_prev: f64) -> HexKin {
-    var out = HexKin(false, Stress(false, Point(S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf), 0.0lf,
-                         S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf)), 0.0lf, 0.0lf, 0.0lf),
-                     Rates(0.0lf, Q4(vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf))),
-                     0.0lf, 0.0lf, 0.0lf);
+    // (a var starts at zero: not ok)
+    var out: HexKin;
     let c = 8u * e;
     let n = array<u32, 8>(conn[c], conn[c + 1u], conn[c + 2u], conn[c + 3u], conn[c + 4u],
                           conn[c + 5u], conn[c + 6u], conn[c + 7u]);
@@ -1590,7 +1588,7 @@ fn hex_kinematics(e: u32, m: Mat, dt_prev: f64) -> HexKin {
 
     // 6a: the hourglass rates qd_al = sum_a v_a gamma_al,a (and sum_a |b_a|^2 for the
     // stiffness form), before the stress update so that x and v die here
-    var r = Rates(0.0lf, Q4(vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf)));
+    var r: Rates;
     r = hex_rate(r, 0u, v[0], jinv, gx);
     r = hex_rate(r, 1u, v[1], jinv, gx);
     r = hex_rate(r, 2u, v[2], jinv, gx);

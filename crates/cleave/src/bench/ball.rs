@@ -6,6 +6,7 @@
 //! issue's target: contact at most 30% of the step).
 
 use cleave_core::contact::ContactStats;
+use cleave_core::model::Model;
 use cleave_io::output::peak_rss_mb;
 
 use crate::cli::BenchArgs;
@@ -37,6 +38,16 @@ pub struct BallRun {
     pub steal: Option<f64>,
 }
 
+/// The ball-impact model with `elements` elements to `end_time`, its separation card kept or
+/// dropped.
+fn ball_model(elements: usize, end_time: f64, separation: bool) -> Result<Model, Failure> {
+    let mut model = ball_impact(elements, end_time).map_err(Failure::Input)?;
+    if !separation {
+        model.separations.clear();
+    }
+    Ok(model)
+}
+
 /// Run the ball model with `elements` elements for `end_time`.
 pub fn run_ball(
     elements: usize,
@@ -44,10 +55,7 @@ pub fn run_ball(
     separation: bool,
     threads: usize,
 ) -> Result<BallRun, Failure> {
-    let mut model = ball_impact(elements, end_time).map_err(Failure::Input)?;
-    if !separation {
-        model.separations.clear();
-    }
+    let model = ball_model(elements, end_time, separation)?;
     let nodes = model.num_nodes();
     let pool = crate::run::thread_pool(Some(threads))?;
     let prepared = crate::run::prepare(model);
@@ -136,10 +144,7 @@ pub fn bench_ball(a: &BenchArgs) -> Result<(), Failure> {
     if a.gpu {
         // refused by the feature the GPU lacks, as `cleave run --gpu` refuses the deck (the
         // ball always has contact), never run on the CPU instead
-        let mut model = ball_impact(a.elements.unwrap_or(2800), end).map_err(Failure::Input)?;
-        if a.no_separation {
-            model.separations.clear();
-        }
+        let model = ball_model(a.elements.unwrap_or(2800), end, !a.no_separation)?;
         let prepared = crate::run::prepare(model);
         let (solver, _) = crate::run::start_solver(&prepared.model, prepared.interfaces)?;
         let what = cleave_gpu::support::unsupported(&prepared.model, &solver.setup)

@@ -964,6 +964,37 @@ impl<'m> Solver<'m> {
         {
             return;
         }
+        self.grow_split_sets();
+        self.sum_split_sets();
+    }
+
+    /// Release the interfaces another backend (the GPU) found failed in the step at t^n:
+    /// (failure index, interface) of each intact interface whose index reached 1, as
+    /// [`Self::check_interfaces`] would (at most one per element, [`Separation::release_found`]).
+    /// The state (positions, stresses) must be this step's. The split sets get their masses and
+    /// their new slots (at their set's position and velocity); their forces are not summed
+    /// again (the backend gathers its own). Returns how many were released.
+    pub fn release_interfaces(&mut self, found: &[(f32, u32)]) -> Result<usize, String> {
+        let Some(sep) = &mut self.separation else {
+            return Err("the model has no element separation".into());
+        };
+        let s = &self.state;
+        let n = sep
+            .release_found(found, (&s.x, self.per_slot), &s.stress)?
+            .len();
+        if n > 0 {
+            self.grow_split_sets();
+        }
+        Ok(n)
+    }
+
+    /// After sets split: their masses, and an entry for each new slot (the force, and when
+    /// positions are kept per slot, its position and velocities, those of the set it split
+    /// from).
+    fn grow_split_sets(&mut self) {
+        let Some(sep) = &self.separation else {
+            return;
+        };
         let sets = sep.sets();
         sets.reweigh_changed(&self.setup.mass, &mut self.set_mass);
         self.f.resize(sets.num_slots(), [0.0; 3]);
@@ -979,7 +1010,6 @@ impl<'m> Solver<'m> {
             }
             self.wall_seen.resize(sets.num_slots(), false);
         }
-        self.sum_split_sets();
     }
 
     /// The element pass summed the forces of each set as it was before this step's failures:
@@ -1514,16 +1544,24 @@ impl<'m> Solver<'m> {
     }
 
     /// Replace the positions x^n and the velocities v^(n+1/2) and v^n of every node (one entry
-    /// per node: a model without separation), and say whether the state is the last: for a
-    /// backend that steps elsewhere (the GPU) and shows its state through this solver.
+    /// per node; with separation one per slot of the coincident sets, [`Self::slot_masses`]),
+    /// and say whether the state is the last: for a backend that steps elsewhere (the GPU) and
+    /// shows its state through this solver.
     pub fn set_kinematics(&mut self, x: Vec<Vec3>, v: Vec<Vec3>, v_n: Vec<Vec3>) {
         assert!(
-            self.separation.is_none() && x.len() == self.model.num_nodes(),
-            "set_kinematics takes one entry per node of a model without separation"
+            x.len() == self.state.x.len() && (self.separation.is_none() || self.per_slot),
+            "set_kinematics takes one entry per node, or per slot of the coincident sets"
         );
         self.state.x = x;
         self.state.v = v;
         self.state.v_n = v_n;
+    }
+
+    /// With separation and the positions kept per slot of the coincident sets (no rigid body's
+    /// node in a set), the mass that moves with each slot: its set's `sum m`, a lone node's
+    /// own; `None` otherwise.
+    pub fn slot_masses(&self) -> Option<&[f64]> {
+        (self.separation.is_some() && self.per_slot).then_some(&self.set_mass[..])
     }
 
     /// Mark the state as the last (or not): see [`Self::set_kinematics`].

@@ -16,6 +16,9 @@
 //!   that share a material but not their hourglass control get slots of their own;
 //! - `nptr`/`ninc`: for each node, its element corners `8 e + a` in element order (the order
 //!   its forces are summed in, so the sum is the same bits every run);
+//!
+//!   with element separation every array indexed by node is indexed by the coincident sets'
+//!   slots instead ([`Slots`]);
 //! - `nflag`: the SPC bits of each node (1 x, 2 y, 4 z), and 8 << w for each rigid wall w
 //!   that stops it;
 //! - `rbi`: for each node, its entry in the rigid bodies' node list (`u32::MAX`: none), then
@@ -92,33 +95,60 @@ pub const RB_PAR: usize = 23;
 /// the work of the body's constraints now and later (2), the previous placement (3 + 9).
 pub const RB_STATE: usize = 48;
 
+/// A split model's coincident sets as the GPU steps them (element separation): the GPU's
+/// "nodes" are the sets' slots (`cleave_core::separation::coincident::CoincidentSets::slots`),
+/// each a set that moves as one or a node in none, with the set's mass. Every array of the
+/// layout indexed by node is indexed by slot: the connectivity names slots, a slot gathers
+/// the corners of all its members' elements (in element order), and takes their SPC, walls,
+/// loads and prescribed motions (members in node order). The arrays keep the size of one slot
+/// per node, the most there can be, so a split only rewrites them.
+#[derive(Clone, Copy)]
+pub struct Slots<'a> {
+    /// Per node, its slot.
+    pub of: &'a [u32],
+    /// Per element, whether it steps with the free-element speed (an interface failure has
+    /// touched its nodes' sets: `Separation::loose_elements`).
+    pub loose: &'a [bool],
+}
+
 impl Layout {
     /// The arrays of a model that [`crate::support::unsupported`] accepts (hexahedra of
-    /// deformable materials, nodal constraints).
-    pub fn new(model: &Model, setup: &Setup, ties: &[Tie]) -> Self {
+    /// deformable materials, nodal constraints); with `slots`, of a split model stepped by its
+    /// coincident sets ([`Slots`]).
+    pub fn new(model: &Model, setup: &Setup, ties: &[Tie], slots: Option<Slots>) -> Self {
         let nn = model.num_nodes();
+        // where node n's values live: its slot (itself without separation)
+        let at = |n: u32| slots.map_or(n, |s| s.of[n as usize]);
+        let loose = |e: usize| slots.is_some_and(|s| s.loose[e]);
         let mut par = Vec::new();
         // the material slots: each element's material (again with the free-element step for
         // the lone elements) with its part's controls, in the order the elements first use them
         let controls = kernel_controls(model);
-        let mut slots: Vec<(u32, usize)> = Vec::new();
+        let mut mat_slots: Vec<(u32, usize)> = Vec::new();
+        let mut slot_of = |key: (u32, usize)| match mat_slots.iter().position(|k| *k == key) {
+            Some(k) => k,
+            None => {
+                mat_slots.push(key);
+                mat_slots.len() - 1
+            }
+        };
         let mut emat = Vec::with_capacity(model.num_elements());
+        let n_params = setup.params.len() as u32;
         for (e, (&m, &lone)) in setup.elem_mat.iter().zip(&setup.lone).enumerate() {
-            let base = m + if lone { setup.params.len() as u32 } else { 0 };
             let part = model.elem_part[e] as usize;
             // parts with equal controls share a slot
             let class = controls
                 .iter()
                 .position(|c| *c == controls[part])
                 .unwrap_or(part);
-            let key = (base, class);
-            let slot = match slots.iter().position(|k| *k == key) {
-                Some(k) => k,
-                None => {
-                    slots.push(key);
-                    slots.len() - 1
-                }
-            };
+            if slots.is_some() {
+                // both of a split model's slots from the start (in the same order whichever
+                // elements are loose), so a split changes no offset in `par`
+                slot_of((m, class));
+                slot_of((m + n_params, class));
+            }
+            let base = m + if lone || loose(e) { n_params } else { 0 };
+            let slot = slot_of((base, class));
             // a tetrahedron runs the constant-strain kernel: the slot's top bit; an element of
             // a rigid part none
             let tet = setup.elem_shape[e] == Shape::Tet;
@@ -136,9 +166,9 @@ impl Layout {
         }
         let all: Vec<_> = setup.params.iter().chain(&setup.loose_params).collect();
         // the laws' parameter blocks, after the slots
-        let ext_base = slots.len() * MAT_STRIDE;
+        let ext_base = mat_slots.len() * MAT_STRIDE;
         let mut ext: Vec<f64> = Vec::new();
-        for &(base, class) in &slots {
+        for &(base, class) in &mat_slots {
             let mut m = [0.0; MAT_STRIDE];
             if let Some(p) = all[base as usize] {
                 m[..5].copy_from_slice(&[p.density, p.lambda, p.shear, p.wave_speed, p.step_speed]);
@@ -195,16 +225,16 @@ impl Layout {
         for l in &model.node_loads {
             let mut a = [0.0; NODE_STRIDE];
             a[..4].copy_from_slice(&[1.0, l.axis as f64, l.sf, curve_off[l.curve]]);
-            actions.push((l.node, a));
+            actions.push((at(l.node), a));
         }
         for l in &model.pressure_loads {
             let pts = if l.nodes[3] == l.nodes[2] { 3 } else { 4 };
             let mut a = [2.0, l.sf, curve_off[l.curve], l.at, 0.0, 0.0, 0.0, 0.0];
             for (k, &n) in l.nodes.iter().enumerate() {
-                a[4 + k] = n as f64;
+                a[4 + k] = at(n) as f64;
             }
             for &n in &l.nodes[..pts] {
-                actions.push((n, a));
+                actions.push((at(n), a));
             }
         }
         // tied slave nodes' forces go to their face's nodes, in the ties' order
@@ -234,7 +264,7 @@ impl Layout {
                     0.0,
                     0.0,
                 ];
-                actions.push((n, a));
+                actions.push((at(n), a));
             }
         }
         actions.sort_by_key(|&(n, _)| n);
@@ -308,28 +338,27 @@ impl Layout {
         let mut nflag = vec![0u32; nn];
         for (w, nodes) in setup.wall_nodes.iter().enumerate() {
             for &n in nodes {
-                nflag[n as usize] |= 8 << w;
+                nflag[at(n) as usize] |= 8 << w;
             }
         }
         for &(n, d) in &setup.spc {
             for (a, &fixed) in d.iter().enumerate() {
                 if fixed {
-                    nflag[n as usize] |= 1 << a;
+                    nflag[at(n) as usize] |= 1 << a;
                 }
             }
         }
+        let conn: Vec<u32> = model.conn.iter().flatten().map(|&n| at(n)).collect();
         let mut nptr = vec![0u32; nn + 1];
-        for c in &model.conn {
-            for &n in c {
-                nptr[n as usize + 1] += 1;
-            }
+        for &n in &conn {
+            nptr[n as usize + 1] += 1;
         }
         for i in 0..nn {
             nptr[i + 1] += nptr[i];
         }
         let mut fill = nptr.clone();
         let mut ninc = vec![0u32; 8 * model.num_elements()];
-        for (e, c) in model.conn.iter().enumerate() {
+        for (e, c) in conn.chunks_exact(8).enumerate() {
             for (a, &n) in c.iter().enumerate() {
                 let k = &mut fill[n as usize];
                 ninc[*k as usize] = 8 * e as u32 + a as u32;
@@ -342,7 +371,7 @@ impl Layout {
             n_body: model.body_loads.len() as u32,
             mot_off,
             wall_off,
-            conn: model.conn.iter().flatten().copied().collect(),
+            conn,
             emat,
             nptr,
             ninc,
@@ -483,7 +512,7 @@ mod tests {
         };
         let model = box_model([3, 2, 2], [0.3, 0.2, 0.2], steel, 1.0);
         let setup = Setup::new(&model).unwrap();
-        let l = Layout::new(&model, &setup, &[]);
+        let l = Layout::new(&model, &setup, &[], None);
         let nn = model.num_nodes();
         assert_eq!(l.nptr[nn] as usize, 8 * model.num_elements());
         let mut seen = vec![false; 8 * model.num_elements()];

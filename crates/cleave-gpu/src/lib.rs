@@ -3,7 +3,7 @@
 //! and on Mesa's software Vulkan (lavapipe) on any CPU.
 //!
 //! The state lives on the GPU: the element pass, the time step (reduced on the GPU and used
-//! there), the nodal update and the energy ledger run as six dispatches a step
+//! there), the nodal update and the energy ledger run as five to eight dispatches a step
 //! (`step.wgsl`), and the host records many steps into one submission. It reads back a few
 //! control words per submission (time, step, whether a halt was asked for) and the state only
 //! when the output asks for it ([`cleave_core::solver::Observer::next_due`]) or a step fails.
@@ -12,12 +12,15 @@
 //! bits every time on the same device.
 //!
 //! What runs on the GPU today is the first stage of the backend (the CPU step's parts, one by
-//! one): [`support::unsupported`] names what a deck asks that is not there yet, and
+//! one) and element separation without cohesive laws (`separation.rs`: the sets split on the
+//! host in the step their interface fails); [`support::unsupported`] names what a deck asks that
+//! is not there yet, and
 //! `cleave run --gpu` refuses such a deck with that name (exit 2), never a silent fallback to
 //! the CPU.
 
 pub mod device;
 pub mod layout;
+mod separation;
 pub mod stepper;
 pub mod support;
 

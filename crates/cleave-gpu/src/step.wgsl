@@ -9,12 +9,15 @@
 // element/sri.rs, element/nodal_pressure.rs, material/, rigid.rs, solver.rs), operation for
 // operation; the Rust doc comments there carry the formulas and their sources.
 //
-// One step is five dispatches, six with rigid bodies (four more with ELFORM 13: np_theta and
-// np_node_theta before the elements, np_node_p and np_correct after), each a no-op once `halt`
-// is set:
+// One step is five dispatches, six with rigid bodies, two more with separation (four more
+// with ELFORM 13: np_theta and np_node_theta before the elements, np_node_p and np_correct
+// after), each a no-op once `halt` is set:
 //   positions (per node)  x^n = x^(n-1) + dt v^(n-1/2), from the second step on
 //   elements (per elem)   stress update, corner forces, element time step; group partials
 //   control (1 group)     smallest time step and energy sums (fixed tree); dt^(n+1/2)
+//   interfaces (per interface, with separation)  the failure check; interfaces_done
+//                         (1 thread) halts the step if one failed (HALT 4: the host splits
+//                         the sets and runs the rest of the step)
 //   rigid (1 group/body)  force and moment of each rigid body (fixed tree), its 6-dof update
 //   nodes (per node)      force gather in a fixed order, v^(n+1/2), rigid bodies' nodes
 //                         placed, constraints and rigid walls; partials
@@ -26,7 +29,9 @@
 //                         the state at t^n; the body accelerations at the start of a run
 // (A batch that runs through leaves the control block one step on: t^(n+1), the progress bar's
 // time; a halt leaves it at t^n.)
-// Every sum is taken in a fixed order (no float atomics): the same bits on every run.
+// Every sum is taken in a fixed order (no float atomics): the same bits on every run. The
+// per-node passes (positions, nodes) run over the entries in use, `cf[SLOTS]`: every node, or
+// with separation the coincident sets' slots (separation.rs; an indirect dispatch).
 //
 // The host puts the model's features before this text as constants (layout.rs
 // shader_constants: HAS_RIGID, HAS_TET, HAS_SRI, HAS_EROSION, LAWS); the paths a model does not
@@ -53,7 +58,12 @@ struct Params {
     // tied contact: the ties and their offset in par (slave, 4 face nodes, 4 weights)
     n_ties: u32,
     tie_off: u32,
-    pad3: u32,
+    // element separation: the interfaces (0 without), and where the failure indices start in
+    // `ifs` (after the strengths and each group's MODEL and BETA)
+    n_if: u32,
+    if_index: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 @group(0) @binding(0) var<storage, read_write> cf: array<f64>;
@@ -85,6 +95,9 @@ struct Params {
 @group(0) @binding(26) var<storage, read_write> ero: array<f64>;
 @group(0) @binding(27) var<storage, read> eref: array<f64>;
 @group(0) @binding(28) var<uniform> prm: Params;
+@group(0) @binding(29) var<storage, read> ifu: array<u32>;
+@group(0) @binding(30) var<storage, read_write> ifs: array<f64>;
+@group(0) @binding(31) var<storage, read_write> ifl: array<atomic<u32>>;
 
 // cf: control floats (host side: gpu::control)
 const T: u32 = 0u;
@@ -105,6 +118,7 @@ const TSSFAC: u32 = 18u;
 const DT_INIT: u32 = 19u;
 const DT_MIN: u32 = 20u;
 const END_TIME: u32 = 21u;
+const SLOTS: u32 = 25u;   // node entries in use: every node, or the coincident sets' slots
 const DT_MID: u32 = 26u;
 const W_HALF: u32 = 27u;
 const DT_CRIT: u32 = 28u;
@@ -121,7 +135,7 @@ const PENDING: u32 = 23u;
 const COMMIT_DUE: u32 = 24u;
 const WALL_FORCE: u32 = 32u; // 4 per wall: normal force, force x y z
 // cu: control integers
-const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error
+const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error, 4 interfaces failed
 const ERROR: u32 = 1u;     // 1 inverted element, 2 time step below the floor, 3 bad time step, 4 non-finite
 const INVERTED: u32 = 2u;  // lowest inverted element (atomic min)
 const NONFINITE: u32 = 3u; // lowest node with a non-finite velocity (atomic min)
@@ -1976,7 +1990,7 @@ fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
 fn positions(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
              @builtin(num_workgroups) nw: vec3<u32>) {
     let n = 64u * (wid.y * nw.x + wid.x) + lid.x;
-    if (n >= prm.nn || halted() || cf[PENDING] == 0.0lf) {
+    if (f64(n) >= cf[SLOTS] || halted() || cf[PENDING] == 0.0lf) {
         return;
     }
     let dt = cf[DT];
@@ -2170,6 +2184,107 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     cf[W_HALF] = w;
 }
 
+// ---------------------------------------------------------------- interfaces: separation
+
+// Element separation (cleave-core separation/interfaces.rs check_failure, criteria/): every
+// intact interface checked on the stresses at t^n. The GPU's nodes are the coincident sets'
+// slots (layout.rs Slots); the host keeps the sets and splits them. Per interface, in `ifu`
+// (IF_STRIDE values): its two elements, its group, 1 while intact, and the slots of its 8
+// nodes (side a's 4, then side b's, a triangle's fourth the third); in `ifs`: its strength,
+// then (from n_if) each group's MODEL and BETA, then (from if_index) the failure index of each
+// interface that reached 1 in this step. `ifl`: the number of those, then their numbers.
+const IF_STRIDE: u32 = 12u;
+
+// The interfaces pass: an interface whose failure index reached 1 is listed (the order of
+// the list does not matter: the host sorts it); the halt comes in the next pass, so that every
+// interface of this step is checked whichever thread finds one first.
+@compute @workgroup_size(64)
+fn interfaces(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+              @builtin(num_workgroups) nw: vec3<u32>) {
+    let i = 64u * (wid.y * nw.x + wid.x) + lid.x;
+    if (i >= prm.n_if || halted()) {
+        return;
+    }
+    let o = IF_STRIDE * i;
+    if (ifu[o + 3u] == 0u) {
+        return;
+    }
+    let ea = ifu[o];
+    let eb = ifu[o + 1u];
+    let g = ifu[o + 2u];
+    let model = ifs[prm.n_if + 2u * g];
+    let beta = ifs[prm.n_if + 2u * g + 1u];
+    let strength = ifs[i];
+    var sa: S6;
+    var sb: S6;
+    for (var k = 0u; k < 6u; k = k + 1u) {
+        sa[k] = sig[6u * ea + k];
+        sb[k] = sig[6u * eb + k];
+    }
+    // the cheap bound first (criteria/mod.rs traction_bound, bound_factor)
+    var factor = 1.0lf;
+    if (model > 1.5lf) {
+        factor = max(1.0lf, 1.0lf / beta);
+    }
+    if (factor * 0.5lf * (row_bound(sa) + row_bound(sb)) < strength) {
+        return;
+    }
+    // the current normal of the mid-surface of the two faces (interfaces.rs face_normal)
+    var p: array<vec3<f64>, 4>;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        p[k] = (ld(0u, ifu[o + 4u + k]) + ld(0u, ifu[o + 8u + k])) * 0.5lf;
+    }
+    let c = cross(p[2] - p[0], p[3] - p[1]);
+    let n2 = sqrt(dot(c, c));
+    var n = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    if (n2 != 0.0lf) {
+        n = vec3<f64>(c[0] / n2, c[1] / n2, c[2] / n2);
+    }
+    // the traction of the mean stress, its normal part and the magnitude of its shear part
+    var m: S6;
+    for (var k = 0u; k < 6u; k = k + 1u) {
+        m[k] = 0.5lf * (sa[k] + sb[k]);
+    }
+    let t = vec3<f64>(m[0] * n[0] + m[3] * n[1] + m[5] * n[2],
+                      m[3] * n[0] + m[1] * n[1] + m[4] * n[2],
+                      m[5] * n[0] + m[4] * n[1] + m[2] * n[2]);
+    let sn = dot(t, n);
+    let ts = t - n * sn;
+    let tau = sqrt(dot(ts, ts));
+    // MODEL 1: n.s.n; MODELs 2-4: sqrt(<sn>^2 + (tau / BETA)^2) (Camacho and Ortiz)
+    var measure = sn;
+    if (model > 1.5lf) {
+        let pos = max(sn, 0.0lf);
+        let sh = tau / beta;
+        measure = sqrt(pos * pos + sh * sh);
+    }
+    let index = measure / strength;
+    if (index >= 1.0lf) {
+        ifs[prm.if_index + i] = index;
+        let k = atomicAdd(&ifl[0], 1u);
+        atomicStore(&ifl[1u + k], i);
+    }
+}
+
+// The largest absolute row sum of a symmetric stress (Gershgorin: at least |s n| for any unit n).
+fn row_bound(s: S6) -> f64 {
+    let xy = abs(s[3]);
+    let yz = abs(s[4]);
+    let zx = abs(s[5]);
+    return max(max(abs(s[0]) + xy + zx, abs(s[1]) + xy + yz), abs(s[2]) + yz + zx);
+}
+
+// After the interfaces: a step in which some failed halts here (HALT 4), before the nodes; the
+// host releases them, splits the sets and runs the rest of the step.
+@compute @workgroup_size(1)
+fn interfaces_done() {
+    if (halted() || atomicLoad(&ifl[0]) == 0u) {
+        return;
+    }
+    atomicStore(&cu[HALT], 4u);
+    cf[HALTED] = 1.0lf;
+}
+
 // ---------------------------------------------------------------- the nodes
 
 const MAX_PART: u32 = 38u; // 6 + 4 x 8 rigid walls
@@ -2298,7 +2413,7 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
     // indexes at run time)
     var acc = array<f64, 6>(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
     var wacc: array<f64, 32>;
-    if (run && n < prm.nn) {
+    if (run && f64(n) < cf[SLOTS]) {
         let m = mass[n];
         let t = cf[T];
         let fl = node_loads(n, t);
@@ -2482,7 +2597,8 @@ fn ledger_sums(l: u32) -> array<f64, 6> {
     var a = array<f64, 6>(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
     let np = prm.n_part;
     var g = l;
-    while (g + 768u < prm.groups_n) {
+    let groups = node_groups();
+    while (g + 768u < groups) {
         let p0 = part6(np * g);
         let p1 = part6(np * (g + 256u));
         let p2 = part6(np * (g + 512u));
@@ -2490,11 +2606,16 @@ fn ledger_sums(l: u32) -> array<f64, 6> {
         a = add6(add6(add6(add6(a, p0), p1), p2), p3);
         g = g + 1024u;
     }
-    while (g < prm.groups_n) {
+    while (g < groups) {
         a = add6(a, part6(np * g));
         g = g + 256u;
     }
     return a;
+}
+// The groups of the nodes pass that hold entries in use (the nodes pass is dispatched with
+// those, stepper.rs Groups::Nodes).
+fn node_groups() -> u32 {
+    return (u32(cf[SLOTS]) + 63u) / 64u;
 }
 fn part6(o: u32) -> array<f64, 6> {
     return array<f64, 6>(npart[o], npart[o + 1u], npart[o + 2u], npart[o + 3u], npart[o + 4u], npart[o + 5u]);
@@ -2521,7 +2642,7 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
         if (k < 6u) {
             acc = six[k];
         } else if (run) {
-            for (var g = l; g < prm.groups_n; g = g + 256u) {
+            for (var g = l; g < node_groups(); g = g + 256u) {
                 acc = acc + npart[prm.n_part * g + k];
             }
         }

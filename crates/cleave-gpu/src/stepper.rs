@@ -19,16 +19,33 @@ use wgpu::util::DeviceExt;
 
 use crate::device::{Gpu, GpuError};
 use crate::layout::{Layout, RB_STATE};
+use crate::separation::{kinematics, SepBuffers};
 
-/// Dispatch `groups` groups of `p` (over a second dimension past the per-dimension limit).
-fn dispatch(pass: &mut wgpu::ComputePass<'_>, p: &wgpu::ComputePipeline, groups: usize) {
-    pass.set_pipeline(p);
+/// The groups of `groups` threads' dispatch: (x, y), a second dimension past the per-dimension
+/// limit.
+pub(crate) fn group_grid(groups: usize) -> [u32; 3] {
     let x = groups.clamp(1, MAX_DIM);
-    pass.dispatch_workgroups(x as u32, groups.div_ceil(MAX_DIM).max(1) as u32, 1);
+    [x as u32, groups.div_ceil(MAX_DIM).max(1) as u32, 1]
+}
+
+/// How many groups a pass runs.
+#[derive(Clone, Copy)]
+enum Groups {
+    Fixed(usize),
+    /// One thread per node entry in use (`cf[SLOTS]`): the groups are read from the
+    /// `node_groups` buffer (an indirect dispatch), which the host rewrites when sets split.
+    Nodes,
+}
+
+/// One pass of the step: its entry point, pipeline and groups.
+struct Pass {
+    name: &'static str,
+    pipeline: wgpu::ComputePipeline,
+    groups: Groups,
 }
 
 /// Control floats (`cf` in step.wgsl).
-mod cf {
+pub(crate) mod cf {
     pub const T: usize = 0;
     pub const DT_PREV: usize = 1;
     pub const DT: usize = 2;
@@ -47,13 +64,14 @@ mod cf {
     pub const HALTED: usize = 22;
     pub const PENDING: usize = 23;
     pub const COMMIT_DUE: usize = 24;
+    pub const SLOTS: usize = 25;
     pub const E_ERODED: usize = 29;
     pub const WALL_FORCE: usize = 32;
     pub const LEN: usize = 64;
 }
 
 /// Control integers (`cu` in step.wgsl).
-mod cu {
+pub(crate) mod cu {
     pub const HALT: usize = 0;
     pub const ERROR: usize = 1;
     pub const INVERTED: usize = 2;
@@ -64,7 +82,7 @@ mod cu {
 
 const CTL_BYTES: u64 = (cf::LEN * 8 + cu::LEN * 4) as u64;
 /// Threads of a group in the per-element and per-node kernels.
-const GROUP: usize = 64;
+pub(crate) const GROUP: usize = 64;
 /// The most groups one dispatch dimension takes (WebGPU's guaranteed limit).
 const MAX_DIM: usize = 65535;
 
@@ -86,14 +104,16 @@ struct Params {
     erosion: u32,
     n_ties: u32,
     tie_off: u32,
-    pad3: u32,
+    n_if: u32,
+    if_index: u32,
+    pad: [u32; 2],
 }
 
 /// The state arrays read back for output, in their binding order.
-struct StateBuffers {
-    x: wgpu::Buffer,
-    v: wgpu::Buffer,
-    vn: wgpu::Buffer,
+pub(crate) struct StateBuffers {
+    pub x: wgpu::Buffer,
+    pub v: wgpu::Buffer,
+    pub vn: wgpu::Buffer,
     sig: wgpu::Buffer,
     hist: wgpu::Buffer,
     hg: wgpu::Buffer,
@@ -104,7 +124,7 @@ struct StateBuffers {
 pub struct GpuStepper {
     gpu: Gpu,
     /// The step's passes in order, each with its entry point and number of groups.
-    pipelines: Vec<(&'static str, wgpu::ComputePipeline, usize)>,
+    pipelines: Vec<Pass>,
     /// The end of a step that halted, and the body loads at the start: first in each batch.
     commit: wgpu::ComputePipeline,
     /// Bytes of the buffers on the device.
@@ -113,9 +133,9 @@ pub struct GpuStepper {
     /// [`Self::save`].
     persistent: Vec<wgpu::Buffer>,
     bind_group: wgpu::BindGroup,
-    cf: wgpu::Buffer,
-    cu: wgpu::Buffer,
-    state: StateBuffers,
+    pub(crate) cf: wgpu::Buffer,
+    pub(crate) cu: wgpu::Buffer,
+    pub(crate) state: StateBuffers,
     ctl_staging: [wgpu::Buffer; 2],
     /// The rigid bodies' states (read back with the rest).
     rb: wgpu::Buffer,
@@ -123,11 +143,31 @@ pub struct GpuStepper {
     ero: Option<wgpu::Buffer>,
     /// Steps recorded in one submission (grown while a batch takes under 20 ms).
     pub batch: usize,
+    /// The model's arrays ([`Layout`]) and the masses: rewritten when coincident sets split.
+    pub(crate) model_bufs: ModelBuffers,
+    /// Element separation: the interfaces (their number is 0 without).
+    pub(crate) sep: SepBuffers,
+    /// The groups of the per-node passes ([`group_grid`] of the entries in use), read by their
+    /// indirect dispatches.
+    pub(crate) node_groups: wgpu::Buffer,
+}
+
+/// The buffers of the model's arrays that a split rewrites ([`Layout`], per slot).
+pub(crate) struct ModelBuffers {
+    pub par: wgpu::Buffer,
+    pub conn: wgpu::Buffer,
+    pub emat: wgpu::Buffer,
+    pub mass: wgpu::Buffer,
+    pub nptr: wgpu::Buffer,
+    pub ninc: wgpu::Buffer,
+    pub nflag: wgpu::Buffer,
+    pub mptr: wgpu::Buffer,
 }
 
 fn control_block(solver: &Solver) -> [f64; cf::LEN] {
     let c = &solver.model.control;
     let mut f = [0.0; cf::LEN];
+    f[cf::SLOTS] = crate::separation::entries(solver);
     f[cf::TSSFAC] = c.tssfac;
     f[cf::DT_INIT] = c.dt_init;
     f[cf::DT_MIN] = c.dt_min;
@@ -174,10 +214,6 @@ fn reference_jacobians(model: &cleave_core::model::Model) -> Vec<f64> {
     out
 }
 
-fn flat(v: &[Vec3]) -> Vec<f64> {
-    v.iter().flatten().copied().collect()
-}
-
 impl GpuStepper {
     /// Upload `solver`'s model and initial state to `gpu`. Refuses a deck with a feature the
     /// GPU step lacks ([`crate::support::unsupported`]) or an array larger than the device
@@ -205,7 +241,12 @@ impl GpuStepper {
                 limit / per_elem as u64
             )));
         }
-        let lay = Layout::new(model, &solver.setup, solver.ties());
+        let lay = Layout::new(
+            model,
+            &solver.setup,
+            solver.ties(),
+            crate::separation::slots(solver),
+        );
         // the parameters (loads, ties, rigid bodies' nodes) bind as one array too
         let par_bytes = 8 * lay.par.len() as u64;
         if par_bytes > limit {
@@ -254,15 +295,13 @@ impl GpuStepper {
         cu0[cu::INVERTED] = u32::MAX;
         cu0[cu::NONFINITE] = u32::MAX;
         let cu_buf = u32s("control integers", &cu0);
-        let v0: Vec<Vec3> = solver.half_step_velocities().iter().copied().collect();
+        // the state's positions (a tied slave node starts on its face), one entry per node or
+        // per slot of the coincident sets
+        let (x0, v0, mass0) = kinematics(solver);
         let state = StateBuffers {
-            // the state's positions: a tied slave node starts on its face
-            x: f64s(
-                "x",
-                &flat(&solver.positions().iter().copied().collect::<Vec<_>>()),
-            ),
-            v: f64s("v", &flat(&v0)),
-            vn: f64s("v_n", &flat(&v0)),
+            x: f64s("x", &x0),
+            v: f64s("v", &v0),
+            vn: f64s("v_n", &v0),
             sig: zeros("stress", 6 * ne),
             hist: zeros("history", 7 * ne),
             hg: zeros("hourglass forces", 12 * ne),
@@ -271,7 +310,7 @@ impl GpuStepper {
         let par = f64s("parameters", &lay.par);
         let conn = u32s("connectivity", &lay.conn);
         let emat = u32s("element materials", &lay.emat);
-        let mass = f64s("mass", &solver.setup.mass);
+        let mass = f64s("mass", &mass0);
         let fe_lo = zeros("corner forces 1-4", 12 * ne);
         let fe_hi = zeros("corner forces 5-8", 12 * ne);
         let epart = zeros("element partial sums", 6 * groups_e);
@@ -291,6 +330,14 @@ impl GpuStepper {
         let erodes = !model.erosion.is_empty();
         let ero = zeros("erosion", if erodes { 4 * ne } else { 1 });
         let eref = f64s("reference jacobians", &reference_jacobians(model));
+        let (ifu, ifs, n_if, if_index) = crate::separation::interface_table(solver);
+        let sep = SepBuffers {
+            ifu: u32s("interfaces", &ifu),
+            ifs: f64s("interface strengths", &ifs),
+            ifl: u32s("failed interfaces", &vec![0; 1 + n_if as usize]),
+            n_if,
+            if_index,
+        };
         let params = Params {
             ne: ne as u32,
             nn: nn as u32,
@@ -307,7 +354,9 @@ impl GpuStepper {
             erosion: erodes as u32,
             n_ties: lay.n_ties,
             tie_off: lay.tie_off,
-            pad3: 0,
+            n_if,
+            if_index,
+            pad: [0; 2],
         };
         let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),
@@ -344,35 +393,35 @@ impl GpuStepper {
             (&ero, false),
             (&eref, true),
         ];
-        let mut layout_entries: Vec<wgpu::BindGroupLayoutEntry> = (bindings.iter().enumerate())
-            .map(|(i, &(_, read_only))| wgpu::BindGroupLayoutEntry {
-                binding: i as u32,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            })
+        // the storage arrays (the separation's after the uniform parameters, binding 28)
+        let sep_bindings = [(&sep.ifu, true), (&sep.ifs, false), (&sep.ifl, false)];
+        let storage: Vec<(u32, &wgpu::Buffer, bool)> = (bindings.iter().enumerate())
+            .map(|(i, &(b, r))| (i as u32, b, r))
+            .chain((sep_bindings.iter().enumerate()).map(|(k, &(b, r))| (29 + k as u32, b, r)))
             .collect();
-        layout_entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 28,
+        let buffer_entry = |binding: u32, ty| wgpu::BindGroupLayoutEntry {
+            binding,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
+                ty,
                 has_dynamic_offset: false,
                 min_binding_size: None,
             },
             count: None,
-        });
+        };
+        let mut layout_entries: Vec<wgpu::BindGroupLayoutEntry> = (storage.iter())
+            .map(|&(i, _, read_only)| {
+                buffer_entry(i, wgpu::BufferBindingType::Storage { read_only })
+            })
+            .collect();
+        layout_entries.push(buffer_entry(28, wgpu::BufferBindingType::Uniform));
         let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("step"),
             entries: &layout_entries,
         });
-        let mut entries: Vec<wgpu::BindGroupEntry> = (bindings.iter().enumerate())
-            .map(|(i, (b, _))| wgpu::BindGroupEntry {
-                binding: i as u32,
+        let mut entries: Vec<wgpu::BindGroupEntry> = (storage.iter())
+            .map(|&(binding, b, _)| wgpu::BindGroupEntry {
+                binding,
                 resource: b.as_entire_binding(),
             })
             .collect();
@@ -418,6 +467,13 @@ impl GpuStepper {
             passes.extend([("np_node_p", groups_n), ("np_correct", groups_e)]);
         }
         passes.push(("control", 1));
+        if n_if > 0 {
+            // a step in which interfaces fail halts after them, before the nodes
+            passes.extend([
+                ("interfaces", (n_if as usize).div_ceil(GROUP)),
+                ("interfaces_done", 1),
+            ]);
+        }
         if lay.n_rigid > 0 {
             passes.push(("rigid", lay.n_rigid as usize));
         }
@@ -426,11 +482,21 @@ impl GpuStepper {
             passes.push(("tied", (lay.n_ties as usize).div_ceil(GROUP)));
         }
         passes.push(("finish", 1));
-        let pipelines: Vec<(&'static str, wgpu::ComputePipeline, usize)> =
-            passes.iter().map(|&(e, g)| (e, pipeline(e), g)).collect();
+        // the per-node passes of the central-difference update run over the entries in use
+        let pipelines: Vec<Pass> = (passes.iter())
+            .map(|&(name, g)| Pass {
+                name,
+                pipeline: pipeline(name),
+                groups: if matches!(name, "positions" | "nodes") {
+                    Groups::Nodes
+                } else {
+                    Groups::Fixed(g)
+                },
+            })
+            .collect();
         let commit = pipeline("commit");
         let device_bytes =
-            bindings.iter().map(|(b, _)| b.size()).sum::<u64>() + uniform.size() + 2 * CTL_BYTES;
+            storage.iter().map(|(_, b, _)| b.size()).sum::<u64>() + uniform.size() + 2 * CTL_BYTES;
         let staging = || {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("control read-back"),
@@ -440,6 +506,11 @@ impl GpuStepper {
             })
         };
         let ctl_staging = [staging(), staging()];
+        let node_groups = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("node groups"),
+            contents: bytemuck::cast_slice(&crate::separation::node_grid(solver)),
+            usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+        });
         let mut persistent = vec![
             cf_buf.clone(),
             cu_buf.clone(),
@@ -470,6 +541,18 @@ impl GpuStepper {
             ero: erodes.then_some(ero),
             batch: 4,
             gpu,
+            model_bufs: ModelBuffers {
+                par,
+                conn,
+                emat,
+                mass,
+                nptr,
+                ninc,
+                nflag,
+                mptr,
+            },
+            sep,
+            node_groups,
         })
     }
 
@@ -497,15 +580,61 @@ impl GpuStepper {
                 timestamp_writes: None,
             });
             pass.set_bind_group(0, &self.bind_group, &[]);
-            dispatch(&mut pass, &self.commit, 1);
+            pass.set_pipeline(&self.commit);
+            pass.dispatch_workgroups(1, 1, 1);
             for _ in 0..steps {
-                for (_, p, g) in &self.pipelines {
-                    dispatch(&mut pass, p, *g);
+                for p in &self.pipelines {
+                    self.dispatch(&mut pass, p);
                 }
             }
         }
         self.copy_control(&mut enc, staging);
         enc.finish()
+    }
+
+    /// Run the passes of the step in flight that come after `after` (an entry point), and wait
+    /// for them.
+    pub(crate) fn finish_step_after(&self, after: &str) {
+        let Some(k) = self.pipelines.iter().position(|p| p.name == after) else {
+            return;
+        };
+        let mut enc = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("the rest of a step"),
+            });
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            for p in &self.pipelines[k + 1..] {
+                self.dispatch(&mut pass, p);
+            }
+        }
+        self.gpu.queue.submit([enc.finish()]);
+    }
+
+    /// Clear the halt flags, so that the next dispatches run.
+    pub(crate) fn clear_halt(&self) {
+        let q = &self.gpu.queue;
+        q.write_buffer(&self.cu, (cu::HALT * 4) as u64, bytemuck::bytes_of(&0u32));
+        q.write_buffer(
+            &self.cf,
+            (cf::HALTED * 8) as u64,
+            bytemuck::bytes_of(&0.0f64),
+        );
+    }
+
+    /// Dispatch pass `p`.
+    fn dispatch(&self, pass: &mut wgpu::ComputePass<'_>, p: &Pass) {
+        pass.set_pipeline(&p.pipeline);
+        match p.groups {
+            Groups::Fixed(g) => {
+                let [x, y, z] = group_grid(g);
+                pass.dispatch_workgroups(x, y, z);
+            }
+            Groups::Nodes => pass.dispatch_workgroups_indirect(&self.node_groups, 0),
+        }
     }
 
     /// Record the copy of the control block (`cf`, then `cu`) into read-back buffer `staging`.
@@ -520,12 +649,21 @@ impl GpuStepper {
     /// stresses, histories, hourglass forces, bulk viscosity, rigid bodies, Gauss points,
     /// erosion), each as its length (u64, little-endian) and its bytes. Taken at a halt (an
     /// output or restart time), it is what [`Self::load`] takes up to go on bit for bit.
-    pub fn save(&self) -> Vec<u8> {
+    ///
+    /// With element separation one more part follows: the host solver's state
+    /// ([`Solver::save_state`]), which holds the interfaces and the coincident sets as they
+    /// have split (the solver's mirror must be of this halt).
+    pub fn save(&self, solver: &Solver) -> Vec<u8> {
         let mut out = Vec::new();
-        for b in &self.persistent {
-            let bytes = self.download_bytes(b);
+        let mut put = |bytes: &[u8]| {
             out.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
-            out.extend_from_slice(&bytes);
+            out.extend_from_slice(bytes);
+        };
+        for b in &self.persistent {
+            put(&self.download_bytes(b));
+        }
+        if self.sep.n_if > 0 {
+            put(&solver.save_state());
         }
         out
     }
@@ -552,6 +690,19 @@ impl GpuStepper {
             parts.push(data);
             rest = tail;
         }
+        if self.sep.n_if > 0 {
+            // the host's interfaces and sets, then the model's arrays for them
+            let (len, tail) = rest
+                .split_at_checked(8)
+                .ok_or("the GPU state has no separation state")?;
+            let len = u64::from_le_bytes(len.try_into().expect("8 bytes")) as usize;
+            let (data, tail) = tail
+                .split_at_checked(len)
+                .ok_or("the GPU state is cut short")?;
+            solver.restore_state(data)?;
+            self.upload_sets(solver);
+            rest = tail;
+        }
         if !rest.is_empty() {
             return Err("the GPU state holds more arrays than this model".into());
         }
@@ -563,7 +714,8 @@ impl GpuStepper {
         }
         // the deck's controls are this run's (a continued run may be given another end time)
         let deck = control_block(solver);
-        for k in [cf::TSSFAC, cf::DT_INIT, cf::DT_MIN, cf::END_TIME] {
+        // (and the entries in use: a file of an earlier cleave has none)
+        for k in [cf::TSSFAC, cf::DT_INIT, cf::DT_MIN, cf::END_TIME, cf::SLOTS] {
             q.write_buffer(&self.cf, (k * 8) as u64, bytemuck::bytes_of(&deck[k]));
         }
         // it was saved halted: running again from here, the step it halted at to be ended
@@ -579,12 +731,7 @@ impl GpuStepper {
             (cf::COMMIT_DUE * 8) as u64,
             bytemuck::bytes_of(&pending),
         );
-        q.write_buffer(&self.cu, (cu::HALT * 4) as u64, bytemuck::bytes_of(&0u32));
-        q.write_buffer(
-            &self.cf,
-            (cf::HALTED * 8) as u64,
-            bytemuck::bytes_of(&0.0f64),
-        );
+        self.clear_halt();
         let mut enc = self.gpu.device.create_command_encoder(&Default::default());
         self.copy_control(&mut enc, 0);
         q.submit([enc.finish()]);
@@ -644,13 +791,14 @@ impl GpuStepper {
             // the end of the step before, if it halted (not timed: once per batch)
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_bind_group(0, &self.bind_group, &[]);
-            dispatch(&mut pass, &self.commit, 1);
+            pass.set_pipeline(&self.commit);
+            pass.dispatch_workgroups(1, 1, 1);
         }
         for k in 0..steps {
-            for (i, (name, p, g)) in self.pipelines.iter().enumerate() {
+            for (i, p) in self.pipelines.iter().enumerate() {
                 let q = (2 * (k * passes + i)) as u32;
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(name),
+                    label: Some(p.name),
                     timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
                         query_set: &set,
                         beginning_of_pass_write_index: Some(q),
@@ -658,7 +806,7 @@ impl GpuStepper {
                     }),
                 });
                 pass.set_bind_group(0, &self.bind_group, &[]);
-                dispatch(&mut pass, p, *g);
+                self.dispatch(&mut pass, p);
             }
         }
         enc.resolve_query_set(&set, 0..queries as u32, &resolved, 0);
@@ -685,7 +833,7 @@ impl GpuStepper {
         let total: f64 = secs.iter().sum();
         (total > 0.0).then(|| {
             (self.pipelines.iter().zip(secs))
-                .map(|((name, _, _), s)| (*name, s / total))
+                .map(|(p, s)| (p.name, s / total))
                 .collect()
         })
     }
@@ -712,12 +860,12 @@ impl GpuStepper {
     }
 
     /// Read one state array back (`n` f64).
-    fn download(&self, buf: &wgpu::Buffer) -> Vec<f64> {
+    pub(crate) fn download(&self, buf: &wgpu::Buffer) -> Vec<f64> {
         bytemuck::pod_collect_to_vec(&self.download_bytes(buf))
     }
 
     /// Read one buffer back as bytes (NaNs where the device is lost).
-    fn download_bytes(&self, buf: &wgpu::Buffer) -> Vec<u8> {
+    pub(crate) fn download_bytes(&self, buf: &wgpu::Buffer) -> Vec<u8> {
         let size = buf.size();
         let staging = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("state read-back"),
@@ -739,10 +887,11 @@ impl GpuStepper {
     }
 
     /// Fill the host mirror of the state from the GPU.
-    fn mirror(&self, solver: &mut Solver, c: &Control) {
+    pub(crate) fn mirror(&self, solver: &mut Solver, c: &Control) {
         let vec3s =
             |d: Vec<f64>| -> Vec<Vec3> { d.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect() };
-        let nn = solver.model.num_nodes();
+        // one entry per node, or per slot of the coincident sets (as many as there are now)
+        let nn = solver.positions().entries().len();
         let ne = solver.model.num_elements();
         let mut x = vec3s(self.download(&self.state.x));
         let mut v = vec3s(self.download(&self.state.v));
@@ -864,6 +1013,8 @@ impl GpuStepper {
             }
             match c.halt() {
                 3 => return Err(RunError::Solver(c.error(solver))),
+                // interfaces failed: released on the host, the step run to its end
+                4 => self.split(solver, &c)?,
                 h => {
                     self.mirror(solver, &c);
                     solver.set_finished(h == 2);
@@ -878,7 +1029,7 @@ impl GpuStepper {
                     }
                     let t = solver.state.t;
                     if stopping || t >= obs.checkpoint_due() * (1.0 - 1e-12) {
-                        obs.checkpoint(solver, self.save())
+                        obs.checkpoint(solver, self.save(solver))
                             .map_err(RunError::Output)?;
                         if stopping {
                             return Ok(());
@@ -890,12 +1041,7 @@ impl GpuStepper {
                         (cf::T_STOP * 8) as u64,
                         bytemuck::bytes_of(&stop_at(obs)),
                     );
-                    q.write_buffer(&self.cu, (cu::HALT * 4) as u64, bytemuck::bytes_of(&0u32));
-                    q.write_buffer(
-                        &self.cf,
-                        (cf::HALTED * 8) as u64,
-                        bytemuck::bytes_of(&0.0f64),
-                    );
+                    self.clear_halt();
                 }
             }
         }
@@ -942,7 +1088,7 @@ impl Checkpointing for NoCheckpoints<'_> {
 }
 
 /// The control block as read back.
-struct Control {
+pub(crate) struct Control {
     f: Vec<f64>,
     u: Vec<u32>,
 }
@@ -1011,7 +1157,7 @@ impl Control {
                 node: m
                     .node_ids
                     .iter()
-                    .nth(u[cu::NONFINITE] as usize)
+                    .nth(crate::separation::node_of_entry(solver, u[cu::NONFINITE]))
                     .copied()
                     .unwrap_or(0),
                 element: None,

@@ -11,7 +11,9 @@
 //! `*LOAD_BODY`, `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and
 //! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 `*RIGIDWALL_PLANAR`, tied contact
 //! (`*CONTACT_TIED_...`), element erosion
-//! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), the energy ledger, and every output (states and histories are read back at their times).
+//! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), element separation
+//! with MODELs 1 and 2 (not with rigid bodies, erosion or tied contact: `crate::separation`), the
+//! energy ledger, and every output (states and histories are read back at their times).
 
 use cleave_core::element::Shape;
 use cleave_core::model::{MaterialKind, Model};
@@ -23,14 +25,26 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
     if model.num_elements() == 0 {
         return Some("a model without solid elements".into());
     }
-    if !model.separations.is_empty() {
-        return Some(
-            "element separation (*MAT_ADD_SEPARATION; --no-separation runs the mesh unsplit)"
-                .into(),
-        );
-    }
     if !model.contacts.is_empty() {
         return Some("contact (*CONTACT_...)".into());
+    }
+    if !model.separations.is_empty() {
+        if let Some(d) = model.separations.iter().find(|d| d.model >= 3) {
+            return Some(format!(
+                "cohesive laws (*MAT_ADD_SEPARATION MODEL {}; MODELs 1 and 2 run)",
+                d.model
+            ));
+        }
+        let with = |what: &str| Some(format!("{what} together with element separation"));
+        if !setup.rigid.is_empty() {
+            return with("rigid bodies");
+        }
+        if !model.erosion.is_empty() {
+            return with("element erosion");
+        }
+        if !model.tied.is_empty() {
+            return with("tied contact");
+        }
     }
     if model.rigid_walls.len() > crate::layout::MAX_WALLS {
         return Some(format!(

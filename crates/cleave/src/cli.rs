@@ -147,9 +147,10 @@ pub struct BenchArgs {
     /// Worker threads.
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
-    /// Cube: run the step on a GPU (as `cleave run --gpu`). The ball, paper-tables and
-    /// fragmentation benchmarks need element separation and contact, which the GPU step does
-    /// not run yet: with --gpu they are refused (exit 2), not run on the CPU.
+    /// Cube: run the step on a GPU (as `cleave run --gpu`), with `--separation` its element
+    /// separation too. The ball, paper-tables and fragmentation benchmarks need contact between
+    /// fragments, which the GPU step does not run yet: with --gpu they are refused (exit 2),
+    /// not run on the CPU.
     #[arg(long)]
     pub gpu: bool,
     /// Cube: put every element in a separation group (MODEL 1, a strength nothing reaches), so

@@ -192,3 +192,54 @@ fn split_run_matches_the_unsplit_run_until_failure() {
     let summary = std::fs::read_to_string(a.join("summary.json")).unwrap();
     assert_eq!(json_number(&summary, "failed_interfaces"), 0.0);
 }
+
+/// The crack on the GPU (`--gpu`, where a device is found): the same failed interfaces and
+/// fragments as the CPU run, and its glstat, nodout, crack.csv and fragments.csv to 1e-9 of
+/// each column's largest value (at least 1e-6 of the file's) (round-off: see crates/cleave-gpu/tests/separation.rs).
+#[test]
+fn gpu_run_reports_the_crack_the_cpu_reports() {
+    let d = tmp("crack-gpu");
+    let rcv = RHO * (YOUNG / RHO).sqrt() * PULL;
+    let deck = bar_deck(&d, 1.5 * rcv);
+    let (c, g) = (d.join("cpu"), d.join("gpu"));
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let out = cleave(&["run", &path(&deck), "-q", "--gpu", "-o", &path(&g)]);
+    if common::no_gpu(&out) {
+        return;
+    }
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    run_ok(&["run", &path(&deck), "-q", "-o", &path(&c)]);
+    let sc = std::fs::read_to_string(c.join("summary.json")).unwrap();
+    let sg = std::fs::read_to_string(g.join("summary.json")).unwrap();
+    for key in ["failed_interfaces", "fragments", "nodes_solved"] {
+        assert_eq!(json_number(&sc, key), json_number(&sg, key), "{key}");
+    }
+    assert_eq!(json_number(&sg, "failed_interfaces"), 1.0);
+    for f in ["glstat.csv", "nodout.csv", "crack.csv", "fragments.csv"] {
+        let (ha, ra) = csv(&c.join(f));
+        let (hb, rb) = csv(&g.join(f));
+        assert_eq!(ha, hb, "{f}");
+        assert_eq!(ra.len(), rb.len(), "{f}: rows");
+        // a column of round-off (a sideways velocity) on the scale of the file's largest value
+        let finite = |r: &Vec<f64>, k: usize| r[k].is_finite().then_some(r[k].abs());
+        let file_scale = (ra.iter())
+            .flat_map(|r| (0..r.len()).filter_map(move |k| finite(r, k)))
+            .fold(0.0f64, f64::max);
+        for col in 0..ha.len() {
+            let scale = (ra.iter())
+                .filter_map(|r| finite(r, col))
+                .fold(0.0f64, f64::max)
+                .max(1e-6 * file_scale);
+            for (a, b) in ra.iter().zip(&rb) {
+                let same =
+                    (a[col].is_nan() && b[col].is_nan()) || (a[col] - b[col]).abs() <= 1e-9 * scale;
+                assert!(same, "{f} {}: {} vs {}", ha[col], a[col], b[col]);
+            }
+        }
+    }
+}

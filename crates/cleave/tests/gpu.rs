@@ -11,22 +11,12 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use common::{cleave, csv, tmp, BASE};
+use common::{cleave, csv, no_gpu, tmp, BASE};
 
 fn write_deck(dir: &Path, text: &str) -> PathBuf {
     let p = dir.join("deck.k");
     std::fs::write(&p, text).unwrap();
     p
-}
-
-/// True (and says SKIPPED) when the run found no usable GPU (exit 1 with the device message).
-fn no_gpu(out: &Output) -> bool {
-    let err = String::from_utf8_lossy(&out.stderr);
-    if out.status.code() == Some(1) && err.contains("--gpu:") {
-        eprintln!("SKIPPED: {err}");
-        return true;
-    }
-    false
 }
 
 fn run(deck: &Path, out: &Path, gpu: bool) -> Output {
@@ -106,14 +96,14 @@ fn gpu_refuses_what_it_lacks_by_name() {
     assert!(!d.join("gpu").exists(), "no output is started");
 }
 
-/// The benchmarks that need separation or contact are refused with `--gpu` by the feature the
-/// GPU lacks (exit 2, nothing run), never run on the CPU instead.
+/// The benchmarks that need contact are refused with `--gpu` by the feature the GPU lacks
+/// (exit 2, nothing run), never run on the CPU instead.
 #[test]
 fn gpu_benchmarks_that_need_what_it_lacks_are_refused() {
     let cases: [(&[&str], &str); 4] = [
         (
             &["bench", "ball", "--gpu", "--elements", "256"],
-            "--gpu does not run element separation",
+            "--gpu does not run contact (*CONTACT_...)",
         ),
         (
             &[
@@ -128,11 +118,11 @@ fn gpu_benchmarks_that_need_what_it_lacks_are_refused() {
         ),
         (
             &["bench", "paper-tables", "--gpu"],
-            "`cleave bench paper-tables` runs element separation and contact",
+            "`cleave bench paper-tables` runs contact",
         ),
         (
             &["bench", "fragmentation", "--gpu"],
-            "`cleave bench fragmentation` runs element separation and contact",
+            "`cleave bench fragmentation` runs contact",
         ),
     ];
     for (args, says) in cases {

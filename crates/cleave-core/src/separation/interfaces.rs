@@ -263,25 +263,6 @@ impl Separation {
                     }
                 }
             });
-        self.select_releases();
-        if !self.released.is_empty() {
-            for k in 0..self.released.len() {
-                self.release(self.released[k], (x, per_slot), stress);
-            }
-            self.mark_loose();
-            self.sets
-                .split_after_failure(&self.faces, &self.ties, &self.released);
-        }
-        &self.released
-    }
-
-    /// Choose which of the interfaces that reached their criterion are released this step: in
-    /// order of decreasing failure index (then ascending number), at most one per element. The
-    /// others are checked again next step, on stresses that the released crack has begun to
-    /// relieve: an element whose stress carried two of its faces over the strength in one step
-    /// was resolved too coarsely in time to say which face cracks first, and releasing both
-    /// would cut it loose as a one-element fragment ringing at its highest frequency.
-    fn select_releases(&mut self) {
         self.candidates.clear();
         for (c, &count) in self.chunk_fails.iter().enumerate() {
             if count == 0 {
@@ -294,6 +275,53 @@ impl Separation {
                     .map(|i| (self.fails[i], i)),
             );
         }
+        self.release_candidates((x, per_slot), stress)
+    }
+
+    /// The second half of [`Self::check_failure`] for a backend that evaluated the criteria
+    /// itself (the GPU): `found` holds each intact interface whose failure index reached 1,
+    /// with that index (in any order). Releases them as [`Self::check_failure`] does and
+    /// returns the released interfaces, ascending. An interface that is not intact is an
+    /// error (the backend's view of the interfaces is out of date).
+    pub fn release_found(
+        &mut self,
+        found: &[(f32, u32)],
+        (x, per_slot): (&[Vec3], bool),
+        stress: &[Sym3],
+    ) -> Result<&[usize], String> {
+        self.candidates.clear();
+        for &(index, i) in found {
+            let i = i as usize;
+            if i >= self.interfaces || self.status[i] != Status::Intact {
+                return Err(format!("interface {i} is not an intact interface"));
+            }
+            self.candidates.push((index, i));
+        }
+        Ok(self.release_candidates((x, per_slot), stress))
+    }
+
+    /// Release the candidates (failure index, interface) of this step
+    /// ([`Self::select_releases`]) and split the sets they tied.
+    fn release_candidates(&mut self, (x, per_slot): (&[Vec3], bool), stress: &[Sym3]) -> &[usize] {
+        self.select_releases();
+        if !self.released.is_empty() {
+            for k in 0..self.released.len() {
+                self.release(self.released[k], (x, per_slot), stress);
+            }
+            self.mark_loose();
+            self.sets
+                .split_after_failure(&self.faces, &self.ties, &self.released);
+        }
+        &self.released
+    }
+
+    /// Choose which of the interfaces that reached their criterion (`candidates`) are released
+    /// this step: in order of decreasing failure index (then ascending number), at most one per
+    /// element. The others are checked again next step, on stresses that the released crack has
+    /// begun to relieve: an element whose stress carried two of its faces over the strength in
+    /// one step was resolved too coarsely in time to say which face cracks first, and releasing
+    /// both would cut it loose as a one-element fragment ringing at its highest frequency.
+    fn select_releases(&mut self) {
         self.candidates
             .sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
         self.released.clear();

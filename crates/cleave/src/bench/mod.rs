@@ -113,7 +113,7 @@ pub fn bench(a: &BenchArgs) -> Result<(), Failure> {
         "cube" => cube::bench_cube(a),
         "ball" => ball::bench_ball(a),
         "paper-tables" | "fragmentation" if a.gpu => Err(Failure::Input(format!(
-            "--gpu: `cleave bench {}` runs element separation and contact, which the GPU step does not run yet; run it without --gpu",
+            "--gpu: `cleave bench {}` runs contact between fragments, which the GPU step does not run yet; run it without --gpu",
             a.what
         ))),
         "paper-tables" => paper_tables::bench_paper_tables(a),

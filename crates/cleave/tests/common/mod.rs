@@ -42,6 +42,17 @@ impl Drop for Scratch {
 }
 
 /// A fresh, empty scratch folder for one test (see [`Scratch`]).
+/// True (and says SKIPPED) when a `--gpu` run found no usable GPU (exit 1 with the device
+/// message).
+pub fn no_gpu(out: &Output) -> bool {
+    let err = String::from_utf8_lossy(&out.stderr);
+    if out.status.code() == Some(1) && err.contains("--gpu:") {
+        eprintln!("SKIPPED: {err}");
+        return true;
+    }
+    false
+}
+
 pub fn tmp(name: &str) -> Scratch {
     let d = std::env::temp_dir().join(format!("cleave-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);

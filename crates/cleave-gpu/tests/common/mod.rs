@@ -1,0 +1,77 @@
+//! What the GPU tests share: the device (or SKIPPED) and the block that uses every part of
+//! the GPU step.
+#![allow(dead_code)] // each test file uses its own subset
+
+use cleave_core::curve::Curve;
+use cleave_core::mesh::box_model;
+use cleave_core::model::{
+    BodyLoad, Hourglass, Material, MaterialKind, Model, MotionTarget, PrescribedMotion, Spc, Vad,
+};
+use cleave_gpu::Gpu;
+
+/// The first device with f64 shaders, or `None` after saying SKIPPED.
+pub fn gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(g) => {
+            eprintln!("GPU: {}", g.describe());
+            Some(g)
+        }
+        Err(e) => {
+            eprintln!("SKIPPED: {e}");
+            None
+        }
+    }
+}
+
+/// A steel block 6 x 3 x 3 elements, bilinear plastic, hit on its top by a velocity that
+/// ramps up (prescribed motion), clamped on its bottom (SPC), under a body load that ramps, with
+/// an initial shear velocity: every part of the GPU step is used.
+pub fn block(hourglass: Hourglass) -> Model {
+    let steel = Material {
+        id: 1,
+        density: 7850.0,
+        young: 210e9,
+        poisson: 0.3,
+        kind: MaterialKind::PlasticKinematic {
+            sigy: 300e6,
+            etan: 2e9,
+            beta: 0.5,
+        },
+    };
+    let mut m = box_model([3, 3, 6], [0.03, 0.03, 0.06], steel, 1.0);
+    m.control.hourglass = hourglass;
+    if hourglass == Hourglass::Stiffness {
+        m.control.qh = 0.05;
+    }
+    m.curves.push(Curve {
+        id: 1,
+        t: vec![0.0, 5e-6, 1.0],
+        y: vec![0.0, 1.0, 1.0],
+    });
+    for (i, x) in m.x0.to_vec().iter().enumerate() {
+        let n = i as u32;
+        m.v0.as_mut_slice()[i] = [30.0 * x[2] / 0.06, 0.0, 0.0];
+        if x[2] < 1e-9 {
+            m.spcs.push(Spc {
+                node: n,
+                dof: [true, true, true, false, false, false],
+            });
+        } else if (x[2] - 0.06).abs() < 1e-9 {
+            m.prescribed.push(PrescribedMotion {
+                target: MotionTarget::Node(n),
+                axis: 2,
+                vad: Vad::Velocity,
+                curve: 0,
+                sf: -40.0,
+            });
+        }
+    }
+    m.body_loads.push(BodyLoad {
+        axis: 1,
+        curve: Some(0),
+        sf: 5e5,
+    });
+    let (dt, _) = cleave_core::setup::estimate_time_step(&m).unwrap();
+    m.control.end_time = 150.0 * dt * m.control.tssfac;
+    m
+}

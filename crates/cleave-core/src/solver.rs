@@ -491,6 +491,12 @@ impl<'m> Solver<'m> {
         self.separation.as_ref()
     }
 
+    /// The interfaces, for a backend that steps the softening faces itself (the GPU) to hand
+    /// back their state ([`Separation::cohesive_faces_mut`]).
+    pub fn separation_mut(&mut self) -> Option<&mut Separation> {
+        self.separation.as_mut()
+    }
+
     /// Run with contact: each step, after the element and cohesive forces and before the
     /// coincident sets are tied, the contact forces are added; the two faces of every interface
     /// that fails join the contact surfaces in the step it fails.

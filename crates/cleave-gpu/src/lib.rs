@@ -12,7 +12,7 @@
 //! bits every time on the same device.
 //!
 //! What runs on the GPU today is the first stage of the backend (the CPU step's parts, one by
-//! one) and element separation without cohesive laws (`separation.rs`: the sets split on the
+//! one) and element separation with its cohesive laws (`separation.rs`: the sets split on the
 //! host in the step their interface fails); [`support::unsupported`] names what a deck asks that
 //! is not there yet, and
 //! `cleave run --gpu` refuses such a deck with that name (exit 2), never a silent fallback to

@@ -12,10 +12,17 @@
 //! rest of the step on the GPU, which gathers the split sets' forces from the corner forces it
 //! kept. So the pieces part in the step their interface fails, as on the CPU.
 //!
-//! What the GPU does not run yet is refused ([`crate::support::unsupported`]): cohesive laws
-//! (MODELs 3 and 4), contact, rigid bodies, tied contact, erosion or ELFORM 13 with separation.
+//! Cohesive laws (MODELs 3 and 4): the softening faces live on the GPU ([`Cohesive`]); each
+//! step a pass computes their tractions, forces, work and springs (before the time step, which
+//! the springs bound), the nodes gather the forces per slot in the faces' order, and the host
+//! takes their state up whenever it reads the GPU's (outputs, splits, restart files).
+//!
+//! What the GPU does not run yet is refused ([`crate::support::unsupported`]): contact, and
+//! rigid bodies, tied contact, erosion or ELFORM 13 with separation.
 
+use cleave_core::element::shape::face_points;
 use cleave_core::math::Vec3;
+use cleave_core::separation::cohesive::Envelope;
 use cleave_core::separation::interfaces::Status;
 use cleave_core::solver::{RunError, Solver};
 
@@ -36,6 +43,134 @@ pub(crate) struct SepBuffers {
     pub n_if: u32,
     /// Where the failure indices start in `ifs`.
     pub if_index: u32,
+    /// The groups of the cohesive pass (an indirect dispatch).
+    pub coh_groups: wgpu::Buffer,
+    /// The most softening faces there can be (interfaces of groups with a cohesive law).
+    pub coh_cap: u32,
+    /// The softening faces ([`Cohesive`]): where `cix` starts in `ifu`, where its entries and
+    /// slots start in it (0 without cohesive laws), where `coh` starts in `ifs`.
+    pub c_ptr: u32,
+    pub c_inc: u32,
+    pub c_slots: u32,
+    pub c_coh: u32,
+}
+
+/// Values per softening face in `coh` (step.wgsl `CO_STRIDE`).
+const CO_STRIDE: usize = 58;
+
+/// The softening faces of the cohesive laws (MODELs 3 and 4) as the GPU keeps them (step.wgsl,
+/// "cohesive laws"): each face's law and state in `coh`, in the order the host's separation
+/// holds them (the order of release; a face that opens fully stays in place, marked free, so
+/// the order and the sums over it do not depend on when the host looks), and per slot the
+/// points whose force it takes, in `cix`.
+pub(crate) struct Cohesive {
+    pub coh: Vec<f64>,
+    pub cix: Vec<u32>,
+    /// Capacity, faces now, slots with entries now.
+    pub cap: u32,
+    pub faces: u32,
+    pub slots: u32,
+    pub c_inc: u32,
+    pub c_slots: u32,
+}
+
+impl Cohesive {
+    pub fn of(solver: &Solver) -> Self {
+        let mut out = Self {
+            coh: Vec::new(),
+            cix: Vec::new(),
+            cap: 0,
+            faces: 0,
+            slots: 0,
+            c_inc: 0,
+            c_slots: 0,
+        };
+        let Some(sep) = solver.separation() else {
+            return out;
+        };
+        let laws: Vec<bool> = (solver.model.separations.iter())
+            .map(|d| d.model >= 3)
+            .collect();
+        let n_if = sep.num_interfaces();
+        let cap = (sep.faces()[..n_if].iter())
+            .filter(|f| laws[f.group as usize])
+            .count();
+        if cap == 0 {
+            return out;
+        }
+        let nn = solver.model.num_nodes();
+        let slots = sep.sets().slots();
+        let faces = sep.cohesive_faces();
+        let mut coh = vec![0.0; CO_STRIDE * cap];
+        // (slot, entry) of each point of each softening face, in the faces' order
+        let mut entries: Vec<(u32, u32)> = Vec::new();
+        for (k, c) in faces.iter().enumerate() {
+            let face = &sep.faces()[c.interface as usize];
+            let points = face_points(&std::array::from_fn(|j| face.nodes[j]));
+            let free = sep.status(c.interface as usize) != Status::Softening;
+            let law = &c.law;
+            let row = &mut coh[CO_STRIDE * k..CO_STRIDE * (k + 1)];
+            row[..6].copy_from_slice(&[
+                f64::from(c.interface),
+                law.sigmax,
+                law.beta,
+                law.delta_c,
+                match law.envelope {
+                    Envelope::Linear => 0.0,
+                    Envelope::Exponential => 1.0,
+                },
+                law.delta_open(),
+            ]);
+            row[6..10].copy_from_slice(&c.softened);
+            row[10..13].copy_from_slice(&c.t0);
+            row[13..16].copy_from_slice(&[c.k_max, face.area0, points as f64]);
+            row[16..28].copy_from_slice(c.d_prev.as_flattened());
+            row[28..40].copy_from_slice(c.f_prev.as_flattened());
+            row[40] = free as u8 as f64;
+            if free {
+                continue;
+            }
+            for p in 0..points {
+                for side in 0..2 {
+                    let node = face.nodes[4 * side + p];
+                    let e = 8 * k as u32 + 2 * p as u32 + side as u32;
+                    entries.push((slots[node as usize], e));
+                }
+            }
+        }
+        // per slot, its entries in that order
+        let mut cptr = vec![0u32; nn + 1];
+        for &(s, _) in &entries {
+            cptr[s as usize + 1] += 1;
+        }
+        for i in 0..nn {
+            cptr[i + 1] += cptr[i];
+        }
+        let mut fill = cptr.clone();
+        let mut cinc = vec![0u32; 8 * cap];
+        for &(s, e) in &entries {
+            let at = &mut fill[s as usize];
+            cinc[*at as usize] = e;
+            *at += 1;
+        }
+        let mut touched: Vec<u32> = entries.iter().map(|&(s, _)| s).collect();
+        touched.sort_unstable();
+        touched.dedup();
+        out.slots = touched.len() as u32;
+        touched.resize(8 * cap, 0);
+        out.c_inc = (nn + 1) as u32;
+        out.c_slots = out.c_inc + 8 * cap as u32;
+        out.cix = [cptr, cinc, touched].concat();
+        out.coh = coh;
+        out.cap = cap as u32;
+        out.faces = faces.len() as u32;
+        out
+    }
+
+    /// The groups of the cohesive pass.
+    pub fn groups(&self) -> [u32; 3] {
+        crate::stepper::group_grid((self.faces as usize).div_ceil(crate::stepper::GROUP))
+    }
 }
 
 /// The split model's sets as the layout takes them; `None` without separation.
@@ -150,6 +285,24 @@ impl GpuStepper {
         u32s(&self.sep.ifu, &ifu);
         f64s(&self.sep.ifs, &ifs);
         u32s(&self.sep.ifl, &[0]);
+        if self.sep.coh_cap > 0 {
+            let co = Cohesive::of(solver);
+            q.write_buffer(
+                &self.sep.ifs,
+                8 * u64::from(self.sep.c_coh),
+                bytemuck::cast_slice(&co.coh),
+            );
+            q.write_buffer(
+                &self.sep.ifu,
+                4 * u64::from(self.sep.c_ptr),
+                bytemuck::cast_slice(&co.cix),
+            );
+            q.write_buffer(&self.sep.coh_groups, 0, bytemuck::cast_slice(&co.groups()));
+            let cu =
+                |k: usize, v: u32| q.write_buffer(&self.cu, (4 * k) as u64, bytemuck::bytes_of(&v));
+            cu(crate::stepper::cu::N_COH, co.faces);
+            cu(crate::stepper::cu::N_CSLOT, co.slots);
+        }
         q.write_buffer(
             &self.cf,
             (crate::stepper::cf::SLOTS * 8) as u64,
@@ -160,6 +313,31 @@ impl GpuStepper {
             0,
             bytemuck::cast_slice(&node_grid(solver)),
         );
+    }
+
+    /// Take up the softening faces' state from the GPU into the host's separation (their
+    /// largest openings, last openings and forces; the fully open ones marked free).
+    pub(crate) fn import_cohesive(&self, solver: &mut Solver) {
+        let all = self.download(&self.sep.ifs);
+        let coh = &all[self.sep.c_coh as usize..];
+        let Some(sep) = solver.separation_mut() else {
+            return;
+        };
+        let mut open = Vec::new();
+        for (k, c) in sep.cohesive_faces_mut().iter_mut().enumerate() {
+            let row = &coh[CO_STRIDE * k..CO_STRIDE * (k + 1)];
+            c.softened.copy_from_slice(&row[6..10]);
+            for p in 0..4 {
+                c.d_prev[p].copy_from_slice(&row[16 + 3 * p..19 + 3 * p]);
+                c.f_prev[p].copy_from_slice(&row[28 + 3 * p..31 + 3 * p]);
+            }
+            if row[40] != 0.0 {
+                open.push(c.interface as usize);
+            }
+        }
+        for i in open {
+            sep.mark_open(i);
+        }
     }
 
     /// The GPU halted in a step in which interfaces reached their strength: release them on

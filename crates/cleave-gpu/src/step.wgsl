@@ -9,15 +9,17 @@
 // element/sri.rs, element/nodal_pressure.rs, material/, rigid.rs, solver.rs), operation for
 // operation; the Rust doc comments there carry the formulas and their sources.
 //
-// One step is five dispatches, six with rigid bodies, two more with separation (four more
-// with ELFORM 13: np_theta and np_node_theta before the elements, np_node_p and np_correct
-// after), each a no-op once `halt` is set:
+// One step is five dispatches, six with rigid bodies, two or three more with separation
+// (four more with ELFORM 13: np_theta and np_node_theta before the elements, np_node_p and
+// np_correct after), each a no-op once `halt` is set:
 //   positions (per node)  x^n = x^(n-1) + dt v^(n-1/2), from the second step on
 //   elements (per elem)   stress update, corner forces, element time step; group partials
-//   control (1 group)     smallest time step and energy sums (fixed tree); dt^(n+1/2)
 //   interfaces (per interface, with separation)  the failure check; interfaces_done
 //                         (1 thread) halts the step if one failed (HALT 4: the host splits
 //                         the sets and runs the rest of the step)
+//   cohesive (per softening face, with MODELs 3 and 4)  tractions, forces, work, springs
+//   control (1 group)     smallest time step (and the cohesive springs') and energy sums
+//                         (fixed tree); dt^(n+1/2)
 //   rigid (1 group/body)  force and moment of each rigid body (fixed tree), its 6-dof update
 //   nodes (per node)      force gather in a fixed order, v^(n+1/2), rigid bodies' nodes
 //                         placed, constraints and rigid walls; partials
@@ -62,6 +64,12 @@ struct Params {
     // `ifs` (after the strengths and each group's MODEL and BETA)
     n_if: u32,
     if_index: u32,
+    // cohesive laws (0 without): where their `cix` block starts in `ifu`, where its entries and
+    // slots start in it, and where the `coh` block starts in `ifs`
+    c_ptr: u32,
+    c_inc: u32,
+    c_slots: u32,
+    c_coh: u32,
     pad0: u32,
     pad1: u32,
 }
@@ -118,6 +126,7 @@ const TSSFAC: u32 = 18u;
 const DT_INIT: u32 = 19u;
 const DT_MIN: u32 = 20u;
 const END_TIME: u32 = 21u;
+const E_FRAC: u32 = 31u;   // the work of the cohesive laws (fracture energy)
 const SLOTS: u32 = 25u;   // node entries in use: every node, or the coincident sets' slots
 const DT_MID: u32 = 26u;
 const W_HALF: u32 = 27u;
@@ -141,6 +150,8 @@ const INVERTED: u32 = 2u;  // lowest inverted element (atomic min)
 const NONFINITE: u32 = 3u; // lowest node with a non-finite velocity (atomic min)
 const DT_ELEM: u32 = 4u;
 const FINISHED: u32 = 6u;
+const N_COH: u32 = 5u;     // softening faces in `coh`
+const N_CSLOT: u32 = 7u;   // the slots their points join (the list in `cix`)
 
 const MAT_STRIDE: u32 = 14u;
 const RB_PAR: u32 = 23u;
@@ -2056,6 +2067,8 @@ var<workgroup> c_ei: array<f64, 256>;
 var<workgroup> c_eh: array<f64, 256>;
 var<workgroup> c_ee: array<f64, 256>;
 var<workgroup> c_en: array<f64, 256>;
+var<workgroup> c_w: array<f64, 256>;
+var<workgroup> c_om: array<f64, 256>;
 
 // An element group's partials: its smallest time step and the element giving it, its
 // internal, hourglass and eroded energy increments and its number of eroded elements.
@@ -2109,6 +2122,27 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
             g = g + 256u;
         }
     }
+    // the softening faces: the work they absorbed, and the largest omega^2 = 2 K / m of the
+    // slots their springs join (interfaces.rs cohesive_time_step)
+    var wk = 0.0lf;
+    var om = 0.0lf;
+    if (run && prm.c_inc > 0u) {
+        let nf = atomicLoad(&cu[N_COH]);
+        for (var f = l; f < nf; f = f + 256u) {
+            wk = wk + ifs[prm.c_coh + CO_STRIDE * f + 57u];
+        }
+        let ns = atomicLoad(&cu[N_CSLOT]);
+        for (var i = l; i < ns; i = i + 256u) {
+            let sl = ifu[prm.c_ptr + prm.c_slots + i];
+            let kk = coh_stiffness(sl);
+            let m = mass[sl];
+            if (kk > 0.0lf && m > 0.0lf) {
+                om = max(om, 2.0lf * kk / m);
+            }
+        }
+    }
+    c_w[l] = wk;
+    c_om[l] = om;
     c_dt[l] = r.dt;
     c_id[l] = r.id;
     c_ei[l] = r.ei;
@@ -2127,6 +2161,8 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
             c_eh[l] = c_eh[l] + c_eh[o];
             c_ee[l] = c_ee[l] + c_ee[o];
             c_en[l] = c_en[l] + c_en[o];
+            c_w[l] = c_w[l] + c_w[o];
+            c_om[l] = max(c_om[l], c_om[o]);
         }
         workgroupBarrier();
     }
@@ -2145,6 +2181,11 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     cf[DT_CRIT] = dt_crit;
     let step0 = cf[STEP] == 0.0lf;
     var d = cf[TSSFAC] * dt_crit;
+    // the cohesive springs' own step (it holds its budget: not scaled by TSSFAC)
+    if (c_om[0] > 0.0lf) {
+        d = min(d, sqrt(2.0lf / c_om[0]));
+    }
+    cf[E_FRAC] = cf[E_FRAC] + c_w[0];
     // no element limits the step (the CPU's infinite dt_crit): BIG is the reduction's start
     let none = dt_crit >= BIG || !finite(dt_crit);
     if (none && !step0 && cf[N_ERODED] > 0.0lf) {
@@ -2202,7 +2243,8 @@ const IF_STRIDE: u32 = 12u;
 fn interfaces(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
               @builtin(num_workgroups) nw: vec3<u32>) {
     let i = 64u * (wid.y * nw.x + wid.x) + lid.x;
-    if (i >= prm.n_if || halted()) {
+    // (an inverted element has no stress to check: the control pass stops the run)
+    if (i >= prm.n_if || halted() || atomicLoad(&cu[INVERTED]) != 0xffffffffu) {
         return;
     }
     let o = IF_STRIDE * i;
@@ -2283,6 +2325,205 @@ fn interfaces_done() {
     }
     atomicStore(&cu[HALT], 4u);
     cf[HALTED] = 1.0lf;
+}
+
+// ---------------------------------------------------------------- cohesive laws: MODELs 3, 4
+
+// The softening faces (separation/interfaces.rs add_cohesive_forces, cohesive.rs), in the
+// order they were released, CO_STRIDE values each in `coh`: 0 the interface, 1 SIGMAX, 2 BETA,
+// 3 delta_c, 4 the envelope (0 linear, 1 exponential), 5 the opening past the peak at which it
+// is fully open, 6-9 each point's largest opening past the peak, 10-12 the onset traction t0,
+// 13 k_max, 14 the reference area, 15 the points (4, a triangle 3), 16-27 the openings and
+// 28-39 the forces at the last evaluation, 40 1 once every point is open (the face is free);
+// and what a step leaves for the nodes and the time step: 41-52 each point's force on side
+// a, 53-56 each point's spring stiffness between two sets, 57 the work absorbed. `cix`: per
+// slot the start of its entries (one per slot and one more), the entries (face 8 k + point 2 p
+// + side: 0 takes the force, 1 its opposite), then the slots that have entries. (`coh` is kept
+// in `ifs` from c_coh, `cix` in `ifu` from c_ptr: a device binds at most 32 storage arrays to
+// a pass on lavapipe, 31 on Apple's.)
+const CO_STRIDE: u32 = 58u;
+
+fn coh_envelope(o: u32, delta: f64) -> f64 {
+    let x = delta / ifs[prm.c_coh + o + 3u];
+    if (ifs[prm.c_coh + o + 4u] < 0.5lf) {
+        return ifs[prm.c_coh + o + 1u] * max(1.0lf - x, 0.0lf);
+    }
+    return ifs[prm.c_coh + o + 1u] * (1.0lf + x) * exp64(-x);
+}
+
+fn coh_open(o: u32, soft: f64) -> bool {
+    return soft >= ifs[prm.c_coh + o + 5u];
+}
+
+// The elastic stretch SIGMAX / k_max before the peak (0 for a rigid law).
+fn coh_delta_e(o: u32, k_max: f64) -> f64 {
+    if (finite(k_max)) {
+        return ifs[prm.c_coh + o + 1u] / k_max;
+    }
+    return 0.0lf;
+}
+
+struct Traction {
+    t: vec3<f64>,
+    soft: f64,
+}
+
+// cohesive.rs CohesiveLaw::traction: the traction on side a for the opening d, with the
+// point's largest opening past the peak updated.
+fn coh_traction(o: u32, d_in: vec3<f64>, n: vec3<f64>, t0: vec3<f64>, k_max: f64, soft_in: f64) -> Traction {
+    let beta = ifs[prm.c_coh + o + 2u];
+    let b2 = beta * beta;
+    let delta_e = coh_delta_e(o, k_max);
+    var d = d_in;
+    if (delta_e > 0.0lf) {
+        let t0n = dot(t0, n);
+        let t0s = t0 - n * t0n;
+        d = d + (n * t0n + t0s * (1.0lf / b2)) * (1.0lf / k_max);
+    }
+    let dn = dot(d, n);
+    let ds = d - n * dn;
+    let dn_plus = max(dn, 0.0lf);
+    let delta = sqrt(dn_plus * dn_plus + b2 * dot(ds, ds));
+    var soft = soft_in;
+    if (delta - delta_e > soft) {
+        soft = delta - delta_e;
+    }
+    let delta_max = delta_e + soft;
+    if (delta <= 0.0lf || delta_max <= 0.0lf || coh_open(o, soft)) {
+        return Traction(vec3<f64>(0.0lf, 0.0lf, 0.0lf), soft);
+    }
+    let c = coh_envelope(o, soft) / delta_max;
+    return Traction(ds * (b2 * c) + n * (dn_plus * c), soft);
+}
+
+// cohesive.rs CohesiveLaw::stiffest_slope.
+fn coh_slope(o: u32, soft: f64, k_max: f64) -> f64 {
+    if (coh_open(o, soft)) {
+        return 0.0lf;
+    }
+    let delta_max = coh_delta_e(o, k_max) + soft;
+    if (delta_max <= 0.0lf) {
+        return BIG;
+    }
+    let beta = ifs[prm.c_coh + o + 2u];
+    return max(beta * beta, 1.0lf) * coh_envelope(o, soft) / delta_max;
+}
+
+fn coh_vec(o: u32) -> vec3<f64> {
+    return vec3<f64>(ifs[prm.c_coh + o], ifs[prm.c_coh + o + 1u], ifs[prm.c_coh + o + 2u]);
+}
+
+fn coh_store(o: u32, v: vec3<f64>) {
+    ifs[prm.c_coh + o] = v[0];
+    ifs[prm.c_coh + o + 1u] = v[1];
+    ifs[prm.c_coh + o + 2u] = v[2];
+}
+
+// The cohesive pass: each softening face's tractions at its points (interfaces.rs
+// face_tractions: each point opens normally by its own opening, all slide by the face's mean),
+// the forces, the work since the last evaluation and the springs' stiffness.
+@compute @workgroup_size(64)
+fn cohesive(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+            @builtin(num_workgroups) nw: vec3<u32>) {
+    let f = 64u * (wid.y * nw.x + wid.x) + lid.x;
+    if (f >= atomicLoad(&cu[N_COH]) || halted()) {
+        return;
+    }
+    let o = CO_STRIDE * f;
+    // what the step leaves starts at zero, and stays so once the face is free
+    for (var k = 41u; k < CO_STRIDE; k = k + 1u) {
+        ifs[prm.c_coh + o + k] = 0.0lf;
+    }
+    if (ifs[prm.c_coh + o + 40u] != 0.0lf) {
+        return;
+    }
+    let io = IF_STRIDE * u32(ifs[prm.c_coh + o]);
+    var p: array<vec3<f64>, 4>;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        p[k] = (ld(0u, ifu[io + 4u + k]) + ld(0u, ifu[io + 8u + k])) * 0.5lf;
+    }
+    let c = cross(p[2] - p[0], p[3] - p[1]);
+    let n2 = sqrt(dot(c, c));
+    var n = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    if (n2 != 0.0lf) {
+        n = vec3<f64>(c[0] / n2, c[1] / n2, c[2] / n2);
+    }
+    let pts = u32(ifs[prm.c_coh + o + 15u]);
+    let w = ifs[prm.c_coh + o + 14u] / f64(pts);
+    let t0 = coh_vec(o + 10u);
+    let k_max = ifs[prm.c_coh + o + 13u];
+    let inv = 1.0lf / f64(pts);
+    var d: array<vec3<f64>, 4>;
+    var dsum = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    for (var k = 0u; k < pts; k = k + 1u) {
+        d[k] = ld(0u, ifu[io + 8u + k]) - ld(0u, ifu[io + 4u + k]);
+        dsum = dsum + d[k];
+    }
+    let d_mean = dsum * inv;
+    let ds = d_mean - n * dot(d_mean, n);
+    var t: array<vec3<f64>, 4>;
+    var ts_mean = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    var soft: array<f64, 4>;
+    for (var k = 0u; k < pts; k = k + 1u) {
+        let r = coh_traction(o, n * dot(d[k], n) + ds, n, t0, k_max, ifs[prm.c_coh + o + 6u + k]);
+        soft[k] = r.soft;
+        ifs[prm.c_coh + o + 6u + k] = r.soft;
+        let tn = n * dot(r.t, n);
+        ts_mean = ts_mean + (r.t - tn) * inv;
+        t[k] = tn;
+    }
+    var slope = 0.0lf;
+    for (var k = 0u; k < pts; k = k + 1u) {
+        slope = max(slope, coh_slope(o, soft[k], k_max));
+    }
+    var work = 0.0lf;
+    var open = true;
+    for (var k = 0u; k < pts; k = k + 1u) {
+        let fa = (t[k] + ts_mean) * w;
+        let dp = coh_vec(o + 16u + 3u * k);
+        let fp = coh_vec(o + 28u + 3u * k);
+        work = work + 0.5lf * dot(fp + fa, d[k] - dp);
+        coh_store(o + 16u + 3u * k, d[k]);
+        coh_store(o + 28u + 3u * k, fa);
+        coh_store(o + 41u + 3u * k, fa);
+        open = open && coh_open(o, soft[k]);
+        // the point's spring between two sets (none within one)
+        if (ifu[io + 4u + k] != ifu[io + 8u + k]) {
+            ifs[prm.c_coh + o + 53u + k] = slope * w;
+        }
+    }
+    ifs[prm.c_coh + o + 57u] = work;
+    if (open) {
+        ifs[prm.c_coh + o + 40u] = 1.0lf;
+    }
+}
+
+// The cohesive forces on slot n: its points' entries, in the faces' order.
+fn coh_force(n: u32) -> vec3<f64> {
+    var f = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    if (prm.c_inc == 0u) {
+        return f;
+    }
+    for (var k = ifu[prm.c_ptr + n]; k < ifu[prm.c_ptr + n + 1u]; k = k + 1u) {
+        let e = ifu[prm.c_ptr + prm.c_inc + k];
+        let fa = coh_vec(CO_STRIDE * (e >> 3u) + 41u + 3u * ((e >> 1u) & 3u));
+        if ((e & 1u) == 0u) {
+            f = f + fa;
+        } else {
+            f = f - fa;
+        }
+    }
+    return f;
+}
+
+// The stiffness of the springs on slot s (the sum over its entries).
+fn coh_stiffness(s: u32) -> f64 {
+    var kk = 0.0lf;
+    for (var k = ifu[prm.c_ptr + s]; k < ifu[prm.c_ptr + s + 1u]; k = k + 1u) {
+        let e = ifu[prm.c_ptr + prm.c_inc + k];
+        kk = kk + ifs[prm.c_coh + CO_STRIDE * (e >> 3u) + 53u + ((e >> 1u) & 3u)];
+    }
+    return kk;
 }
 
 // ---------------------------------------------------------------- the nodes
@@ -2417,7 +2658,7 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
         let m = mass[n];
         let t = cf[T];
         let fl = node_loads(n, t);
-        var f = node_force(n) + fl;
+        var f = node_force(n) + fl + coh_force(n);
         if (prm.n_ties > 0u) {
             f = f + tie_forces(n, t);
         }

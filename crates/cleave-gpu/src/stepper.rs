@@ -35,6 +35,8 @@ enum Groups {
     /// One thread per node entry in use (`cf[SLOTS]`): the groups are read from the
     /// `node_groups` buffer (an indirect dispatch), which the host rewrites when sets split.
     Nodes,
+    /// One thread per softening face (`cu[N_COH]`, the `coh_groups` buffer).
+    Cohesive,
 }
 
 /// One pass of the step: its entry point, pipeline and groups.
@@ -66,6 +68,7 @@ pub(crate) mod cf {
     pub const COMMIT_DUE: usize = 24;
     pub const SLOTS: usize = 25;
     pub const E_ERODED: usize = 29;
+    pub const E_FRAC: usize = 31;
     pub const WALL_FORCE: usize = 32;
     pub const LEN: usize = 64;
 }
@@ -77,6 +80,8 @@ pub(crate) mod cu {
     pub const INVERTED: usize = 2;
     pub const NONFINITE: usize = 3;
     pub const DT_ELEM: usize = 4;
+    pub const N_COH: usize = 5;
+    pub const N_CSLOT: usize = 7;
     pub const LEN: usize = 8;
 }
 
@@ -106,6 +111,10 @@ struct Params {
     tie_off: u32,
     n_if: u32,
     if_index: u32,
+    c_ptr: u32,
+    c_inc: u32,
+    c_slots: u32,
+    c_coh: u32,
     pad: [u32; 2],
 }
 
@@ -290,10 +299,14 @@ impl GpuStepper {
                 mapped_at_creation: false,
             })
         };
+        // the softening faces (cohesive laws) as the GPU keeps them
+        let co = crate::separation::Cohesive::of(solver);
         let cf_buf = f64s("control floats", &control_block(solver));
         let mut cu0 = [0u32; cu::LEN];
         cu0[cu::INVERTED] = u32::MAX;
         cu0[cu::NONFINITE] = u32::MAX;
+        cu0[cu::N_COH] = co.faces;
+        cu0[cu::N_CSLOT] = co.slots;
         let cu_buf = u32s("control integers", &cu0);
         // the state's positions (a tied slave node starts on its face), one entry per node or
         // per slot of the coincident sets
@@ -331,12 +344,24 @@ impl GpuStepper {
         let ero = zeros("erosion", if erodes { 4 * ne } else { 1 });
         let eref = f64s("reference jacobians", &reference_jacobians(model));
         let (ifu, ifs, n_if, if_index) = crate::separation::interface_table(solver);
+        // (the softening faces' blocks after the interfaces' in the same arrays: fewer bindings)
+        let (c_ptr, c_coh) = (ifu.len() as u32, ifs.len() as u32);
         let sep = SepBuffers {
-            ifu: u32s("interfaces", &ifu),
-            ifs: f64s("interface strengths", &ifs),
+            ifu: u32s("interfaces", &[ifu, co.cix.clone()].concat()),
+            ifs: f64s("interface strengths", &[ifs, co.coh.clone()].concat()),
             ifl: u32s("failed interfaces", &vec![0; 1 + n_if as usize]),
+            coh_groups: dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("cohesive groups"),
+                contents: bytemuck::cast_slice(&co.groups()),
+                usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            }),
             n_if,
             if_index,
+            coh_cap: co.cap,
+            c_ptr,
+            c_inc: co.c_inc,
+            c_slots: co.c_slots,
+            c_coh,
         };
         let params = Params {
             ne: ne as u32,
@@ -356,6 +381,10 @@ impl GpuStepper {
             tie_off: lay.tie_off,
             n_if,
             if_index,
+            c_ptr: sep.c_ptr,
+            c_inc: sep.c_inc,
+            c_slots: sep.c_slots,
+            c_coh: sep.c_coh,
             pad: [0; 2],
         };
         let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -466,14 +495,18 @@ impl GpuStepper {
         if np {
             passes.extend([("np_node_p", groups_n), ("np_correct", groups_e)]);
         }
-        passes.push(("control", 1));
         if n_if > 0 {
-            // a step in which interfaces fail halts after them, before the nodes
+            // a step in which interfaces fail halts after them; the softening faces' forces
+            // and springs before the time step (which their springs bound), as on the CPU
             passes.extend([
                 ("interfaces", (n_if as usize).div_ceil(GROUP)),
                 ("interfaces_done", 1),
             ]);
+            if sep.coh_cap > 0 {
+                passes.push(("cohesive", 0));
+            }
         }
+        passes.push(("control", 1));
         if lay.n_rigid > 0 {
             passes.push(("rigid", lay.n_rigid as usize));
         }
@@ -487,10 +520,10 @@ impl GpuStepper {
             .map(|&(name, g)| Pass {
                 name,
                 pipeline: pipeline(name),
-                groups: if matches!(name, "positions" | "nodes") {
-                    Groups::Nodes
-                } else {
-                    Groups::Fixed(g)
+                groups: match name {
+                    "positions" | "nodes" => Groups::Nodes,
+                    "cohesive" => Groups::Cohesive,
+                    _ => Groups::Fixed(g),
                 },
             })
             .collect();
@@ -634,6 +667,7 @@ impl GpuStepper {
                 pass.dispatch_workgroups(x, y, z);
             }
             Groups::Nodes => pass.dispatch_workgroups_indirect(&self.node_groups, 0),
+            Groups::Cohesive => pass.dispatch_workgroups_indirect(&self.sep.coh_groups, 0),
         }
     }
 
@@ -900,6 +934,9 @@ impl GpuStepper {
         v.truncate(nn);
         vn.truncate(nn);
         solver.set_kinematics(x, v, vn);
+        if self.sep.coh_cap > 0 {
+            self.import_cohesive(solver);
+        }
         let sig = self.download(&self.state.sig);
         let hist = self.download(&self.state.hist);
         let hg = self.download(&self.state.hg);
@@ -1121,6 +1158,7 @@ impl Control {
         st.energy.internal = f[cf::E_INT];
         st.energy.hourglass = f[cf::E_HG];
         st.energy.eroded = f[cf::E_ERODED];
+        st.energy.fracture = f[cf::E_FRAC];
         st.energy.external_work = f[cf::E_EXT];
         st.initial_energy = f[cf::E_INIT];
         for (w, wf) in solver.wall_forces.iter_mut().enumerate() {

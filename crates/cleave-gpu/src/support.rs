@@ -12,7 +12,7 @@
 //! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 `*RIGIDWALL_PLANAR`, tied contact
 //! (`*CONTACT_TIED_...`), element erosion
 //! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), element separation
-//! with MODELs 1 and 2 (not with rigid bodies, erosion or tied contact: `crate::separation`), the
+//! with every MODEL (not with rigid bodies, erosion or tied contact: `crate::separation`), the
 //! energy ledger, and every output (states and histories are read back at their times).
 
 use cleave_core::element::Shape;
@@ -29,12 +29,6 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
         return Some("contact (*CONTACT_...)".into());
     }
     if !model.separations.is_empty() {
-        if let Some(d) = model.separations.iter().find(|d| d.model >= 3) {
-            return Some(format!(
-                "cohesive laws (*MAT_ADD_SEPARATION MODEL {}; MODELs 1 and 2 run)",
-                d.model
-            ));
-        }
         let with = |what: &str| Some(format!("{what} together with element separation"));
         if !setup.rigid.is_empty() {
             return with("rigid bodies");

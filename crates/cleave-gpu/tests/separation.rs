@@ -15,9 +15,10 @@ use cleave_core::curve::Curve;
 use cleave_core::math::Vec3;
 use cleave_core::mesh::box_model;
 use cleave_core::model::{
-    Hourglass, Material, MaterialKind, Model, MotionTarget, PrescribedMotion, SeparationDef, Vad,
+    Hourglass, Material, MaterialKind, Model, MotionTarget, Part, PrescribedMotion, SeparationDef,
+    Vad,
 };
-use cleave_core::separation::interfaces::Separation;
+use cleave_core::separation::interfaces::{Separation, Status};
 use cleave_core::separation::split::{split_model, SplitModel};
 use cleave_core::solver::{Observer, Solver};
 use cleave_gpu::{Checkpointing, Gpu, GpuStepper};
@@ -34,7 +35,10 @@ struct Row {
     x: Vec<Vec3>,
     v: Vec<Vec3>,
     stress: Vec<[f64; 6]>,
-    energy: [f64; 4],
+    /// Kinetic, internal, hourglass, external work, fracture (cohesive laws).
+    energy: [f64; 5],
+    /// Interfaces fully open (free).
+    free: usize,
 }
 
 struct Record {
@@ -58,7 +62,19 @@ impl Observer for Record {
             x: s.positions().to_vec(),
             v: s.velocities().to_vec(),
             stress: s.state.stress.clone(),
-            energy: [e.kinetic, e.internal, e.hourglass, e.external_work],
+            energy: [
+                e.kinetic,
+                e.internal,
+                e.hourglass,
+                e.external_work,
+                e.fracture,
+            ],
+            free: {
+                let sep = s.separation().unwrap();
+                (sep.failed_interfaces())
+                    .filter(|&i| sep.status(i) == Status::Free)
+                    .count()
+            },
         });
         Ok(())
     }
@@ -164,6 +180,11 @@ const PULL: f64 = 10.0;
 /// (Poisson 0) all in one MODEL 1 group, both ends driven outwards at 10 m/s; SIGMAX = 1.5
 /// rho c v, so it breaks where the two tensile waves meet, at L / (2c).
 fn pulled_bar() -> Model {
+    pulled_bar_with(1, 0.0, 0.9)
+}
+
+/// The pulled bar with separation MODEL `model` (GC `gc`), run to `ends` times L / c.
+fn pulled_bar_with(model: i32, gc: f64, ends: f64) -> Model {
     let h = BAR_L / BAR_N as f64;
     let c = (YOUNG / RHO).sqrt();
     let mat = Material {
@@ -173,7 +194,7 @@ fn pulled_bar() -> Model {
         poisson: 0.0,
         kind: MaterialKind::Elastic,
     };
-    let mut m = box_model([BAR_N, 1, 1], [BAR_L, h, h], mat, 0.9 * BAR_L / c);
+    let mut m = box_model([BAR_N, 1, 1], [BAR_L, h, h], mat, ends * BAR_L / c);
     m.curves.push(Curve {
         id: 1,
         t: vec![0.0],
@@ -192,10 +213,10 @@ fn pulled_bar() -> Model {
     }
     m.separations.push(SeparationDef {
         material: 0,
-        model: 1,
+        model,
         sigmax: 1.5 * RHO * c * PULL,
         beta: 1.0,
-        gc: 0.0,
+        gc,
         bond: 1,
         strength: Default::default(),
     });
@@ -266,8 +287,8 @@ fn cracking_block_fails_as_on_the_cpu() {
 struct TakeState {
     record: Record,
     due: f64,
-    /// The time, the number of failed interfaces and the GPU's state.
-    taken: Option<(f64, usize, Vec<u8>)>,
+    /// The time, the number of failed interfaces and of softening ones, and the GPU's state.
+    taken: Option<(f64, usize, usize, Vec<u8>)>,
 }
 
 impl Observer for TakeState {
@@ -287,20 +308,36 @@ impl Checkpointing for TakeState {
         false
     }
     fn checkpoint(&mut self, s: &Solver, gpu_state: Vec<u8>) -> std::io::Result<()> {
-        let failed = s.separation().unwrap().num_failed();
-        self.taken = Some((s.state.t, failed, gpu_state));
+        let sep = s.separation().unwrap();
+        let softening = (sep.failed_interfaces())
+            .filter(|&i| sep.status(i) == Status::Softening)
+            .count();
+        self.taken = Some((s.state.t, sep.num_failed(), softening, gpu_state));
         self.due = f64::INFINITY;
         Ok(())
     }
 }
 
 /// A run taken up from the GPU state saved midway, after interfaces have failed (with the
-/// interfaces and sets as they have split, `GpuStepper::save`), ends in the same bits as the
-/// run that went through.
+/// interfaces and sets as they have split, the softening faces' state, `GpuStepper::save`),
+/// ends in the same bits as the run that went through: the cracking block (MODEL 2, with
+/// interfaces yet to fail) and the spinning BETA 8 block (MODEL 3, with faces softening).
 #[test]
 fn a_cracking_run_continues_from_its_saved_state() {
-    let Some(g) = gpu() else { return };
-    let split = split_model(&cracking_block());
+    // (the spinning block's 45 interfaces fail by 5% of its run and open fully by 10%)
+    for (name, m, at) in [
+        ("cracking block", cracking_block(), 0.5),
+        ("BETA 8 block", spinning_block(), 0.07),
+    ] {
+        if !continues_from_its_saved_state(name, &split_model(&m), at) {
+            return;
+        }
+    }
+}
+
+/// [`a_cracking_run_continues_from_its_saved_state`] for one model; false without a GPU.
+fn continues_from_its_saved_state(name: &str, split: &SplitModel, at: f64) -> bool {
+    let Some(g) = gpu() else { return false };
     let end = split.model.control.end_time;
     let every = end / 40.0;
     let record = || Record {
@@ -308,22 +345,27 @@ fn a_cracking_run_continues_from_its_saved_state() {
         next: 0.0,
         rows: Vec::new(),
     };
-    let mut s = solver(&split);
+    let mut s = solver(split);
     let mut st = GpuStepper::new(g, &s).unwrap();
     let mut obs = TakeState {
         record: record(),
-        due: 0.5 * end,
+        due: at * end,
         taken: None,
     };
     st.run_checkpointed(&mut s, &mut obs).unwrap();
     let through = obs.record.rows.last().unwrap().clone();
-    let (t, failed_then, state) = obs.taken.expect("a state taken midway");
+    let (t, failed_then, softening, state) = obs.taken.expect("a state taken midway");
     assert!(
         failed_then > 0,
-        "interfaces failed before the state was taken"
+        "{name}: interfaces failed before the state was taken"
     );
-    assert!(through.failed.len() > failed_then, "and after");
-    let mut s2 = solver(&split);
+    // the state holds what the rest of the run changes: interfaces yet to fail, or faces
+    // still softening
+    assert!(
+        through.failed.len() > failed_then || softening > 0,
+        "{name}: nothing left to happen"
+    );
+    let mut s2 = solver(split);
     let mut st2 = GpuStepper::new(st.into_gpu(), &s2).unwrap();
     st2.load(&mut s2, &state).unwrap();
     assert_eq!(s2.state.t, t);
@@ -333,8 +375,145 @@ fn a_cracking_run_continues_from_its_saved_state() {
     st2.run(&mut s2, &mut r).unwrap();
     let again = r.rows.last().unwrap();
     eprintln!(
-        "continued from t = {t:e} ({failed_then} interfaces failed then): {} at the end",
+        "{name}: continued from t = {t:e} ({failed_then} interfaces failed then, {softening} softening): {} at the end",
         again.failed.len()
     );
-    assert!(*again == through, "the continued run ends elsewhere");
+    assert!(
+        *again == through,
+        "{name}: the continued run ends elsewhere"
+    );
+    true
+}
+
+/// The cohesive bar of the CPU tests (cleave-core tests/separation.rs `cohesive_bar`): the
+/// pulled bar whose two middle elements alone form the group (BOND 0: one cohesive plane),
+/// SIGMAX = 1.5 rho c v, GC = SIGMAX 50 um / 2, the ends also driven sideways at -/+ `slide`
+/// (mixed mode), to 1.8 L / c.
+fn cohesive_bar(model: i32, slide: f64) -> Model {
+    let c = (YOUNG / RHO).sqrt();
+    let sigmax = 1.5 * RHO * c * PULL;
+    let mut bar = pulled_bar_with(model, sigmax * 50e-6 / 2.0, 1.8);
+    for (x, sf) in [(0.0, -slide), (BAR_L, slide)] {
+        for node in bar.nodes_where(0, x, 1e-12) {
+            bar.prescribed.push(PrescribedMotion {
+                target: MotionTarget::Node(node),
+                axis: 1,
+                vad: Vad::Velocity,
+                curve: 0,
+                sf,
+            });
+        }
+    }
+    bar.materials.push(Material {
+        id: 2,
+        ..bar.materials[0].clone()
+    });
+    bar.parts.push(Part {
+        id: 2,
+        title: "middle".into(),
+        section: 0,
+        material: 1,
+        hourglass: None,
+    });
+    for e in [BAR_N / 2 - 1, BAR_N / 2] {
+        bar.elem_part[e] = 1;
+    }
+    bar.separations[0].material = 1;
+    bar.separations[0].bond = 0;
+    bar
+}
+
+/// The cohesive laws on the GPU: the linear law (MODEL 3) in mode I and the exponential one
+/// (MODEL 4) in mixed mode open the middle plane in the same steps as on the CPU, with the
+/// same fracture energy (the cohesive work, to 1e-9), which is GC times the crack area within
+/// 2% once the crack is fully open (the CPU test's bound: the trapezoid work is exact but for
+/// the steps of onset and full opening).
+#[test]
+fn cohesive_laws_open_as_on_the_cpu() {
+    for (model, slide) in [(3, 0.0), (4, 3.0)] {
+        let bar = cohesive_bar(model, slide);
+        let split = split_model(&bar);
+        assert_eq!(split.interfaces, 1);
+        let every = bar.control.end_time / 40.0;
+        let name = format!("cohesive bar, MODEL {model}, slide {slide} m/s");
+        let Some(cpu) = compare(&split, every, &name) else {
+            return;
+        };
+        let last = cpu.last().unwrap();
+        let h = BAR_L / BAR_N as f64;
+        let gc = bar.separations[0].gc;
+        let fracture = last.energy[4];
+        eprintln!(
+            "{name}: fracture energy {fracture:.6e} J, GC x area {:.6e} J",
+            gc * h * h
+        );
+        assert_eq!(last.free, 1, "{name}: the crack opens fully");
+        assert!((fracture - gc * h * h).abs() < 0.02 * gc * h * h, "{name}");
+    }
+}
+
+/// 6 x 3 x 3 alumina elements thrown spinning, all in one MODEL 3 group of BETA 8 (the CPU
+/// tests' stiff sliding law).
+fn spinning_block() -> Model {
+    let mat = Material {
+        id: 1,
+        density: 3900.0,
+        young: 370e9,
+        poisson: 0.22,
+        kind: MaterialKind::Elastic,
+    };
+    let (lx, ly, lz) = (0.06, 0.03, 0.03);
+    let mut m = box_model([6, 3, 3], [lx, ly, lz], mat, 20e-6);
+    m.control.tssfac = 0.2;
+    let centre = [lx / 2.0, ly / 2.0, lz / 2.0];
+    for (x, v) in m.x0.iter().zip(m.v0.iter_mut()) {
+        let r = [x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]];
+        *v = [-2000.0 * r[1] + 300.0 * r[0], 2000.0 * r[0], 0.0];
+    }
+    m.separations.push(SeparationDef {
+        material: 0,
+        model: 3,
+        sigmax: 100e6,
+        beta: 8.0,
+        gc: 40.0,
+        bond: 1,
+        strength: Default::default(),
+    });
+    m
+}
+
+/// Steps on the CPU whose time step is the cohesive springs' (observed every step).
+struct BoundSteps(usize);
+impl Observer for BoundSteps {
+    fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
+        let coh = s.separation().unwrap().cohesive_time_step();
+        self.0 += (s.state.dt == coh) as usize;
+        Ok(())
+    }
+}
+
+/// The spinning block ([`spinning_block`], cleave-core tests/separation.rs, the stiff sliding
+/// law), whose sliding springs bound the time step after release. On the GPU the same interfaces fail and
+/// open in the same steps as on the CPU (so the springs' step is taken as there), with the
+/// same fracture energy.
+#[test]
+fn a_stiff_sliding_law_bounds_the_step_as_on_the_cpu() {
+    let m = spinning_block();
+    let split = split_model(&m);
+    let mut bound = BoundSteps(0);
+    solver(&split).run(&mut bound).unwrap();
+    let every = m.control.end_time / 40.0;
+    let Some(cpu) = compare(&split, every, "BETA 8 block") else {
+        return;
+    };
+    let last = cpu.last().unwrap();
+    eprintln!(
+        "BETA 8 block: {} steps, {} of them at the cohesive springs' step; {} interfaces failed, {} open",
+        last.step,
+        bound.0,
+        last.failed.len(),
+        last.free
+    );
+    assert!(bound.0 > 0, "the springs bound the step");
+    assert!(last.failed.len() > 10 && last.free > 0);
 }

@@ -497,9 +497,9 @@ fn check_lists_files_keywords_and_the_shapes_of_each_part() {
         text.contains("1 hexahedron (one-point hexahedron)"),
         "{text}"
     );
-    // whether --gpu takes it: the disc separates
+    // whether --gpu takes it: the disc's fragments meet the platens by contact
     assert!(
-        text.contains("gpu         --gpu does not run element separation"),
+        text.contains("gpu         --gpu does not run contact (*CONTACT_...)"),
         "{text}"
     );
     // the Taylor bar runs on the GPU

@@ -256,6 +256,11 @@ impl CohesiveLaw {
         self.beta.powi(2).max(1.0) * self.envelope(softened) / delta_max
     }
 
+    /// The softened opening past the peak at which the law is fully open.
+    pub fn delta_open(&self) -> f64 {
+        self.delta_open
+    }
+
     /// Whether a point whose largest opening past the peak is `softened` carries no more
     /// traction.
     pub fn is_open(&self, softened: f64) -> bool {

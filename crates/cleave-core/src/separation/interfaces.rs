@@ -42,20 +42,23 @@ pub enum Status {
 /// part of the face's mean opening: the faces' relative translation. (The tangential
 /// differences between the points are the two elements' different in-plane stretching, not
 /// sliding; taken as sliding they would turn the full strength sideways at near-zero opening.)
+///
+/// Its fields are public for a backend that steps the softening faces itself (the GPU):
+/// [`Separation::cohesive_faces`], [`Separation::cohesive_faces_mut`].
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
-struct CohesiveFace {
-    interface: u32,
+pub struct CohesiveFace {
+    pub interface: u32,
     /// The law with the interface's own strength.
-    law: CohesiveLaw,
+    pub law: CohesiveLaw,
     /// Per point, the largest opening past the peak ([`CohesiveLaw::traction`]).
-    softened: [f64; 4],
+    pub softened: [f64; 4],
     /// Traction at onset (from the mean stress): the face's elastic stretch at release.
-    t0: Vec3,
+    pub t0: Vec3,
     /// The stiffest slope the face takes (Pa/m), from the thinner, stiffer side.
-    k_max: f64,
+    pub k_max: f64,
     /// Opening x_b - x_a and force on side a at the previous evaluation (for the work).
-    d_prev: [Vec3; 4],
-    f_prev: [Vec3; 4],
+    pub d_prev: [Vec3; 4],
+    pub f_prev: [Vec3; 4],
 }
 
 /// The interfaces of a split model at run time.
@@ -195,6 +198,23 @@ impl Separation {
     pub fn sets(&self) -> &CoincidentSets {
         &self.sets
     }
+    /// The softening faces, in the order they were released. On the CPU a face leaves the list
+    /// when it opens fully ([`Self::add_cohesive_forces`]); a backend that steps them itself
+    /// keeps every face in place and marks the open ones free ([`Self::mark_open`]).
+    pub fn cohesive_faces(&self) -> &[CohesiveFace] {
+        &self.cohesive
+    }
+    /// The softening faces, to take up their state from a backend that steps them itself.
+    pub fn cohesive_faces_mut(&mut self) -> &mut [CohesiveFace] {
+        &mut self.cohesive
+    }
+    /// A backend found the softening interface `i` fully open: it is free from now on.
+    pub fn mark_open(&mut self, i: usize) {
+        if self.status[i] == Status::Softening {
+            self.status[i] = Status::Free;
+        }
+    }
+
     /// Interfaces released by the last [`Self::check_failure`] (ascending).
     pub fn released(&self) -> &[usize] {
         &self.released

@@ -264,6 +264,17 @@ impl GpuStepper {
                 gpu.info.name
             )));
         }
+        // element separation: the interfaces, and the softening faces of the cohesive laws
+        // (58 values for each interface that may soften)
+        let (ifu, ifs, n_if, if_index) = crate::separation::interface_table(solver);
+        let co = crate::separation::Cohesive::of(solver);
+        let sep_bytes = (4 * (ifu.len() + co.cix.len())).max(8 * (ifs.len() + co.coh.len())) as u64;
+        if sep_bytes > limit {
+            return Err(GpuError::TooLarge(format!(
+                "the {n_if} interfaces of element separation (with their cohesive faces) need an array of {sep_bytes} bytes; {} binds at most {limit} bytes per array",
+                gpu.info.name
+            )));
+        }
         let dev = &gpu.device;
         let groups_e = ne.div_ceil(GROUP);
         let groups_n = nn.div_ceil(GROUP);
@@ -299,8 +310,6 @@ impl GpuStepper {
                 mapped_at_creation: false,
             })
         };
-        // the softening faces (cohesive laws) as the GPU keeps them
-        let co = crate::separation::Cohesive::of(solver);
         let cf_buf = f64s("control floats", &control_block(solver));
         let mut cu0 = [0u32; cu::LEN];
         cu0[cu::INVERTED] = u32::MAX;
@@ -343,7 +352,6 @@ impl GpuStepper {
         let erodes = !model.erosion.is_empty();
         let ero = zeros("erosion", if erodes { 4 * ne } else { 1 });
         let eref = f64s("reference jacobians", &reference_jacobians(model));
-        let (ifu, ifs, n_if, if_index) = crate::separation::interface_table(solver);
         // (the softening faces' blocks after the interfaces' in the same arrays: fewer bindings)
         let (c_ptr, c_coh) = (ifu.len() as u32, ifs.len() as u32);
         let sep = SepBuffers {

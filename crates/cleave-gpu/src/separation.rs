@@ -344,7 +344,17 @@ impl GpuStepper {
     /// the host (the CPU's rules), rewrite what the split sets change, and run the rest of the
     /// step.
     pub(crate) fn split(&mut self, solver: &mut Solver, c: &Control) -> Result<(), RunError> {
-        self.mirror(solver, c);
+        // what the release reads: the positions and velocities (the new slots start with their
+        // set's), with a cohesive law the stresses (the onset traction); the rest of the
+        // mirror waits for the next output
+        self.mirror_kinematics(solver);
+        if self.sep.coh_cap > 0 {
+            let sig = self.download(&self.state.sig);
+            for (e, s) in solver.state.stress.iter_mut().enumerate() {
+                s.copy_from_slice(&sig[6 * e..6 * e + 6]);
+            }
+        }
+        c.apply(solver);
         let list: Vec<u32> = bytemuck::pod_collect_to_vec(&self.download_bytes(&self.sep.ifl));
         let ifs = self.download(&self.sep.ifs);
         let count = list[0] as usize;

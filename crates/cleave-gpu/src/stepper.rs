@@ -123,7 +123,7 @@ pub(crate) struct StateBuffers {
     pub x: wgpu::Buffer,
     pub v: wgpu::Buffer,
     pub vn: wgpu::Buffer,
-    sig: wgpu::Buffer,
+    pub sig: wgpu::Buffer,
     hist: wgpu::Buffer,
     hg: wgpu::Buffer,
     bq: wgpu::Buffer,
@@ -928,13 +928,13 @@ impl GpuStepper {
         out
     }
 
-    /// Fill the host mirror of the state from the GPU.
-    pub(crate) fn mirror(&self, solver: &mut Solver, c: &Control) {
+    /// Fill the host mirror's positions and velocities from the GPU, and the softening faces'
+    /// state.
+    pub(crate) fn mirror_kinematics(&self, solver: &mut Solver) {
         let vec3s =
             |d: Vec<f64>| -> Vec<Vec3> { d.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect() };
         // one entry per node, or per slot of the coincident sets (as many as there are now)
         let nn = solver.positions().entries().len();
-        let ne = solver.model.num_elements();
         let mut x = vec3s(self.download(&self.state.x));
         let mut v = vec3s(self.download(&self.state.v));
         let mut vn = vec3s(self.download(&self.state.vn));
@@ -945,6 +945,12 @@ impl GpuStepper {
         if self.sep.coh_cap > 0 {
             self.import_cohesive(solver);
         }
+    }
+
+    /// Fill the host mirror of the state from the GPU.
+    pub(crate) fn mirror(&self, solver: &mut Solver, c: &Control) {
+        self.mirror_kinematics(solver);
+        let ne = solver.model.num_elements();
         let sig = self.download(&self.state.sig);
         let hist = self.download(&self.state.hist);
         let hg = self.download(&self.state.hg);
@@ -1154,7 +1160,7 @@ impl Control {
     }
 
     /// Time, step, time steps and energies into the host's state.
-    fn apply(&self, solver: &mut Solver) {
+    pub(crate) fn apply(&self, solver: &mut Solver) {
         let f = &self.f;
         let st = &mut solver.state;
         st.t = f[cf::T];

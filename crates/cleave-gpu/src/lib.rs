@@ -3,10 +3,11 @@
 //! and on Mesa's software Vulkan (lavapipe) on any CPU.
 //!
 //! The state lives on the GPU: the element pass, the time step (reduced on the GPU and used
-//! there), the nodal update and the energy ledger run as five to eight dispatches a step
-//! (`step.wgsl`), and the host records many steps into one submission. It reads back a few
-//! control words per submission (time, step, whether a halt was asked for) and the state only
-//! when the output asks for it ([`cleave_core::solver::Observer::next_due`]) or a step fails.
+//! there), the nodal update and the energy ledger run as five or more dispatches a step
+//! (`step.wgsl` lists them), and the host records many steps into one submission. It reads back
+//! a few control words per submission (time, step, whether a halt was asked for) and the state
+//! only when the output asks for it ([`cleave_core::solver::Observer::next_due`]), a step fails,
+//! or interfaces fail (element separation, `separation.rs`).
 //! Every sum is taken in a fixed order (forces gathered per node from the corner forces of
 //! its elements, in element order; tree reductions of fixed shape), so a run gives the same
 //! bits every time on the same device.

@@ -81,6 +81,7 @@ pub(crate) mod cu {
     pub const NONFINITE: usize = 3;
     pub const DT_ELEM: usize = 4;
     pub const N_COH: usize = 5;
+    pub const FINISHED: usize = 6;
     pub const N_CSLOT: usize = 7;
     pub const LEN: usize = 8;
 }
@@ -633,8 +634,8 @@ impl GpuStepper {
         enc.finish()
     }
 
-    /// Run the passes of the step in flight that come after `after` (an entry point), and wait
-    /// for them.
+    /// Submit the passes of the step in flight that come after `after` (an entry point); the
+    /// queue runs them before anything submitted later.
     pub(crate) fn finish_step_after(&self, after: &str) {
         let Some(k) = self.pipelines.iter().position(|p| p.name == after) else {
             return;
@@ -774,6 +775,12 @@ impl GpuStepper {
             bytemuck::bytes_of(&pending),
         );
         self.clear_halt();
+        // a state saved at its end time goes on to the deck's (later) one
+        q.write_buffer(
+            &self.cu,
+            (cu::FINISHED * 4) as u64,
+            bytemuck::bytes_of(&0u32),
+        );
         let mut enc = self.gpu.device.create_command_encoder(&Default::default());
         self.copy_control(&mut enc, 0);
         q.submit([enc.finish()]);
@@ -1063,14 +1070,39 @@ impl GpuStepper {
                 self.read_control(s);
             }
             match c.halt() {
-                3 => return Err(RunError::Solver(c.error(solver))),
+                3 => {
+                    // the time and step of the failure in the host's state too (the summary)
+                    if c.f[cf::T].is_finite() {
+                        c.apply(solver);
+                    }
+                    return Err(RunError::Solver(c.error(solver)));
+                }
                 // interfaces failed: released on the host, the step run to its end
-                4 => self.split(solver, &c)?,
+                4 => {
+                    self.split(solver, &c)?;
+                    // (when interfaces fail in every step no batch runs through: ask here)
+                    if !stopping && obs.stop_asked() {
+                        stopping = true;
+                        self.gpu.queue.write_buffer(
+                            &self.cf,
+                            (cf::T_STOP * 8) as u64,
+                            bytemuck::bytes_of(&0.0f64),
+                        );
+                    }
+                }
                 h => {
                     self.mirror(solver, &c);
                     solver.set_finished(h == 2);
                     obs.observe(solver).map_err(RunError::Output)?;
+                    let t = solver.state.t;
+                    let due = t >= obs.checkpoint_due() * (1.0 - 1e-12);
                     if h == 2 {
+                        // a restart file due at the end time is written, as on the CPU (a
+                        // run may go on from it to a later end time)
+                        if due {
+                            obs.checkpoint(solver, self.save(solver))
+                                .map_err(RunError::Output)?;
+                        }
                         return Ok(());
                     }
                     // a halted step is a place to stop too (with frequent output every batch
@@ -1078,8 +1110,7 @@ impl GpuStepper {
                     if !stopping && obs.stop_asked() {
                         stopping = true;
                     }
-                    let t = solver.state.t;
-                    if stopping || t >= obs.checkpoint_due() * (1.0 - 1e-12) {
+                    if stopping || due {
                         obs.checkpoint(solver, self.save(solver))
                             .map_err(RunError::Output)?;
                         if stopping {

@@ -145,6 +145,7 @@ fn compare(split: &SplitModel, every: f64, name: &str) -> Option<Vec<Row>> {
             "{name}: failed interfaces at t = {}",
             a.t
         );
+        assert_eq!(a.free, b.free, "{name}: open interfaces at t = {}", a.t);
         let e = a.energy.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let de = (a.energy.iter().zip(&b.energy)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
         let d = [

@@ -381,7 +381,8 @@ fn a_restart_file_of_another_deck_version_or_damaged_is_refused() {
 /// A GPU run (`--gpu`; lavapipe where there is no GPU, which `.ci/run` installs) keeps the
 /// device's state in its restart files: continued from the last one, or from the one written
 /// when SIGTERM stopped it midway, it writes the same bytes as a GPU run never stopped. A CPU
-/// run's file is refused by a GPU run, and the other way round, with a message that says so.
+/// run's file is refused by a GPU run, and the other way round, with a message that says so. A
+/// file due at the end time is written, and a GPU run goes on from it as a CPU run from its own.
 /// Without a device with f64 shaders the test says SKIPPED.
 #[cfg(unix)]
 #[test]
@@ -488,4 +489,31 @@ fn a_gpu_run_continues_from_its_restart_file() {
         ],
         "continue it without --gpu",
     );
+
+    // a restart file due at the end time is written, as on the CPU, and the run goes on from
+    // it to a later end time as the CPU's does from its own (to round-off)
+    let mut last_rows = Vec::new();
+    let deck = d.join("deck.k").to_str().unwrap().to_string(); // the Taylor bar as written
+    for (name, gpu) in [("end-cpu", false), ("end-gpu", true)] {
+        let o = d.join(name);
+        let os = o.to_str().unwrap();
+        let mut args = vec!["run", &deck, "-q", "-o", os, "--end-time", "2e-6"];
+        args.extend(["--checkpoint-every", "1e-6"]);
+        args.extend(gpu.then_some("--gpu"));
+        run_ok(&args);
+        let ckpt = o.join("restart.ckpt");
+        assert!(ckpt.exists(), "{name}: no restart file at the end time");
+        let cs = ckpt.to_str().unwrap();
+        let mut args = vec!["run", &deck, "-q", "-o", os, "--end-time", "3e-6"];
+        args.extend(["--restart", cs]);
+        args.extend(gpu.then_some("--gpu"));
+        run_ok(&args);
+        let (_, rows) = common::csv(&o.join("glstat.csv"));
+        last_rows.push(rows.last().unwrap().clone());
+    }
+    let (c, g) = (&last_rows[0], &last_rows[1]);
+    assert_eq!(c[0], 3e-6, "the continued runs end at 3e-6");
+    for (a, b) in c.iter().zip(g) {
+        assert!((a - b).abs() <= 1e-9 * a.abs().max(1.0), "{c:?} vs {g:?}");
+    }
 }

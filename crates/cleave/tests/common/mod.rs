@@ -41,7 +41,6 @@ impl Drop for Scratch {
     }
 }
 
-/// A fresh, empty scratch folder for one test (see [`Scratch`]).
 /// True (and says SKIPPED) when a `--gpu` run found no usable GPU (exit 1 with the device
 /// message).
 pub fn no_gpu(out: &Output) -> bool {
@@ -53,6 +52,7 @@ pub fn no_gpu(out: &Output) -> bool {
     false
 }
 
+/// A fresh, empty scratch folder for one test (see [`Scratch`]).
 pub fn tmp(name: &str) -> Scratch {
     let d = std::env::temp_dir().join(format!("cleave-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);

@@ -167,4 +167,11 @@ fn gpu_numerical_failure_names_what_the_cpu_names() {
         msg(&c, cpu_dir.to_str().unwrap()),
         msg(&g, gpu_dir.to_str().unwrap())
     );
+    // and the summary's step and time are the failure's on both
+    let summary = |dir: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+    };
+    let (sc, sg) = (summary(&cpu_dir), summary(&gpu_dir));
+    assert!(sc["steps"].as_u64().is_some_and(|n| n > 0), "{sc}");
+    assert_eq!(sc["steps"], sg["steps"], "{sc} vs {sg}");
 }

@@ -357,10 +357,13 @@ impl GpuStepper {
         c.apply(solver);
         let list: Vec<u32> = bytemuck::pod_collect_to_vec(&self.download_bytes(&self.sep.ifl));
         let ifs = self.download(&self.sep.ifs);
-        let count = list[0] as usize;
+        // (a lost device reads back as NaNs: the count and numbers are then bounded, and
+        // the next read of the control block reports the loss)
+        let count = (list[0] as usize).min(list.len() - 1);
+        let index = |i: u32| ifs.get(self.sep.if_index as usize + i as usize).copied();
         let found: Vec<(f32, u32)> = list[1..=count]
             .iter()
-            .map(|&i| (ifs[self.sep.if_index as usize + i as usize] as f32, i))
+            .map(|&i| (index(i).unwrap_or(f64::NAN) as f32, i))
             .collect();
         solver.release_interfaces(&found).map_err(|e| {
             RunError::Output(std::io::Error::other(format!(

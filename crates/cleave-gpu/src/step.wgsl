@@ -2271,17 +2271,7 @@ fn interfaces(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_i
     if (factor * 0.5lf * (row_bound(sa) + row_bound(sb)) < strength) {
         return;
     }
-    // the current normal of the mid-surface of the two faces (interfaces.rs face_normal)
-    var p: array<vec3<f64>, 4>;
-    for (var k = 0u; k < 4u; k = k + 1u) {
-        p[k] = (ld(0u, ifu[o + 4u + k]) + ld(0u, ifu[o + 8u + k])) * 0.5lf;
-    }
-    let c = cross(p[2] - p[0], p[3] - p[1]);
-    let n2 = sqrt(dot(c, c));
-    var n = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
-    if (n2 != 0.0lf) {
-        n = vec3<f64>(c[0] / n2, c[1] / n2, c[2] / n2);
-    }
+    let n = interface_normal(o);
     // the traction of the mean stress, its normal part and the magnitude of its shear part
     var m: S6;
     for (var k = 0u; k < 6u; k = k + 1u) {
@@ -2306,6 +2296,21 @@ fn interfaces(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_i
         let k = atomicAdd(&ifl[0], 1u);
         atomicStore(&ifl[1u + k], i);
     }
+}
+
+// The current unit normal of the interface at `o` in `ifu`: the diagonal cross product of the
+// mid-points of its 4 node pairs (interfaces.rs face_normal; zero for a degenerate face).
+fn interface_normal(o: u32) -> vec3<f64> {
+    var p: array<vec3<f64>, 4>;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        p[k] = (ld(0u, ifu[o + 4u + k]) + ld(0u, ifu[o + 8u + k])) * 0.5lf;
+    }
+    let c = cross(p[2] - p[0], p[3] - p[1]);
+    let n2 = sqrt(dot(c, c));
+    if (n2 == 0.0lf) {
+        return vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    }
+    return vec3<f64>(c[0] / n2, c[1] / n2, c[2] / n2);
 }
 
 // The largest absolute row sum of a symmetric stress (Gershgorin: at least |s n| for any unit n).
@@ -2438,16 +2443,7 @@ fn cohesive(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
         return;
     }
     let io = IF_STRIDE * u32(ifs[prm.c_coh + o]);
-    var p: array<vec3<f64>, 4>;
-    for (var k = 0u; k < 4u; k = k + 1u) {
-        p[k] = (ld(0u, ifu[io + 4u + k]) + ld(0u, ifu[io + 8u + k])) * 0.5lf;
-    }
-    let c = cross(p[2] - p[0], p[3] - p[1]);
-    let n2 = sqrt(dot(c, c));
-    var n = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
-    if (n2 != 0.0lf) {
-        n = vec3<f64>(c[0] / n2, c[1] / n2, c[2] / n2);
-    }
+    let n = interface_normal(io);
     let pts = u32(ifs[prm.c_coh + o + 15u]);
     let w = ifs[prm.c_coh + o + 14u] / f64(pts);
     let t0 = coh_vec(o + 10u);

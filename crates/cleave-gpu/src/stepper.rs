@@ -656,6 +656,12 @@ impl GpuStepper {
         self.gpu.queue.submit([enc.finish()]);
     }
 
+    /// The time at which the GPU halts next (for output, a restart file or a stop; 0: at the
+    /// next step).
+    fn set_stop_time(&self, t: f64) {
+        (self.gpu.queue).write_buffer(&self.cf, (cf::T_STOP * 8) as u64, bytemuck::bytes_of(&t));
+    }
+
     /// Clear the halt flags, so that the next dispatches run.
     pub(crate) fn clear_halt(&self) {
         let q = &self.gpu.queue;
@@ -830,11 +836,7 @@ impl GpuStepper {
             mapped_at_creation: false,
         });
         // no output time inside the profiled steps
-        self.gpu.queue.write_buffer(
-            &self.cf,
-            (cf::T_STOP * 8) as u64,
-            bytemuck::bytes_of(&f64::MAX),
-        );
+        self.set_stop_time(f64::MAX);
         let mut enc = dev.create_command_encoder(&Default::default());
         {
             // the end of the step before, if it halted (not timed: once per batch)
@@ -1029,12 +1031,7 @@ impl GpuStepper {
         obs: &mut dyn Checkpointing,
     ) -> Result<(), RunError> {
         let stop_at = |obs: &dyn Checkpointing| obs.next_due().min(obs.checkpoint_due());
-        let queue = &self.gpu.queue;
-        queue.write_buffer(
-            &self.cf,
-            (cf::T_STOP * 8) as u64,
-            bytemuck::bytes_of(&stop_at(obs)),
-        );
+        self.set_stop_time(stop_at(obs));
         let mut in_flight: Vec<(usize, Instant)> = Vec::new();
         let mut next_staging = 0;
         let mut stopping = false;
@@ -1057,11 +1054,7 @@ impl GpuStepper {
                 if !stopping && obs.stop_asked() {
                     // halt at the next step (the batches recorded already run to it)
                     stopping = true;
-                    self.gpu.queue.write_buffer(
-                        &self.cf,
-                        (cf::T_STOP * 8) as u64,
-                        bytemuck::bytes_of(&0.0f64),
-                    );
+                    self.set_stop_time(0.0);
                 }
                 continue;
             }
@@ -1083,11 +1076,7 @@ impl GpuStepper {
                     // (when interfaces fail in every step no batch runs through: ask here)
                     if !stopping && obs.stop_asked() {
                         stopping = true;
-                        self.gpu.queue.write_buffer(
-                            &self.cf,
-                            (cf::T_STOP * 8) as u64,
-                            bytemuck::bytes_of(&0.0f64),
-                        );
+                        self.set_stop_time(0.0);
                     }
                 }
                 h => {
@@ -1117,12 +1106,7 @@ impl GpuStepper {
                             return Ok(());
                         }
                     }
-                    let q = &self.gpu.queue;
-                    q.write_buffer(
-                        &self.cf,
-                        (cf::T_STOP * 8) as u64,
-                        bytemuck::bytes_of(&stop_at(obs)),
-                    );
+                    self.set_stop_time(stop_at(obs));
                     self.clear_halt();
                 }
             }

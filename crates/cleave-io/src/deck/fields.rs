@@ -4,6 +4,13 @@
 //! Otherwise it is fixed format: consecutive fields of the widths the LS-DYNA keyword manual
 //! gives for that card (10 characters in general). Numbers may use Fortran exponents
 //! (`1.0d-3`, `1.0D+3`); NaN and infinities are rejected.
+//!
+//! Three fixed-format layouts ([`Format`]): standard (the manual's widths), I10 (every field
+//! under 10 characters widened to 10) and long (every field under 20 widened to 20, wider ones,
+//! such as 80-character titles and file names, doubled), chosen for a whole file by
+//! `*KEYWORD I10=Y` or `*KEYWORD LONG=Y` and for one keyword by the suffix `%`, `+` (or `-`,
+//! standard) written after its name, as LS-DYNA (since 971 R7.1 and R9) and the pre-processors
+//! that write them (LS-PrePost, PRIMER, PyDyna) do.
 
 use std::borrow::Cow;
 
@@ -13,6 +20,39 @@ use super::params::Params;
 
 /// 8 fields of 10 characters: the general LS-DYNA card.
 pub const W10: &[usize] = &[10; 8];
+
+/// The fixed-format layout of a keyword's cards.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Format {
+    /// The widths of the keyword manual (8, 10, 16, ... characters).
+    #[default]
+    Standard,
+    /// `I10=Y` / `%`: fields narrower than 10 characters are 10 wide (ids up to 10 digits).
+    I10,
+    /// `LONG=Y` / `+`: fields narrower than 20 characters are 20 wide, wider ones twice as wide.
+    Long,
+}
+
+impl Format {
+    /// The field widths of a card whose standard widths are `widths`.
+    pub fn widths(self, widths: &'static [usize]) -> Cow<'static, [usize]> {
+        match self {
+            Format::Standard => Cow::Borrowed(widths),
+            Format::I10 => Cow::Owned(widths.iter().map(|&w| w.max(10)).collect()),
+            Format::Long => Cow::Owned(
+                widths
+                    .iter()
+                    .map(|&w| if w < 20 { 20 } else { 2 * w })
+                    .collect(),
+            ),
+        }
+    }
+
+    /// The columns taken by the first `n` fields of a card whose standard widths are `widths`.
+    pub fn columns(self, widths: &'static [usize], n: usize) -> usize {
+        self.widths(widths).iter().take(n).sum()
+    }
+}
 
 /// A data card split into fields, with what is needed to report an error.
 #[derive(Clone, Debug)]
@@ -26,19 +66,31 @@ pub struct Card<'a> {
     /// Fixed format: bit i set when field i's text runs on into field i + 1 (no blank on
     /// either side of the column between them), to explain a value that does not parse.
     joined: u64,
-    /// The fields' widths (fixed format).
-    widths: &'static [usize],
+    /// The fields' widths (fixed format), in the card's [`Format`].
+    widths: Cow<'static, [usize]>,
 }
 
 impl<'a> Card<'a> {
-    /// Splits `line` by the card's field `widths` (fixed format) or by commas (free format).
-    /// Free format with more non-blank fields than the card has is an error.
+    /// Splits `line` by the card's field `widths` (fixed format, standard layout) or by commas
+    /// (free format). Free format with more non-blank fields than the card has is an error.
     pub fn new(
         file: &'a str,
         keyword: &'a str,
         line: Line<'a>,
         widths: &'static [usize],
     ) -> Result<Self, DeckError> {
+        Self::in_format(file, keyword, line, widths, Format::Standard)
+    }
+
+    /// As [`Card::new`], the fixed fields laid out in `format` (the standard `widths` widened).
+    pub fn in_format(
+        file: &'a str,
+        keyword: &'a str,
+        line: Line<'a>,
+        widths: &'static [usize],
+        format: Format,
+    ) -> Result<Self, DeckError> {
+        let widths = format.widths(widths);
         let free = line.text.contains(',');
         let width: usize = widths.iter().sum();
         if !free && !blank_beyond(line.text, width) {
@@ -46,7 +98,11 @@ impl<'a> Card<'a> {
                 file,
                 line.no,
                 Some(keyword),
-                format!("text beyond column {width}, the end of this card's fixed-format fields (widths {widths:?}); check the column layout or use commas"),
+                format!("text beyond column {width}, the end of this card's fixed-format fields (widths {:?}{}); check the column layout or use commas", widths.as_ref(), match format {
+                    Format::Standard => "",
+                    Format::I10 => ", the I10 layout",
+                    Format::Long => ", the long layout",
+                }),
             ));
         }
         let fields: Vec<Cow<'a, str>> = if free {
@@ -55,7 +111,7 @@ impl<'a> Card<'a> {
                 .map(|f| Cow::Borrowed(f.trim()))
                 .collect()
         } else {
-            split_fixed(line.text, widths)
+            split_fixed(line.text, &widths)
                 .into_iter()
                 .map(Cow::Borrowed)
                 .collect()
@@ -83,11 +139,9 @@ impl<'a> Card<'a> {
         };
         if free {
             let n = card.count();
-            if n > widths.len() {
-                return Err(card.err(format!(
-                    "too many fields: {n} (this card has {})",
-                    widths.len()
-                )));
+            let fields = card.widths.len();
+            if n > fields {
+                return Err(card.err(format!("too many fields: {n} (this card has {fields})")));
             }
         }
         Ok(card)

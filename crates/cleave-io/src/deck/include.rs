@@ -25,6 +25,7 @@
 use std::path::{Path, PathBuf};
 
 use super::error::DeckError;
+use super::fields::Format;
 use super::lex::{lex, Block};
 
 /// How deep includes may nest (a guard against runaway recursion; real decks use 2 or 3).
@@ -67,16 +68,22 @@ pub fn blocks(sources: &[Source]) -> Result<Vec<Block<'_>>, DeckError> {
     }
     let mut out = Vec::new();
     let mut groups = 0;
-    flatten(0, 0, sources, &mut lexed, &mut groups, &mut out);
+    flatten(
+        (0, 0, Format::Standard),
+        sources,
+        &mut lexed,
+        &mut groups,
+        &mut out,
+    );
     Ok(out)
 }
 
 /// Appends the blocks of source `i` to `out`, in group `group`; an `*INCLUDE_TRANSFORM` opens
 /// the next group (`groups` counts them) and is kept, marked with that group, for its cards to
-/// be read.
+/// be read. A block whose layout neither its keyword nor its file's `*KEYWORD` line sets gets
+/// `inherited`, that of the `*INCLUDE` that brought its file in.
 fn flatten<'a>(
-    i: usize,
-    group: usize,
+    (i, group, inherited): (usize, usize, Format),
     sources: &[Source],
     lexed: &mut [Option<Vec<Block<'a>>>],
     groups: &mut usize,
@@ -86,6 +93,8 @@ fn flatten<'a>(
         return;
     };
     for mut b in blocks {
+        let format = b.format.unwrap_or(inherited);
+        b.format = Some(format);
         let children = || {
             sources[i]
                 .includes
@@ -96,7 +105,7 @@ fn flatten<'a>(
         };
         if b.keyword == "*INCLUDE" {
             for c in children() {
-                flatten(c, group, sources, lexed, groups, out);
+                flatten((c, group, format), sources, lexed, groups, out);
             }
         } else if b.keyword == "*INCLUDE_TRANSFORM" {
             *groups += 1;
@@ -105,7 +114,7 @@ fn flatten<'a>(
             b.group = g;
             out.push(b);
             for c in cs {
-                flatten(c, g, sources, lexed, groups, out);
+                flatten((c, g, format), sources, lexed, groups, out);
             }
         } else if !b.keyword.starts_with("*INCLUDE_PATH") {
             b.group = group;

@@ -19,7 +19,7 @@ use std::collections::HashMap;
 
 use super::error::DeckError;
 use super::expr;
-use super::fields::{parse_f64, parse_i64, Card, W10};
+use super::fields::{parse_f64, parse_i64, Card, Format, W10};
 use super::lex::{Block, Line};
 
 /// A parameter's value.
@@ -48,7 +48,8 @@ impl Params {
             .filter(|b| b.keyword == "*PARAMETER_DUPLICATION")
         {
             if let Some(l) = b.lines.iter().find(|l| !l.is_blank()) {
-                let c = Card::new(&b.file, &b.keyword, *l, W10)?;
+                let c =
+                    Card::in_format(&b.file, &b.keyword, *l, W10, b.format.unwrap_or_default())?;
                 let v = c.i64_or(0, "DFLAG", 1)?;
                 if !(1..=4).contains(&v) {
                     return Err(c.field_err("DFLAG", format!("{v} is not one of 1..4")));
@@ -63,7 +64,13 @@ impl Params {
             match b.keyword.trim_end_matches("_LOCAL") {
                 "*PARAMETER" => {
                     for l in b.lines.iter().filter(|l| !l.is_blank()) {
-                        let c = Card::new(&b.file, &b.keyword, *l, W10)?;
+                        let c = Card::in_format(
+                            &b.file,
+                            &b.keyword,
+                            *l,
+                            W10,
+                            b.format.unwrap_or_default(),
+                        )?;
                         for pair in 0..4 {
                             let prmr = c.raw(2 * pair).to_string();
                             if prmr.is_empty() {
@@ -92,7 +99,7 @@ impl Params {
                         // field separators)
                         let anchor = Line { no: l.no, text: "" };
                         let c = Card::new(&b.file, &b.keyword, anchor, W10)?;
-                        let (prmr, text) = split_expression(l.text);
+                        let (prmr, text) = split_expression(l.text, b.format.unwrap_or_default());
                         let (kind, name) =
                             type_and_name(&prmr).map_err(|m| c.field_err("PRMR", m))?;
                         let lookup = |n: &str| match p.get(&b.file, n) {
@@ -202,14 +209,15 @@ fn type_and_name(prmr: &str) -> Result<(char, String), String> {
 }
 
 /// PRMR and the expression of an expression card: split at the first comma when the card is
-/// comma-separated there, else at column 10.
-fn split_expression(text: &str) -> (String, String) {
-    let head: String = text.chars().take(10).collect();
+/// comma-separated there, else after the PRMR field (column 10; 20 in the long layout).
+fn split_expression(text: &str, format: Format) -> (String, String) {
+    let w = format.columns(W10, 1);
+    let head: String = text.chars().take(w).collect();
     if let Some(k) = head.find(',') {
         let rest = text[k + 1..].trim().trim_end_matches(',').trim();
         return (text[..k].trim().to_string(), rest.to_string());
     }
-    let rest: String = text.chars().skip(10).collect();
+    let rest: String = text.chars().skip(w).collect();
     (head.trim().to_string(), rest.trim().to_string())
 }
 

@@ -48,7 +48,7 @@ pub fn element_solid(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
                 }
             }
         } else {
-            blank_beyond(r.current_text(), 16)
+            blank_beyond(r.current_text(), r.format.columns(ELEM, 2))
         };
         let eid = c1.id(0, "EID")?;
         let pid = c1.id(1, "PID")?;

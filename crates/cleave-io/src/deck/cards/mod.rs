@@ -22,7 +22,7 @@ mod transform;
 use std::rc::Rc;
 
 use super::error::DeckError;
-use super::fields::Card;
+use super::fields::{Card, Format};
 use super::lex::{Block, Line};
 use super::params::Params;
 use super::raw::{RawDeck, Src};
@@ -222,6 +222,8 @@ pub struct Reader<'a> {
     lines: &'a [Line<'a>],
     pos: usize,
     params: &'a Params,
+    /// The layout of the block's fixed-format cards.
+    pub format: Format,
 }
 
 impl<'a> Reader<'a> {
@@ -235,6 +237,7 @@ impl<'a> Reader<'a> {
             lines: &block.lines,
             pos: 0,
             params,
+            format: block.format.unwrap_or_default(),
         }
     }
 
@@ -288,7 +291,7 @@ impl<'a> Reader<'a> {
             None => Ok(None),
             Some(&l) => {
                 self.pos += 1;
-                Card::new(self.file, self.keyword, l, widths)?
+                Card::in_format(self.file, self.keyword, l, widths, self.format)?
                     .substitute(self.params)
                     .map(Some)
             }
@@ -326,7 +329,7 @@ impl<'a> Reader<'a> {
     pub fn card_or_defaults(&mut self, widths: &'static [usize]) -> Result<Card<'a>, DeckError> {
         match self.next(widths)? {
             Some(c) => Ok(c),
-            None => Ok(Card::new(
+            None => Ok(Card::in_format(
                 self.file,
                 self.keyword,
                 Line {
@@ -334,11 +337,13 @@ impl<'a> Reader<'a> {
                     text: "",
                 },
                 widths,
+                self.format,
             )?),
         }
     }
 
-    /// The next line as a title (free text, at most 80 characters, never split at commas).
+    /// The next line as a title (free text, at most 80 characters, 160 in the long layout;
+    /// never split at commas).
     pub fn title(&mut self) -> Result<String, DeckError> {
         let line = self.lines.last().map_or(self.block_line, |l| l.no);
         match self.lines.get(self.pos) {
@@ -352,7 +357,7 @@ impl<'a> Reader<'a> {
                 self.pos += 1;
                 Ok(l.text
                     .chars()
-                    .take(80)
+                    .take(self.format.columns(&[80], 1))
                     .collect::<String>()
                     .trim()
                     .to_string())

@@ -2094,6 +2094,19 @@ fn a_value_across_a_field_edge_is_explained() {
             .contains("runs across the edge of this field (columns 1-10)"),
         "{e}"
     );
+    // a field cleave reads only to warn about is still a number: ENDTIM pushed 3 columns
+    // right reads as 1.0 and leaves 'e-6' to ENDCYC, which must not pass as a warning
+    let t = with(
+        "*CONTROL_TERMINATION\n",
+        "*CONTROL_TERMINATION\n       1.0e-6\n$",
+    );
+    let e = err(&t);
+    assert_eq!(e.field.as_deref(), Some("ENDCYC"), "{e}");
+    assert!(
+        e.message.contains("'e-6' is not a number")
+            && e.message.contains("(columns 11-20)"),
+        "{e}"
+    );
 }
 
 /// `*LOAD_NODE_POINT`, `*LOAD_NODE_SET` (expanded per node), `*LOAD_SEGMENT` (a triangle as

@@ -75,7 +75,7 @@ fn nodal_rigid_body(
                 "CID",
                 "output in a local system is not written",
                 deck,
-            );
+            )?;
         }
         if c.ref_id(3, "PNODE")?.is_some() {
             return Err(c.field_err(
@@ -83,7 +83,7 @@ fn nodal_rigid_body(
                 "a node placed at the centre of mass is not supported (cleave does not move nodes); leave it blank or put the node in NSID",
             ));
         }
-        warn_ignored(&c, 4, "IPRT", "rigid body output is not written", deck);
+        warn_ignored(&c, 4, "IPRT", "rigid body output is not written", deck)?;
         for (i, name) in [(5, "DRFLAG"), (6, "RRFLAG")] {
             if c.i64_or(i, name, 0)? != 0 {
                 return Err(c.field_err(

@@ -8,15 +8,25 @@ use crate::deck::fields::{Card, W10};
 use crate::deck::raw::{RawDeck, RawHourglass};
 
 /// Records a warning if field `i` is set (non-blank, non-zero): it is read but not used.
-pub fn warn_ignored(c: &Card<'_>, i: usize, name: &str, what: &str, deck: &mut RawDeck) {
-    let s = c.raw(i);
-    let zero = crate::deck::fields::parse_f64(s).is_ok_and(|v| v == 0.0);
-    if !s.is_empty() && !zero {
+pub fn warn_ignored(
+    c: &Card<'_>,
+    i: usize,
+    name: &str,
+    what: &str,
+    deck: &mut RawDeck,
+) -> Result<(), DeckError> {
+    // a value that is not a number is an error even here: it is most likely a card laid out
+    // in other columns, whose other fields are then misread too
+    if c.opt_f64(i, name)?.is_some_and(|v| v != 0.0) {
         deck.warnings.push(format!(
-            "{}:{}: {}: field {name} = {s} ignored ({what})",
-            c.file, c.line, c.keyword
+            "{}:{}: {}: field {name} = {} ignored ({what})",
+            c.file,
+            c.line,
+            c.keyword,
+            c.raw(i)
         ));
     }
+    Ok(())
 }
 
 /// A real that must be blank or 0: the feature it switches on (`what`) is not modelled, and
@@ -161,7 +171,7 @@ fn termination(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> 
         deck.control.dt_min = dtmin;
     }
     for (i, name) in [(1, "ENDCYC"), (3, "ENDENG"), (4, "ENDMAS")] {
-        warn_ignored(&c, i, name, "only ENDTIM and DTMIN end a run", deck);
+        warn_ignored(&c, i, name, "only ENDTIM and DTMIN end a run", deck)?;
     }
     Ok(())
 }
@@ -176,14 +186,14 @@ fn timestep(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
         return Err(c.field_err("TSSFAC", format!("{tssfac} must lie in (0, 1]")));
     }
     deck.control.tssfac = tssfac;
-    warn_ignored(&c, 4, "DT2MS", "mass scaling is not supported", deck);
+    warn_ignored(&c, 4, "DT2MS", "mass scaling is not supported", deck)?;
     warn_ignored(
         &c,
         5,
         "LCTM",
         "a time step limit curve is not supported",
         deck,
-    );
+    )?;
     r.ignore(1);
     Ok(())
 }

@@ -38,7 +38,7 @@ pub fn define_curve(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
         "DATTYP",
         "curves are plain abscissa-ordinate pairs",
         deck,
-    );
+    )?;
     let mut curve = Curve {
         id,
         t: Vec::new(),

@@ -29,13 +29,13 @@ pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
         "OFFSET",
         "nodes are captured at the wall plane",
         deck,
-    );
+    )?;
     must_be_blank(&c, 4, "BIRTH", "a birth time is")?;
     let death = c.f64_or(5, "DEATH", 0.0)?;
     if death != 0.0 && death < 1.0e20 {
         return Err(c.field_err("DEATH", "a death time is not supported; leave it blank"));
     }
-    warn_ignored(&c, 6, "RWKSF", "the wall is a kinematic constraint", deck);
+    warn_ignored(&c, 6, "RWKSF", "the wall is a kinematic constraint", deck)?;
     let c2 = r.required(W10, "XT YT ZT XH YH ZH FRIC WVEL")?;
     let tail = [
         c2.f64_or(0, "XT", 0.0)?,
@@ -57,7 +57,7 @@ pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
     if fric < 0.0 {
         return Err(c2.field_err("FRIC", format!("{fric} must not be negative")));
     }
-    warn_ignored(&c2, 7, "WVEL", "wall failure is not modelled", deck);
+    warn_ignored(&c2, 7, "WVEL", "wall failure is not modelled", deck)?;
     deck.walls.push(RawWall {
         src: r.src(c.line),
         nsid,
@@ -136,7 +136,7 @@ fn contact_cards(
             "MSID",
             "a single-surface contact has no master side",
             deck,
-        );
+        )?;
         None
     } else {
         Some(surface(&c, 1, 3, ["MSID", "MSTYP"])?)
@@ -153,12 +153,12 @@ fn contact_cards(
                 return Err(c2.field_err(name, format!("{v} must not be negative")));
             }
         }
-        warn_ignored(&c2, 3, "VC", "viscous friction is not modelled", deck);
-        warn_ignored(&c2, 4, "VDC", "contact damping is not modelled", deck);
-        warn_ignored(&c2, 6, "BT", "contact is active for the whole run", deck);
+        warn_ignored(&c2, 3, "VC", "viscous friction is not modelled", deck)?;
+        warn_ignored(&c2, 4, "VDC", "contact damping is not modelled", deck)?;
+        warn_ignored(&c2, 6, "BT", "contact is active for the whole run", deck)?;
         let dt = c2.f64_or(7, "DT", 0.0)?;
         if dt != 0.0 && dt < 1.0e20 {
-            warn_ignored(&c2, 7, "DT", "contact is active for the whole run", deck);
+            warn_ignored(&c2, 7, "DT", "contact is active for the whole run", deck)?;
         }
     }
     r.ignore_rest();

@@ -78,7 +78,7 @@ pub fn simplified(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
     let pr = poisson(&c, 3)?;
     c.code(4, "VP", 0, 0, 1)?;
     for (i, name) in [(5, "EPPFR"), (6, "LCDM"), (7, "NUMINT")] {
-        warn_ignored(&c, i, name, "shell elements only", deck);
+        warn_ignored(&c, i, name, "shell elements only", deck)?;
     }
     let c2 = r.required(W10, "A B N C PSFAIL SIGMAX SIGSAT EPSO")?;
     let [a, b, n, rate, eps0] = hardening_and_rate(&c2, 7)?;
@@ -162,7 +162,7 @@ pub fn johnson_cook(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
         ));
     }
     let young = if e > 0.0 { e } else { from_g };
-    warn_ignored(&c, 5, "DTF", "erosion by time step is not modelled", deck);
+    warn_ignored(&c, 5, "DTF", "erosion by time step is not modelled", deck)?;
     c.code(6, "VP", 0, 0, 1)?;
     unsupported(
         &c,
@@ -190,8 +190,8 @@ pub fn johnson_cook(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
     let c3 = r.required(W10, "CP PC SPALL IT D1 D2 D3 D4")?;
     let cp = non_negative(&c3, 0, "CP")?;
     unsupported(&c3, 1, "PC", "a spall pressure cutoff")?;
-    warn_ignored(&c3, 2, "SPALL", "no spall model", deck);
-    warn_ignored(&c3, 3, "IT", "the return always iterates", deck);
+    warn_ignored(&c3, 2, "SPALL", "no spall model", deck)?;
+    warn_ignored(&c3, 3, "IT", "the return always iterates", deck)?;
     let mut d = [0.0; 5];
     for (i, name) in [(4, "D1"), (5, "D2"), (6, "D3"), (7, "D4")] {
         d[i - 4] = c3.f64_or(i, name, 0.0)?;
@@ -199,13 +199,13 @@ pub fn johnson_cook(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckEr
     let (mut erod, mut efmin) = (0, 1e-6);
     if let Some(c4) = r.next(W10)? {
         d[4] = c4.f64_or(0, "D5", 0.0)?;
-        warn_ignored(&c4, 1, "C2/P", "the rate form of RATEOP 0 is used", deck);
+        warn_ignored(&c4, 1, "C2/P", "the rate form of RATEOP 0 is used", deck)?;
         erod = c4.code(2, "EROD", 0, 0, 1)?;
         efmin = c4.f64_nz(3, "EFMIN", 1e-6)?;
         if efmin < 0.0 {
             return Err(c4.field_err("EFMIN", format!("{efmin} must not be negative")));
         }
-        warn_ignored(&c4, 4, "NUMINT", "a solid element has one point", deck);
+        warn_ignored(&c4, 4, "NUMINT", "a solid element has one point", deck)?;
     }
     if d.iter().any(|&v| v != 0.0) && erod == 0 {
         // Johnson-Cook damage: the element erodes when it reaches 1
@@ -260,11 +260,11 @@ pub fn elastic_plastic_hydro(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(
         // the element erodes at this effective plastic strain
         super::erosion::plastic_strain(r, deck, &c, mid, fs);
     }
-    warn_ignored(&c, 7, "CHARL", "no erosion by characteristic length", deck);
+    warn_ignored(&c, 7, "CHARL", "no erosion by characteristic length", deck)?;
     if let Some(c2) = r.next(W10)? {
         unsupported(&c2, 0, "A1", "a pressure-dependent yield stress")?;
         unsupported(&c2, 1, "A2", "a pressure-dependent yield stress")?;
-        warn_ignored(&c2, 2, "SPALL", "no spall model", deck);
+        warn_ignored(&c2, 2, "SPALL", "no spall model", deck)?;
     }
     for k in 0..4 {
         let Some(ck) = r.next(W10)? else { break };

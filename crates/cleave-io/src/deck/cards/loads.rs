@@ -67,7 +67,7 @@ pub fn velocity_generation(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(),
             "IVATN",
             "slave nodes of rigid bodies are treated as any node",
             deck,
-        );
+        )?;
         global_only(r, &c, 7, "ICID", deck)?;
         let c2 = r.required(W10, "XC YC ZC NX NY NZ PHASE IRIGID")?;
         let centre = [
@@ -92,14 +92,14 @@ pub fn velocity_generation(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(),
         } else {
             [0.0; 3]
         };
-        warn_ignored(&c2, 6, "PHASE", "velocities are set at time 0", deck);
+        warn_ignored(&c2, 6, "PHASE", "velocities are set at time 0", deck)?;
         warn_ignored(
             &c2,
             7,
             "IRIGID",
             "rigid parts take the nodal velocities",
             deck,
-        );
+        )?;
         deck.init_vel.push(RawInitVel {
             src: r.src(c.line),
             target,
@@ -123,7 +123,7 @@ pub fn velocity_node(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckE
             c.f64_or(3, "VZ", 0.0)?,
         ];
         for (i, name) in [(4, "VXR"), (5, "VYR"), (6, "VZR")] {
-            warn_ignored(&c, i, name, "solid nodes have no rotations", deck);
+            warn_ignored(&c, i, name, "solid nodes have no rotations", deck)?;
         }
         deck.init_vel.push(RawInitVel {
             src: r.src(c.line),
@@ -170,7 +170,7 @@ pub fn velocity(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError>
             "IRIGID",
             "rigid parts take their nodes' velocities",
             deck,
-        );
+        )?;
         global_only(r, &c, 4, "ICID", deck)?;
         let v_card = r.required(W10, "VX VY VZ VXR VYR VZR")?;
         let v = [
@@ -179,7 +179,7 @@ pub fn velocity(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError>
             v_card.f64_or(2, "VZ", 0.0)?,
         ];
         for (i, name) in [(3, "VXR"), (4, "VYR"), (5, "VZR")] {
-            warn_ignored(&v_card, i, name, "solid nodes have no rotations", deck);
+            warn_ignored(&v_card, i, name, "solid nodes have no rotations", deck)?;
         }
         deck.init_vel.push(RawInitVel {
             src: r.src(c.line),
@@ -279,7 +279,7 @@ pub fn body(r: &mut Reader<'_>, deck: &mut RawDeck, axis: usize) -> Result<(), D
     let c = r.required(W10, "LCID SF")?;
     let lcid = c.ref_id(0, "LCID")?;
     let sf = c.f64_nz(1, "SF", 1.0)?;
-    warn_ignored(&c, 2, "LCIDDR", "dynamic relaxation is not supported", deck);
+    warn_ignored(&c, 2, "LCIDDR", "dynamic relaxation is not supported", deck)?;
     global_only(r, &c, 6, "CID", deck)?;
     deck.body_loads.push(RawBodyLoad {
         src: r.src(c.line),

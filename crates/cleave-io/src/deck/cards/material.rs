@@ -93,7 +93,7 @@ pub fn plastic_kinematic(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), D
             let mid = c.id(0, "MID")?;
             super::erosion::plastic_strain(r, deck, &c2, mid, fs);
         }
-        warn_ignored(&c2, 3, "VP", "rate formulation not used", deck);
+        warn_ignored(&c2, 3, "VP", "rate formulation not used", deck)?;
     }
     push(
         r,

@@ -49,7 +49,7 @@ pub fn piecewise_linear(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
         "TDEL",
         "elements are not deleted for their time step",
         deck,
-    );
+    )?;
 
     let (mut rate_c, mut rate_p, mut lcss) = (0.0, 0.0, None);
     let mut points: Vec<[f64; 2]> = Vec::new();

@@ -280,12 +280,66 @@ pub enum Vad {
     Displacement,
 }
 
+/// The degree of freedom a prescribed motion drives (`*BOUNDARY_PRESCRIBED_MOTION_...` DOF).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MotionDof {
+    /// DOF 1, 2, 3: translation along global x, y, z (0, 1, 2).
+    Axis(usize),
+    /// DOF 4 and -4: translation along the unit vector `dir` (`*DEFINE_VECTOR` VID); the
+    /// motion normal to it stays free (4) or is held at zero (-4, `only`).
+    Along { dir: Vec3, only: bool },
+    /// DOF 5, 6, 7 (about global x, y, z) and 8, -8 (about VID): the angular velocity of a
+    /// rigid body about the unit vector `dir` through its centre of mass; the other components
+    /// stay free (5-8) or are held at zero (-8, `only`). Nodes of solids have no rotations.
+    Rotation { dir: Vec3, only: bool },
+}
+
+impl MotionDof {
+    /// The component of a velocity (or of a position, or of an angular velocity) that the
+    /// motion prescribes.
+    pub fn component(&self, v: Vec3) -> f64 {
+        match *self {
+            MotionDof::Axis(a) => v[a],
+            MotionDof::Along { dir, .. } | MotionDof::Rotation { dir, .. } => {
+                v[0] * dir[0] + v[1] * dir[1] + v[2] * dir[2]
+            }
+        }
+    }
+
+    /// `v` with its prescribed component set to `s`: `v + (s - v.d) d`, or `s d` when the
+    /// rest is held at zero.
+    pub fn apply(&self, v: Vec3, s: f64) -> Vec3 {
+        match *self {
+            MotionDof::Axis(a) => {
+                let mut w = v;
+                w[a] = s;
+                w
+            }
+            MotionDof::Along { dir, only } | MotionDof::Rotation { dir, only } => {
+                let c = if only { 0.0 } else { s - self.component(v) };
+                let base = if only { [0.0; 3] } else { v };
+                let k = if only { s } else { c };
+                [
+                    base[0] + k * dir[0],
+                    base[1] + k * dir[1],
+                    base[2] + k * dir[2],
+                ]
+            }
+        }
+    }
+
+    /// Whether it drives a rotation (rigid bodies only).
+    pub fn is_rotation(&self) -> bool {
+        matches!(self, MotionDof::Rotation { .. })
+    }
+}
+
 /// `*BOUNDARY_PRESCRIBED_MOTION_{NODE,SET,RIGID}` (sets expanded to one entry per node).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PrescribedMotion {
     pub target: MotionTarget,
-    /// 0, 1, 2 for x, y, z (deck DOF 1, 2, 3).
-    pub axis: usize,
+    /// The degree of freedom (deck DOF and VID).
+    pub dof: MotionDof,
     pub vad: Vad,
     /// Index into `Model::curves`.
     pub curve: usize,

@@ -1333,13 +1333,21 @@ impl<'m> Solver<'m> {
                     continue;
                 }
                 let c = &self.model.curves[pm.curve];
-                st.v_cm[pm.axis] = match pm.vad {
+                if pm.dof.is_rotation() {
+                    // the angular velocity about the axis (VAD 0 only: the reader refuses angles)
+                    st.omega = pm.dof.apply(st.omega, pm.sf * c.eval(t_half));
+                    st.ang_mom = crate::math::mat_vec(&body.inertia(&st.rot), st.omega);
+                    continue;
+                }
+                let s = match pm.vad {
                     Vad::Velocity => pm.sf * c.eval(t_half),
                     Vad::Displacement => {
-                        let target = body.x_cm0[pm.axis] + pm.sf * c.eval(self.state.t + dt_new);
-                        (target - st.x_cm[pm.axis]) / dt_new
+                        let target =
+                            pm.dof.component(body.x_cm0) + pm.sf * c.eval(self.state.t + dt_new);
+                        (target - pm.dof.component(st.x_cm)) / dt_new
                     }
                 };
+                st.v_cm = pm.dof.apply(st.v_cm, s);
             }
             // work of the constraint reactions: impulse . mean velocity
             let dp = scale(sub(st.v_cm, v_free), body.mass);
@@ -1385,14 +1393,15 @@ impl<'m> Solver<'m> {
             };
             let k = self.entry(n as usize);
             let c = &self.model.curves[pm.curve];
-            let mut vn = self.state.v[k];
-            vn[pm.axis] = match pm.vad {
+            let s = match pm.vad {
                 Vad::Velocity => pm.sf * c.eval(t + 0.5 * dt_new),
                 Vad::Displacement => {
-                    let target = self.model.x0[n as usize][pm.axis] + pm.sf * c.eval(t + dt_new);
-                    (target - self.state.x[k][pm.axis]) / dt_new
+                    let target =
+                        pm.dof.component(self.model.x0[n as usize]) + pm.sf * c.eval(t + dt_new);
+                    (target - pm.dof.component(self.state.x[k])) / dt_new
                 }
             };
+            let vn = pm.dof.apply(self.state.v[k], s);
             work += self.constrain_velocity(k, vn);
         }
         work

@@ -565,7 +565,7 @@ fn bar_pushed_back(with_contact: bool) -> (f64, usize) {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis: 0,
+                dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf,

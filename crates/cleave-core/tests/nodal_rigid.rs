@@ -164,7 +164,7 @@ fn nodal_rigid_body_follows_prescribed_motion() {
     });
     m.prescribed.push(PrescribedMotion {
         target: MotionTarget::NodalRigid(0),
-        axis: 0,
+        dof: cleave_core::model::MotionDof::Axis(0),
         vad: Vad::Velocity,
         curve: 0,
         sf: v,

@@ -60,7 +60,7 @@ fn deck() -> Model {
         for axis in [0, 2] {
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis,
+                dof: cleave_core::model::MotionDof::Axis(axis),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf: 1.0,
@@ -171,7 +171,7 @@ fn pulled_bar(sep: SeparationDef, end_time: f64, ramp: f64) -> Model {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis: 0,
+                dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf,
@@ -332,7 +332,7 @@ fn cohesive_bar(model: i32, slide: f64) {
             for node in bar.nodes_where(0, x, 1e-12) {
                 bar.prescribed.push(PrescribedMotion {
                     target: MotionTarget::Node(node),
-                    axis: 1,
+                    dof: cleave_core::model::MotionDof::Axis(1),
                     vad: Vad::Velocity,
                     curve: 0,
                     sf,
@@ -756,7 +756,7 @@ fn weibull_bars_follow_the_weakest_link_size_effect() {
                 for node in bar.nodes_where(0, x, 1e-12) {
                     bar.prescribed.push(PrescribedMotion {
                         target: MotionTarget::Node(node),
-                        axis: 0,
+                        dof: cleave_core::model::MotionDof::Axis(0),
                         vad: Vad::Velocity,
                         curve: 0,
                         sf,

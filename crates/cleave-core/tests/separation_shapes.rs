@@ -74,7 +74,7 @@ fn split_tetrahedra_and_wedges_move_as_the_original() {
         for node in m.nodes_where(0, 0.04, 1e-9) {
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis: 1,
+                dof: cleave_core::model::MotionDof::Axis(1),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf: 3.0,
@@ -128,7 +128,7 @@ fn pulled_bar(mesh: BoxMesh, sep: SeparationDef, end_time: f64) -> Model {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis: 0,
+                dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf,

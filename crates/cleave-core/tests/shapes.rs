@@ -223,7 +223,7 @@ fn elastic_wave_on_tetrahedra_and_wedges() {
         for node in m.nodes_where(0, 0.0, 1e-6 * h) {
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis: 0,
+                dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf: v,

@@ -111,7 +111,7 @@ fn elastic_wave_speed_and_impedance() {
     for node in m.nodes_where(0, 0.0, 1e-6 * h) {
         m.prescribed.push(PrescribedMotion {
             target: MotionTarget::Node(node),
-            axis: 0,
+            dof: cleave_core::model::MotionDof::Axis(0),
             vad: Vad::Velocity,
             curve: 0,
             sf: v,
@@ -636,7 +636,7 @@ fn rigid_body_follows_prescribed_velocity() {
     m.curves.push(unit_curve(1));
     m.prescribed.push(PrescribedMotion {
         target: MotionTarget::Rigid(1),
-        axis: 0,
+        dof: cleave_core::model::MotionDof::Axis(0),
         vad: Vad::Velocity,
         curve: 0,
         sf: v,
@@ -889,7 +889,7 @@ fn pulled_bar_energy_equals_external_work() {
             }
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Rigid(1),
-                axis: 0,
+                dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf: 1.0,
@@ -898,7 +898,7 @@ fn pulled_bar_energy_equals_external_work() {
             for node in m.nodes_where(0, len, 1e-9) {
                 m.prescribed.push(PrescribedMotion {
                     target: MotionTarget::Node(node),
-                    axis: 0,
+                    dof: cleave_core::model::MotionDof::Axis(0),
                     vad: Vad::Velocity,
                     curve: 0,
                     sf: 1.0,

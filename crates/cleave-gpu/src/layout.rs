@@ -32,7 +32,7 @@ use cleave_core::element::Shape;
 use cleave_core::erosion::ErosionRule;
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, SolidLaw};
 use cleave_core::math::{norm, scale, sub};
-use cleave_core::model::{Hourglass, Model, MotionTarget, Vad};
+use cleave_core::model::{Hourglass, Model, MotionDof, MotionTarget, Vad};
 use cleave_core::setup::Setup;
 use cleave_core::solver::kernel_controls;
 use cleave_core::tied::Tie;
@@ -55,7 +55,9 @@ pub const MAT_STRIDE: usize = 14;
 /// - 1, a concentrated load (`*LOAD_NODE`): axis, SF, curve offset;
 /// - 2, a pressure segment (`*LOAD_SEGMENT`) the node carries: SF, curve offset, birth time,
 ///   then its nodes N1 N2 N3 N4 (a triangle `N1 N2 N3 N3`);
-/// - 3, a tied slave node whose force the node takes (`crate::tied`): the slave, the weight.
+/// - 3, a tied slave node whose force the node takes (`crate::tied`): the slave, the weight;
+/// - 4 and 5, a prescribed motion along a unit vector d (DOF 4; 5: DOF -4, the motion normal
+///   to d held): d_x, VAD, SF, curve offset, the node's initial coordinate along d, d_y, d_z.
 pub const NODE_STRIDE: usize = 8;
 /// The most rigid walls (the bits of `nflag` above the SPC's, the ledger's partial sums).
 pub const MAX_WALLS: usize = 8;
@@ -87,8 +89,9 @@ pub struct Layout {
 
 /// Values per rigid body in `par`: mass, reference centre of mass (3), reference inertia (9,
 /// by rows), the fixed translations and rotations (3 + 3, 1 fixed), the offset and number of
-/// its prescribed motions (4 values each: axis, VAD 0 velocity / 1 displacement, SF, curve
-/// offset), the first and the number of its entries in the node list.
+/// its prescribed motions (8 values each: code 0-2 a global axis, 3 a translation along d, 4
+/// a rotation about d; VAD 0 velocity / 1 displacement; SF; curve offset; d (3); 1 when the
+/// motion normal to d is held), the first and the number of its entries in the node list.
 pub const RB_PAR: usize = 23;
 /// Values per rigid body in the state buffer `rb`: centre of mass (3), velocity of the centre
 /// (3), rotation (9), angular momentum (3), angular velocity (3), the next placement (3 + 9),
@@ -253,17 +256,33 @@ impl Layout {
                     Vad::Velocity => 0.0,
                     Vad::Displacement => 1.0,
                 };
-                let x0 = model.x0[n as usize][m.axis];
-                let a = [
-                    0.0,
-                    m.axis as f64,
-                    vad,
-                    m.sf,
-                    curve_off[m.curve],
-                    x0,
-                    0.0,
-                    0.0,
-                ];
+                let x0 = m.dof.component(model.x0[n as usize]);
+                // kind 0: along a global axis; 4 and 5: along a unit vector, the normal motion
+                // free (4, DOF 4) or held (5, DOF -4)
+                let a = match m.dof {
+                    MotionDof::Axis(axis) => [
+                        0.0,
+                        axis as f64,
+                        vad,
+                        m.sf,
+                        curve_off[m.curve],
+                        x0,
+                        0.0,
+                        0.0,
+                    ],
+                    MotionDof::Along { dir, only } => [
+                        if only { 5.0 } else { 4.0 },
+                        dir[0],
+                        vad,
+                        m.sf,
+                        curve_off[m.curve],
+                        x0,
+                        dir[1],
+                        dir[2],
+                    ],
+                    // the reader refuses rotations of nodes
+                    MotionDof::Rotation { .. } => continue,
+                };
                 actions.push((at(n), a));
             }
         }
@@ -283,6 +302,9 @@ impl Layout {
         let entries: usize = bodies.iter().map(|b| b.nodes.len()).sum();
         let entry_off = rb_off as usize + RB_PAR * bodies.len();
         let motion_off = entry_off + 4 * entries;
+        // a body's prescribed motion: [code, VAD, SF, curve, d_x, d_y, d_z, only], code 0-2 a
+        // global axis, 3 a translation along d, 4 a rotation about d
+        const BODY_MOTION: usize = 8;
         let mut rbi = vec![u32::MAX; nn];
         let (mut first, mut motions) = (0usize, 0usize);
         for (b, body) in bodies.iter().enumerate() {
@@ -297,7 +319,7 @@ impl Layout {
                     .map(|&f| f as u8 as f64),
             );
             par.extend_from_slice(&[
-                (motion_off + 4 * motions) as f64,
+                (motion_off + BODY_MOTION * motions) as f64,
                 n_mot as f64,
                 first as f64,
                 body.nodes.len() as f64,
@@ -318,7 +340,14 @@ impl Layout {
                     Vad::Velocity => 0.0,
                     Vad::Displacement => 1.0,
                 };
-                par.extend_from_slice(&[pm.axis as f64, vad, pm.sf, curve_off[pm.curve]]);
+                let (code, dir, only) = match pm.dof {
+                    MotionDof::Axis(a) => (a as f64, [0.0; 3], false),
+                    MotionDof::Along { dir, only } => (3.0, dir, only),
+                    MotionDof::Rotation { dir, only } => (4.0, dir, only),
+                };
+                par.extend_from_slice(&[code, vad, pm.sf, curve_off[pm.curve]]);
+                par.extend_from_slice(&dir);
+                par.push(only as u8 as f64);
             }
         }
         rbi.extend(bodies.iter().flat_map(|b| b.nodes.iter().copied()));

@@ -1972,14 +1972,39 @@ fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
     let t = cf[T];
     let mo = u32(par[bo + 19u]);
     for (var k = 0u; k < u32(par[bo + 20u]); k = k + 1u) {
-        let o = mo + 4u * k;
-        let axis = u32(par[o]);
+        // code 0-2: a global axis; 3: along the unit vector d; 4: a rotation about d; with
+        // `only` the components normal to d are held (model.rs MotionDof::apply)
+        let o = mo + 8u * k;
+        let code = u32(par[o]);
         let c = u32(par[o + 3u]);
+        let d = vec3<f64>(par[o + 4u], par[o + 5u], par[o + 6u]);
+        let only = par[o + 7u] > 0.5lf;
+        if (code == 4u) {
+            let s = par[o + 2u] * curve_eval(c, t + 0.5lf * dt);
+            if (only) {
+                omega = d * s;
+            } else {
+                omega = omega + d * (s - dot(omega, d));
+            }
+            ang_mom = mat_vec3(inertia, omega);
+            continue;
+        }
+        let axis = select(code, 0u, code == 3u);
+        let x_cm0 = vec3<f64>(par[bo + 1u], par[bo + 2u], par[bo + 3u]);
+        var s = 0.0lf;
         if (par[o + 1u] < 0.5lf) {
-            v_cm[axis] = par[o + 2u] * curve_eval(c, t + 0.5lf * dt);
+            s = par[o + 2u] * curve_eval(c, t + 0.5lf * dt);
         } else {
-            let goal = par[bo + 1u + axis] + par[o + 2u] * curve_eval(c, t + dt);
-            v_cm[axis] = (goal - x_cm[axis]) / dt;
+            let goal = select(x_cm0[axis], dot(x_cm0, d), code == 3u)
+                + par[o + 2u] * curve_eval(c, t + dt);
+            s = (goal - select(x_cm[axis], dot(x_cm, d), code == 3u)) / dt;
+        }
+        if (code < 3u) {
+            v_cm[axis] = s;
+        } else if (only) {
+            v_cm = d * s;
+        } else {
+            v_cm = v_cm + d * (s - dot(v_cm, d));
         }
     }
     // the work of the constraint reactions: impulse . mean velocity
@@ -2607,7 +2632,7 @@ fn tie_forces(n: u32, t: f64) -> vec3<f64> {
     var f = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
     for (var k = mptr[n]; k < mptr[n + 1u]; k = k + 1u) {
         let o = prm.mot_off + NODE_STRIDE * k;
-        if (par[o] < 2.5lf) {
+        if (par[o] < 2.5lf || par[o] > 3.5lf) {
             continue;
         }
         let sl = u32(par[o + 1u]);
@@ -2707,17 +2732,31 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
         }
         for (var k = mptr[n]; k < mptr[n + 1u]; k = k + 1u) {
             let o = prm.mot_off + NODE_STRIDE * k;
-            if (par[o] > 0.5lf) {
+            let kind = par[o];
+            if (kind > 0.5lf && kind < 3.5lf) {
                 continue;
             }
-            let axis = u32(par[o + 1u]);
             let c = u32(par[o + 4u]);
-            var vc = v;
+            // kind 0: along a global axis; 4 and 5: along the unit vector d (model.rs
+            // MotionDof::apply)
+            let along = kind > 3.5lf;
+            let d = vec3<f64>(par[o + 1u], par[o + 6u], par[o + 7u]);
+            let axis = select(u32(par[o + 1u]), 0u, along);
+            var s = 0.0lf;
             if (par[o + 2u] < 0.5lf) {
-                vc[axis] = par[o + 3u] * curve_eval(c, t + 0.5lf * dt);
+                s = par[o + 3u] * curve_eval(c, t + 0.5lf * dt);
             } else {
                 let goal = par[o + 5u] + par[o + 3u] * curve_eval(c, t + dt);
-                vc[axis] = (goal - xs[3u * n + axis]) / dt;
+                let x = ld(0u, n);
+                s = (goal - select(x[axis], dot(x, d), along)) / dt;
+            }
+            var vc = v;
+            if (!along) {
+                vc[axis] = s;
+            } else if (kind > 4.5lf) {
+                vc = d * s;
+            } else {
+                vc = v + d * (s - dot(v, d));
             }
             let r = constrain(m, w, v, vn, vc);
             v = r.v;

@@ -13,11 +13,11 @@
 
 use cleave_core::curve::Curve;
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, RateTable};
-use cleave_core::math::Vec3;
+use cleave_core::math::{norm, sub, Vec3};
 use cleave_core::mesh::BoxMesh;
 use cleave_core::model::{
-    BodyLoad, Hourglass, HourglassDef, Material, MaterialKind, Model, MotionTarget, NodalRigidBody,
-    NodeLoad, NodeSet, Part, PrescribedMotion, PressureLoad, Spc, Vad,
+    BodyLoad, Hourglass, HourglassDef, Material, MaterialKind, Model, MotionDof, MotionTarget,
+    NodalRigidBody, NodeLoad, NodeSet, Part, PrescribedMotion, PressureLoad, Spc, Vad,
 };
 use cleave_core::solver::{Observer, Solver};
 mod common;
@@ -442,7 +442,10 @@ fn rigid_bodies_match_the_cpu() {
     for case in [
         "rigid part, velocity",
         "rigid part, displacement",
+        "rigid part, velocity along a vector (DOF 4), turned about one (DOF -8)",
+        "rigid part, displacement along a vector, its normal held (DOF -4), turned about z (DOF 7)",
         "nodal rigid body",
+        "nodes, displacement along a vector (DOF -4 and 4)",
         "rigid part, velocity, ELFORM 13 tetrahedra",
     ] {
         let mut m = block(Hourglass::Viscous);
@@ -479,13 +482,80 @@ fn rigid_bodies_match_the_cpu() {
                 Vad::Displacement
             };
             let sf = if vad == Vad::Velocity { -40.0 } else { -2e-4 };
+            let third = 1.0 / 3.0;
+            let (dof, turn) = if case.contains("DOF 4") {
+                (
+                    MotionDof::Along {
+                        dir: [third, -2.0 * third, -2.0 * third],
+                        only: false,
+                    },
+                    Some(MotionDof::Rotation {
+                        dir: [0.6, 0.0, 0.8],
+                        only: true,
+                    }),
+                )
+            } else if case.contains("DOF -4") {
+                (
+                    MotionDof::Along {
+                        dir: [0.0, 0.6, -0.8],
+                        only: true,
+                    },
+                    Some(MotionDof::Rotation {
+                        dir: [0.0, 0.0, 1.0],
+                        only: false,
+                    }),
+                )
+            } else {
+                (MotionDof::Axis(2), None)
+            };
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Rigid(1),
-                axis: 2,
+                dof,
                 vad,
                 curve: 0,
                 sf,
             });
+            if let Some(dof) = turn {
+                m.prescribed.push(PrescribedMotion {
+                    target: MotionTarget::Rigid(1),
+                    dof,
+                    vad: Vad::Velocity,
+                    curve: 0,
+                    sf: 300.0,
+                });
+            }
+        } else if case.starts_with("nodes") {
+            // the top face pulled along a vector, its normal motion held; one corner free
+            // across it
+            for (k, &n) in top.iter().enumerate() {
+                m.prescribed.push(PrescribedMotion {
+                    target: MotionTarget::Node(n),
+                    dof: MotionDof::Along {
+                        dir: [0.0, 0.6, 0.8],
+                        only: k > 0,
+                    },
+                    vad: Vad::Displacement,
+                    curve: 0,
+                    sf: 2e-4,
+                });
+            }
+            let Some(g) = gpu() else { return };
+            let moved = {
+                let (c, _, _) = end_states(g, &m, m.control.end_time / 7.0);
+                let x = c.positions();
+                let u = |n: u32| sub(x[n as usize], m.x0[n as usize]);
+                // the held nodes move along the vector only; the free one across it too
+                let held = u(top[1]);
+                let along = held[1] * 0.6 + held[2] * 0.8;
+                assert!(
+                    norm(sub(held, [0.0, 0.6 * along, 0.8 * along])) <= 1e-12 * along.abs(),
+                    "{case}: {held:?}"
+                );
+                along
+            };
+            assert!(moved.abs() > 1e-6, "{case}: the nodes move ({moved})");
+            compare_runs(m, case);
+            continue;
         } else {
             m.node_sets.push(NodeSet {
                 id: 5,

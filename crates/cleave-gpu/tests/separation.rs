@@ -206,7 +206,7 @@ fn pulled_bar_with(model: i32, gc: f64, ends: f64) -> Model {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis: 0,
+                dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf,
@@ -399,7 +399,7 @@ fn cohesive_bar(model: i32, slide: f64) -> Model {
         for node in bar.nodes_where(0, x, 1e-12) {
             bar.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis: 1,
+                dof: cleave_core::model::MotionDof::Axis(1),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf,

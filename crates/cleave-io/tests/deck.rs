@@ -141,16 +141,19 @@ fn base_deck_is_read_completely() {
     assert!(m.spcs.windows(2).all(|w| w[0].node < w[1].node));
     assert_eq!(m.prescribed.len(), 1 + 4);
     assert_eq!(m.prescribed[0].target, MotionTarget::Rigid(1));
-    assert_eq!((m.prescribed[0].axis, m.prescribed[0].sf), (0, 0.5));
+    assert_eq!(
+        (m.prescribed[0].dof, m.prescribed[0].sf),
+        (MotionDof::Axis(0), 0.5)
+    );
     assert_eq!(m.prescribed[1].target, MotionTarget::Node(0));
     assert_eq!(
         (
-            m.prescribed[1].axis,
+            m.prescribed[1].dof,
             m.prescribed[1].vad,
             m.prescribed[1].curve,
             m.prescribed[1].sf
         ),
-        (2, Vad::Displacement, 1, 1.0)
+        (MotionDof::Axis(2), Vad::Displacement, 1, 1.0)
     );
     assert_eq!(
         m.body_loads,
@@ -1161,28 +1164,28 @@ fn round_trip_model() -> Model {
         prescribed: vec![
             PrescribedMotion {
                 target: MotionTarget::Node(2),
-                axis: 1,
+                dof: MotionDof::Axis(1),
                 vad: Vad::Displacement,
                 curve: 0,
                 sf: 2.5,
             },
             PrescribedMotion {
                 target: MotionTarget::Rigid(1),
-                axis: 2,
+                dof: MotionDof::Axis(2),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf: -1.0,
             },
             PrescribedMotion {
                 target: MotionTarget::Node(4),
-                axis: 0,
+                dof: MotionDof::Axis(0),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf: 1.0,
             },
             PrescribedMotion {
                 target: MotionTarget::NodalRigid(0),
-                axis: 1,
+                dof: MotionDof::Axis(1),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf: 2.0,
@@ -2103,8 +2106,7 @@ fn a_value_across_a_field_edge_is_explained() {
     let e = err(&t);
     assert_eq!(e.field.as_deref(), Some("ENDCYC"), "{e}");
     assert!(
-        e.message.contains("'e-6' is not a number")
-            && e.message.contains("(columns 11-20)"),
+        e.message.contains("'e-6' is not a number") && e.message.contains("(columns 11-20)"),
         "{e}"
     );
 }
@@ -2461,4 +2463,84 @@ fn elastic_plastic_hydro_is_johnson_cook_without_rate_or_heat() {
         let e = err(&deck(&hydro.replace("7.92e8, 2.1e9", card)));
         assert_eq!(e.field.as_deref(), Some(field), "{card}: {e}");
     }
+}
+
+/// `*BOUNDARY_PRESCRIBED_MOTION_...` DOF 4 and -4 (along a `*DEFINE_VECTOR`), 5-7 and 8, -8
+/// (a rigid body's rotations): what each reads as, a vector in a local system turned to
+/// global axes, the refusals by name, and the writer's deck reading back the same.
+#[test]
+fn motions_along_vectors_and_rotations() {
+    let motions = |cards: &str| {
+        with(
+            "*BOUNDARY_PRESCRIBED_MOTION_RIGID\n2, 1, 0, 1, 0.5\n",
+            &format!(
+                "*BOUNDARY_PRESCRIBED_MOTION_RIGID\n2, 1, 0, 1, 0.5\n{cards}\
+                 *DEFINE_VECTOR\n7, 1., 1., 1., 1., 4., 5.\n\
+                 *DEFINE_VECTOR_TITLE\nturned\n8, 0., 0., 0., 1., 0., 0., 3\n\
+                 *DEFINE_COORDINATE_VECTOR\n3, 0., 1., 0., -1., 0., 0.\n"
+            ),
+        )
+    };
+    let t = motions("2, -4, 0, 1, 2., 7\n2, 6, 0, 1, 3.\n2, -8, 0, 1, 1., 8\n2, 4, 2, 1, 1., 7\n");
+    let m = parse(&t);
+    let dofs: Vec<MotionDof> = m.prescribed[1..5].iter().map(|p| p.dof).collect();
+    assert_eq!(
+        dofs,
+        vec![
+            // (0, 3, 4) / 5
+            MotionDof::Along {
+                dir: [0.0, 0.6, 0.8],
+                only: true
+            },
+            MotionDof::Rotation {
+                dir: [0.0, 1.0, 0.0],
+                only: false
+            },
+            // local x of system 3 is global y
+            MotionDof::Rotation {
+                dir: [0.0, 1.0, 0.0],
+                only: true
+            },
+            MotionDof::Along {
+                dir: [0.0, 0.6, 0.8],
+                only: false
+            },
+        ]
+    );
+    assert_eq!(m.prescribed[4].vad, Vad::Displacement);
+    // written and read back
+    assert_eq!(
+        format!("{:?}", parse(&write_deck(&m)).prescribed),
+        format!("{:?}", m.prescribed)
+    );
+    // refusals, each naming its field
+    for (cards, field, words) in [
+        ("2, 4, 0, 1\n", "VID", "missing"),
+        ("2, 4, 0, 1, 1., 9\n", "VID", "vector 9 is not defined"),
+        ("2, 7, 2, 1\n", "VAD", "angular velocity"),
+        ("2, 9, 0, 1\n", "DOF", "9 not supported"),
+    ] {
+        let e = err(&motions(cards));
+        assert_eq!(e.field.as_deref(), Some(field), "{cards}: {e}");
+        assert!(e.message.contains(words), "{cards}: {e}");
+    }
+    let e = err(&with(
+        "*BOUNDARY_PRESCRIBED_MOTION_SET\n1, 3, 2, 2\n",
+        "*BOUNDARY_PRESCRIBED_MOTION_SET\n1, 5, 0, 2\n",
+    ));
+    assert!(
+        e.field.as_deref() == Some("DOF") && e.message.contains("no rotational degrees of freedom"),
+        "{e}"
+    );
+    let e = err(&with(
+        "*BOUNDARY_PRESCRIBED_MOTION_RIGID\n",
+        "*DEFINE_VECTOR\n7, 1., 1., 1., 1., 1., 1.\n*BOUNDARY_PRESCRIBED_MOTION_RIGID\n",
+    ));
+    assert!(e.message.contains("no direction"), "{e}");
+    let e = err(&motions("2, 4, 0, 1, 1., 8\n")
+        .replace("0., 0., 0., 1., 0., 0., 3", "0., 0., 0., 1., 0., 0., 4"));
+    assert!(
+        e.message.contains("coordinate system 4 is not defined"),
+        "{e}"
+    );
 }

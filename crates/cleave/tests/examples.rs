@@ -479,7 +479,7 @@ fn three_point_bend_deck() {
     assert_eq!(m.prescribed.len(), 1);
     let p = &m.prescribed[0];
     assert_eq!(p.target, MotionTarget::Rigid(2));
-    assert_eq!(p.axis, 1);
+    assert_eq!(p.dof, cleave_core::model::MotionDof::Axis(1));
     assert_eq!(m.curves[p.curve].eval(0.1e-3) * p.sf, -10.0);
     let tup: Vec<usize> = (0..ne).filter(|&e| m.elem_part[e] == 2).collect();
     let tup_low = tup

@@ -54,7 +54,7 @@ fn bar_deck(dir: &Path, sigmax: f64) -> PathBuf {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis: 0,
+                dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf,

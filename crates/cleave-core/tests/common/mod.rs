@@ -121,7 +121,7 @@ pub fn uniaxial_cube(
     for node in m.nodes_where(0, l0, 1e-9 * l0) {
         m.prescribed.push(PrescribedMotion {
             target: MotionTarget::Node(node),
-            axis: 0,
+            dof: cleave_core::model::MotionDof::Axis(0),
             vad: Vad::Displacement,
             curve: 0,
             sf: 1.0,

@@ -59,7 +59,7 @@ pub fn block(hourglass: Hourglass) -> Model {
         } else if (x[2] - 0.06).abs() < 1e-9 {
             m.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(n),
-                axis: 2,
+                dof: cleave_core::model::MotionDof::Axis(2),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf: -40.0,

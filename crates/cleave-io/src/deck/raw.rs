@@ -236,10 +236,36 @@ pub struct RawMotion {
     pub src: Src,
     /// `Node`, `NodeSet` or `Part` (rigid).
     pub target: Target,
-    pub axis: usize,
+    pub dof: RawDof,
     pub vad: Vad,
     pub lcid: i64,
     pub sf: f64,
+}
+
+/// A prescribed motion's DOF as written: a global axis, or a vector to look up.
+#[derive(Clone, Copy, Debug)]
+pub enum RawDof {
+    /// DOF 1, 2, 3 (0, 1, 2).
+    Axis(usize),
+    /// DOF 5, 6, 7: rotation about global x, y, z (0, 1, 2).
+    Rotation(usize),
+    /// DOF 4, -4 (translation) or 8, -8 (`rotation`) along `*DEFINE_VECTOR` `vid`; `only` for
+    /// the negative codes.
+    Vector {
+        vid: i64,
+        only: bool,
+        rotation: bool,
+    },
+}
+
+/// `*DEFINE_VECTOR`: `VID XT YT ZT XH YH ZH CID`, the unit vector from tail to head.
+#[derive(Clone, Debug)]
+pub struct RawVector {
+    pub src: Src,
+    pub id: i64,
+    /// Unit direction, in system `cid`'s axes (global without one).
+    pub dir: Vec3,
+    pub cid: Option<i64>,
 }
 
 /// `*INITIAL_VELOCITY_NODE` (omega 0) or `*INITIAL_VELOCITY_GENERATION`.
@@ -405,6 +431,8 @@ pub struct RawDeck {
     pub extra_nodes: Vec<RawExtraNodes>,
     pub spcs: Vec<RawSpc>,
     pub motions: Vec<RawMotion>,
+    /// `*DEFINE_VECTOR`s, in deck order.
+    pub vectors: Vec<RawVector>,
     pub init_vel: Vec<RawInitVel>,
     pub body_loads: Vec<RawBodyLoad>,
     pub node_loads: Vec<RawNodeLoad>,

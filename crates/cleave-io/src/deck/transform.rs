@@ -213,7 +213,7 @@ fn check_keywords(group: &[&Block<'_>], map: Option<&Affine>) -> Result<(), Deck
         let k = base(&b.keyword);
         let why = if k.starts_with("*CONTROL_") || k.starts_with("*DATABASE_") {
             Some("a global setting: put it in the main deck")
-        } else if k.starts_with("*DEFINE_COORDINATE_") {
+        } else if k.starts_with("*DEFINE_COORDINATE_") || k.starts_with("*DEFINE_VECTOR") {
             Some("its points and ids are not moved and offset: put it in the main deck")
         } else if map.is_some()
             && (k.starts_with("*RIGIDWALL_")
@@ -290,9 +290,10 @@ fn offset(d: &mut RawDeck, o: &Offsets) {
         init_vel,
         body_loads,
         node_loads,
-        // a transformed include may not define systems (`check_keywords`); the CID fields
-        // that name the main deck's keep their ids
+        // a transformed include may not define systems or vectors (`check_keywords`); the
+        // CID and VID fields that name the main deck's keep their ids
         frames: _,
+        vectors: _,
         global_frames: _,
         pressures,
         walls,
@@ -480,6 +481,7 @@ fn merge(d: &mut RawDeck, s: RawDeck) {
         body_loads,
         node_loads,
         frames,
+        vectors,
         global_frames,
         pressures,
         walls,
@@ -524,6 +526,7 @@ fn merge(d: &mut RawDeck, s: RawDeck) {
     d.body_loads.extend(body_loads);
     d.node_loads.extend(node_loads);
     d.frames.extend(frames);
+    d.vectors.extend(vectors);
     d.global_frames.extend(global_frames);
     d.pressures.extend(pressures);
     d.walls.extend(walls);

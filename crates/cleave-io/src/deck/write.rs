@@ -12,7 +12,7 @@ use std::fmt::Write as _;
 use cleave_core::element::shape::{shape_of, Shape};
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear};
 use cleave_core::model::{
-    ContactSurface, Hourglass, Material, MaterialKind, Model, MotionTarget, PenaltyRule,
+    ContactSurface, Hourglass, Material, MaterialKind, Model, MotionDof, MotionTarget, PenaltyRule,
     StrengthDist, TiedSlave, Vad,
 };
 
@@ -863,8 +863,46 @@ fn conditions(o: &mut String, m: &Model) {
             card(o, &f, &W10);
         }
     }
+    // the directions of DOF 4 and 8 as *DEFINE_VECTOR, numbered from 1 in order (DOF 5-7
+    // are the rotations about the global axes)
+    let mut vectors: Vec<[f64; 3]> = Vec::new();
+    let dofs: Vec<(i64, i64)> = m
+        .prescribed
+        .iter()
+        .map(|p| {
+            let axis = |d: &[f64; 3]| (0..3).find(|&a| d[a] == 1.0 && d.iter().sum::<f64>() == 1.0);
+            let mut vid = |d: [f64; 3]| {
+                vectors.push(d);
+                vectors.len() as i64
+            };
+            match p.dof {
+                MotionDof::Axis(a) => (a as i64 + 1, 0),
+                MotionDof::Rotation { dir, only: false } if axis(&dir).is_some() => {
+                    (axis(&dir).unwrap_or(0) as i64 + 5, 0)
+                }
+                MotionDof::Along { dir, only } => (if only { -4 } else { 4 }, vid(dir)),
+                MotionDof::Rotation { dir, only } => (if only { -8 } else { 8 }, vid(dir)),
+            }
+        })
+        .collect();
+    if !vectors.is_empty() {
+        o.push_str("*DEFINE_VECTOR\n");
+        names(o, &["vid", "xt", "yt", "zt", "xh", "yh", "zh"], &W10);
+        for (k, d) in vectors.iter().enumerate() {
+            let f = [
+                F::I(k as i64 + 1),
+                F::R(0.0),
+                F::R(0.0),
+                F::R(0.0),
+                F::R(d[0]),
+                F::R(d[1]),
+                F::R(d[2]),
+            ];
+            card(o, &f, &W10);
+        }
+    }
     let mut last_kw = "";
-    for p in &m.prescribed {
+    for (p, &(dof, vid)) in m.prescribed.iter().zip(&dofs) {
         let (kw, id) = match p.target {
             MotionTarget::Node(n) => ("*BOUNDARY_PRESCRIBED_MOTION_NODE", nid(n)),
             MotionTarget::Rigid(part) => ("*BOUNDARY_PRESCRIBED_MOTION_RIGID", m.parts[part].id),
@@ -875,20 +913,23 @@ fn conditions(o: &mut String, m: &Model) {
         if kw != last_kw {
             o.push_str(kw);
             o.push('\n');
-            names(o, &["id", "dof", "vad", "lcid", "sf"], &W10);
+            names(o, &["id", "dof", "vad", "lcid", "sf", "vid"], &W10);
             last_kw = kw;
         }
         let vad = match p.vad {
             Vad::Velocity => 0,
             Vad::Displacement => 2,
         };
-        let f = [
+        let mut f = vec![
             F::I(id),
-            F::I(p.axis as i64 + 1),
+            F::I(dof),
             F::I(vad),
             F::I(m.curves[p.curve].id),
             F::R(p.sf),
         ];
+        if vid > 0 {
+            f.push(F::I(vid));
+        }
         card(o, &f, &W10);
     }
     if m.v0.iter().any(|v| v.iter().any(|&x| x != 0.0)) {

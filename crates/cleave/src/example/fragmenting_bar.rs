@@ -165,7 +165,7 @@ pub fn fragmenting_bar(spec: BarSpec) -> Result<Model, String> {
         for node in model.nodes_where(0, x, 1e-9 * h) {
             model.prescribed.push(PrescribedMotion {
                 target: MotionTarget::Node(node),
-                axis: 0,
+                dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
                 curve: 0,
                 sf,

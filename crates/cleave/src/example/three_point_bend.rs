@@ -222,7 +222,7 @@ pub fn three_point_bend(model: i32, end_time: f64) -> Result<Model, String> {
     }];
     m.prescribed = vec![PrescribedMotion {
         target: MotionTarget::Rigid(tup_part),
-        axis: 1,
+        dof: cleave_core::model::MotionDof::Axis(1),
         vad: Vad::Velocity,
         curve: 0,
         sf: -SPEED,

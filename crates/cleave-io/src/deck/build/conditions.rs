@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use cleave_core::math::{cross, sub, Vec3};
 use cleave_core::model::{
-    BodyLoad, ContactDef, ContactSurface, ExtraNodes, MaterialKind, Model, MotionTarget,
+    BodyLoad, ContactDef, ContactSurface, ExtraNodes, MaterialKind, Model, MotionDof, MotionTarget,
     NodalRigidBody, NodeLoad, PrescribedMotion, PressureLoad, RigidWall, SegmentSet, Spc, TiedDef,
     TiedSlave,
 };
@@ -13,7 +13,7 @@ use cleave_core::model::{
 use super::mesh::dedup;
 use super::{Builder, Ids};
 use crate::deck::error::DeckError;
-use crate::deck::raw::{RawSurface, Src, Target};
+use crate::deck::raw::{RawDof, RawSurface, Src, Target};
 
 impl Builder<'_> {
     /// `*LOAD_NODE_...` (sets expanded, one load per node) and `*LOAD_SEGMENT...` (one per
@@ -335,11 +335,51 @@ impl Builder<'_> {
 
     /// `*BOUNDARY_PRESCRIBED_MOTION_*`, sets expanded to one entry per node.
     fn motions(&self, m: &mut Model, ids: &Ids, part_nodes: &[Vec<u32>]) -> Result<(), DeckError> {
+        let vectors: std::collections::HashMap<i64, usize> =
+            self.index(&self.raw.vectors, "vector", |v| (v.id, &v.src))?;
+        let frames = if self
+            .raw
+            .vectors
+            .iter()
+            .any(|v| v.cid.is_some_and(|c| c != 0))
+        {
+            Some(self.frames()?)
+        } else {
+            None
+        };
         for p in &self.raw.motions {
             let curve = self.find(&ids.curves, p.lcid, &p.src, "LCID", "curve")?;
+            let dof = match p.dof {
+                RawDof::Axis(a) => MotionDof::Axis(a),
+                RawDof::Rotation(a) => {
+                    let mut dir = [0.0; 3];
+                    dir[a] = 1.0;
+                    MotionDof::Rotation { dir, only: false }
+                }
+                RawDof::Vector {
+                    vid,
+                    only,
+                    rotation,
+                } => {
+                    let v = &self.raw.vectors[self.find(&vectors, vid, &p.src, "VID", "vector")?];
+                    // a vector given in a local system: its direction in global axes
+                    let dir = match (v.cid, &frames) {
+                        (Some(cid), Some(frames)) if cid != 0 => {
+                            let ax = self.frame(frames, cid, &v.src, "CID")?;
+                            [0, 1, 2].map(|j| (0..3).map(|i| v.dir[i] * ax[i][j]).sum::<f64>())
+                        }
+                        _ => v.dir,
+                    };
+                    if rotation {
+                        MotionDof::Rotation { dir, only }
+                    } else {
+                        MotionDof::Along { dir, only }
+                    }
+                }
+            };
             let mk = |target| PrescribedMotion {
                 target,
-                axis: p.axis,
+                dof,
                 vad: p.vad,
                 curve,
                 sf: p.sf,

@@ -9,6 +9,9 @@
 //! - `*DEFINE_COORDINATE_NODES`: `CID N1 N2 N3 FLAG DIR`, a system that follows three nodes;
 //!   recorded, so that a field naming it gets a clear error (it is not supported).
 //!
+//! - `*DEFINE_VECTOR`: one card `VID XT YT ZT XH YH ZH CID`, the direction from the tail T to
+//!   the head H (in system CID, if given), for the VID of a prescribed motion (DOF 4 and 8).
+//!
 //! CIDL (points given in another local system) and NID (a system that turns with a node) must
 //! be blank. A system whose points span no plane is an error only where a field names it (an
 //! unused one changes nothing). Where a system is used is the build's business (`build::conditions`): a
@@ -20,7 +23,7 @@ use cleave_core::math::{cross, norm, scale, sub, Vec3};
 use super::Reader;
 use crate::deck::error::DeckError;
 use crate::deck::fields::{Card, W10};
-use crate::deck::raw::{RawDeck, RawFrame};
+use crate::deck::raw::{RawDeck, RawFrame, RawVector};
 
 /// The unit axes (rows: local x, y, z in global components) of the system whose x axis is
 /// along `x` and whose x-y plane holds `v`; `None` where they do not span a plane.
@@ -90,6 +93,30 @@ pub fn vector(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
         let v = point(&c, 4, ["XV", "YV", "ZV"])?;
         blank(&c, 7, "NID", "a system that turns with a node")?;
         push(r, &c, deck, axes(x, v).ok_or(NO_PLANE))?;
+    }
+    Ok(())
+}
+
+/// `*DEFINE_VECTOR`, one card per vector: its unit direction (turned to global axes by its
+/// CID at the build); a vector of zero length is an error.
+pub fn direction(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    while let Some(c) = r.next_nonblank(W10)? {
+        let t = point(&c, 1, ["XT", "YT", "ZT"])?;
+        let h = point(&c, 4, ["XH", "YH", "ZH"])?;
+        let d = sub(h, t);
+        let l = norm(d);
+        if !(l > 0.0 && l.is_finite()) {
+            return Err(c.field_err(
+                "XH",
+                "the head (XH, YH, ZH) is the tail (XT, YT, ZT): the vector has no direction",
+            ));
+        }
+        deck.vectors.push(RawVector {
+            src: r.src(c.line),
+            id: c.id(0, "VID")?,
+            dir: d.map(|x| x / l),
+            cid: c.ref_id(7, "CID")?,
+        });
     }
     Ok(())
 }

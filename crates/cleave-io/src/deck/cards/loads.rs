@@ -9,8 +9,8 @@ use super::Reader;
 use crate::deck::error::DeckError;
 use crate::deck::fields::{Card, W10};
 use crate::deck::raw::{
-    GlobalFrameUse, RawBodyLoad, RawDeck, RawInitVel, RawMotion, RawNodeLoad, RawPressure, RawSpc,
-    Target,
+    GlobalFrameUse, RawBodyLoad, RawDeck, RawDof, RawInitVel, RawMotion, RawNodeLoad, RawPressure,
+    RawSpc, Target,
 };
 
 /// A coordinate-system field (CID, ICID) that cleave reads in global axes: blank, 0, or a
@@ -221,8 +221,11 @@ pub fn spc(r: &mut Reader<'_>, deck: &mut RawDeck, set: bool) -> Result<(), Deck
 
 /// `*BOUNDARY_PRESCRIBED_MOTION_{NODE,SET,RIGID}`: one card each,
 /// `ID DOF VAD LCID SF VID DEATH BIRTH`. ID is a node, node set or (rigid) part id; DOF 1, 2,
-/// 3 (x, y, z); VAD 0 velocity, 2 displacement; SF blank or 0 means 1. DEATH and BIRTH must be
-/// left at their defaults.
+/// 3 (x, y, z), 4 (along `*DEFINE_VECTOR` VID, the motion normal to it free) and -4 (normal
+/// motion held at zero); on rigid bodies also 5, 6, 7 (angular velocity about x, y, z through
+/// the centre of mass), 8 and -8 (about VID; -8 holds the other rotations); VAD 0 velocity, 2
+/// displacement (translations only); SF blank or 0 means 1. DEATH and BIRTH must be left at
+/// their defaults. (LS-DYNA Keyword Manual, `*BOUNDARY_PRESCRIBED_MOTION`.)
 pub fn prescribed(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     // the variant, without the `_ID` or `_TITLE` option
     let kw = r.keyword.trim_end_matches("_ID").trim_end_matches("_TITLE");
@@ -235,10 +238,41 @@ pub fn prescribed(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
             ("NID", Target::Node)
         };
         let id = c.id(0, name)?;
-        let axis = match c.opt_i64(1, "DOF")? {
-            Some(v @ 1..=3) => v as usize - 1,
+        let rigid = kw.ends_with("_RIGID");
+        let vid = || -> Result<i64, DeckError> {
+            c.ref_id(5, "VID")?.ok_or_else(|| {
+                c.field_err(
+                    "VID",
+                    "missing: DOF 4 and 8 move along a vector (*DEFINE_VECTOR)",
+                )
+            })
+        };
+        let dof = match c.opt_i64(1, "DOF")? {
+            Some(v @ 1..=3) => RawDof::Axis(v as usize - 1),
+            Some(v @ (4 | -4)) => RawDof::Vector {
+                vid: vid()?,
+                only: v < 0,
+                rotation: false,
+            },
+            Some(v @ (5..=7 | 8 | -8)) if rigid => match v {
+                5..=7 => RawDof::Rotation(v as usize - 5),
+                _ => RawDof::Vector {
+                    vid: vid()?,
+                    only: v < 0,
+                    rotation: true,
+                },
+            },
+            Some(v @ (5..=8 | -8)) => {
+                return Err(c.field_err(
+                    "DOF",
+                    format!("{v}: a rotation, and the nodes of solid elements have no rotational degrees of freedom (rotate a rigid body: *BOUNDARY_PRESCRIBED_MOTION_RIGID)"),
+                ))
+            }
             Some(v) => {
-                return Err(c.field_err("DOF", format!("{v}: only translational DOF 1-3 supported")))
+                return Err(c.field_err(
+                    "DOF",
+                    format!("{v} not supported: 1-3 (x, y, z), 4 and -4 (along VID), and on rigid bodies 5-7 (rotation about x, y, z), 8 and -8 (about VID)"),
+                ))
             }
             None => return Err(c.field_err("DOF", "missing (1, 2 or 3)")),
         };
@@ -252,6 +286,16 @@ pub fn prescribed(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
                 ))
             }
         };
+        let rotates = matches!(
+            dof,
+            RawDof::Rotation(_) | RawDof::Vector { rotation: true, .. }
+        );
+        if rotates && vad == Vad::Displacement {
+            return Err(c.field_err(
+                "VAD",
+                "2 (an angle) for a rotation is not supported: give the angular velocity (VAD 0)",
+            ));
+        }
         let lcid = c.id(3, "LCID")?;
         let sf = c.f64_nz(4, "SF", 1.0)?;
         let death = c.f64_or(6, "DEATH", 0.0)?;
@@ -264,7 +308,7 @@ pub fn prescribed(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
         deck.motions.push(RawMotion {
             src: r.src(c.line),
             target: mk(id),
-            axis,
+            dof,
             vad,
             lcid,
             sf,

@@ -61,6 +61,7 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
                     || b == "*DEFINE_TRANSFORMATION"
                     || b == "*DEFINE_TABLE"
                     || b == "*DEFINE_TABLE_2D"
+                    || b == "*DEFINE_VECTOR"
                     || b.starts_with("*DEFINE_COORDINATE_") =>
             {
                 (b, true)
@@ -84,6 +85,7 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
             "*DEFINE_COORDINATE_SYSTEM" => frames::system(&mut r, &mut deck)?,
             "*DEFINE_COORDINATE_VECTOR" => frames::vector(&mut r, &mut deck)?,
             "*DEFINE_COORDINATE_NODES" => frames::nodes(&mut r, &mut deck)?,
+            "*DEFINE_VECTOR" => frames::direction(&mut r, &mut deck)?,
             // read before every other card (`Params::read`)
             "*PARAMETER"
             | "*PARAMETER_DUPLICATION"

@@ -334,9 +334,33 @@ impl MotionDof {
     }
 }
 
+/// When a prescribed motion acts (BIRTH and DEATH): from `birth` (inclusive) until `death`
+/// (exclusive), judged at the middle of each step (where the velocity it sets applies); before
+/// and after, its node or body moves freely.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Window {
+    pub birth: f64,
+    pub death: f64,
+}
+
+impl Window {
+    /// From the start on, for good (LS-DYNA's defaults, BIRTH 0 and DEATH 1e28).
+    pub const ALWAYS: Window = Window {
+        birth: 0.0,
+        death: f64::INFINITY,
+    };
+
+    /// Whether the motion acts at (mid-step) time `t`.
+    pub fn holds(&self, t: f64) -> bool {
+        t >= self.birth && t < self.death
+    }
+}
+
 /// `*BOUNDARY_PRESCRIBED_MOTION_{NODE,SET,RIGID}` (sets expanded to one entry per node).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PrescribedMotion {
+    /// When it acts.
+    pub window: Window,
     pub target: MotionTarget,
     /// The degree of freedom (deck DOF and VID).
     pub dof: MotionDof,
@@ -401,6 +425,39 @@ pub struct RigidWall {
     pub head: Vec3,
     /// Coulomb friction coefficient; 1.0 or more means no sliding.
     pub fric: f64,
+    /// `_FINITE`: the rectangle the wall covers; `None`: the whole plane.
+    pub extent: Option<WallExtent>,
+}
+
+/// The rectangle of a `*RIGIDWALL_PLANAR_FINITE`: edges along the unit vectors l and
+/// m = n x l from the tail, of lengths LENL and LENM. A node whose projection on the wall's
+/// plane lies outside it is not stopped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallExtent {
+    /// Unit edge vector l, in the wall's plane.
+    pub l: Vec3,
+    pub len_l: f64,
+    pub len_m: f64,
+}
+
+impl RigidWall {
+    /// The unit normal, from tail to head.
+    pub fn normal(&self) -> Vec3 {
+        let d = crate::math::sub(self.head, self.tail);
+        crate::math::scale(d, 1.0 / crate::math::norm(d))
+    }
+
+    /// Whether the wall reaches a node at `x`: always for an unbounded wall; for a finite one,
+    /// when `0 <= (x - tail).l <= LENL` and `0 <= (x - tail).m <= LENM`, m = n x l.
+    pub fn covers(&self, x: Vec3, n: Vec3) -> bool {
+        let Some(e) = self.extent else {
+            return true;
+        };
+        let r = crate::math::sub(x, self.tail);
+        let m = crate::math::cross(n, e.l);
+        let (a, b) = (crate::math::dot(r, e.l), crate::math::dot(r, m));
+        (0.0..=e.len_l).contains(&a) && (0.0..=e.len_m).contains(&b)
+    }
 }
 
 /// Which side of a contact: by part set, part, segment set, or everything.

@@ -1329,7 +1329,7 @@ impl<'m> Solver<'m> {
             body.apply_constraints(st);
             let t_half = self.state.t + 0.5 * dt_new;
             for (rb, pm) in &self.setup.rigid_motion {
-                if *rb != b {
+                if *rb != b || !pm.window.holds(t_half) {
                     continue;
                 }
                 let c = &self.model.curves[pm.curve];
@@ -1391,6 +1391,9 @@ impl<'m> Solver<'m> {
             let MotionTarget::Node(n) = pm.target else {
                 continue;
             };
+            if !pm.window.holds(t + 0.5 * dt_new) {
+                continue;
+            }
             let k = self.entry(n as usize);
             let c = &self.model.curves[pm.curve];
             let s = match pm.vad {
@@ -1415,8 +1418,7 @@ impl<'m> Solver<'m> {
         let mut work = Work::default();
         for wi in 0..self.model.rigid_walls.len() {
             let wall = &self.model.rigid_walls[wi];
-            let d = sub(wall.head, wall.tail);
-            let nrm = scale(d, 1.0 / norm(d));
+            let nrm = wall.normal();
             let mut total = [0.0; 3];
             let mut normal = 0.0;
             for k in 0..self.setup.wall_nodes[wi].len() {
@@ -1433,7 +1435,7 @@ impl<'m> Solver<'m> {
                 let v = self.state.v[i];
                 let gap = dot(sub(x, wall.tail), nrm);
                 let vn = dot(v, nrm);
-                if gap + dt_new * vn >= 0.0 {
+                if gap + dt_new * vn >= 0.0 || !wall.covers(x, nrm) {
                     continue;
                 }
                 // land exactly on the wall; a node already behind it only stops

@@ -189,6 +189,7 @@ fn hertz_sphere_on_rigid_wall() {
     let (a, nodes) = sphere();
     let mut m = a.finish();
     m.rigid_walls.push(RigidWall {
+        extent: None,
         id: 1,
         nodes: None,
         tail: [0.0; 3],
@@ -564,6 +565,7 @@ fn bar_pushed_back(with_contact: bool) -> (f64, usize) {
     for (x, sf) in [(0.0, -v), (l, v)] {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,

@@ -163,6 +163,7 @@ fn nodal_rigid_body_follows_prescribed_motion() {
         y: vec![1.0],
     });
     m.prescribed.push(PrescribedMotion {
+        window: cleave_core::model::Window::ALWAYS,
         target: MotionTarget::NodalRigid(0),
         dof: cleave_core::model::MotionDof::Axis(0),
         vad: Vad::Velocity,

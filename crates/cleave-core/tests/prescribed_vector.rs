@@ -7,6 +7,7 @@ use cleave_core::math::{add, dot, norm, scale, sub, Vec3};
 use cleave_core::mesh::box_model;
 use cleave_core::model::{
     BodyLoad, Material, MaterialKind, Model, MotionDof, MotionTarget, PrescribedMotion, Spc, Vad,
+    Window,
 };
 mod common;
 use common::run;
@@ -76,6 +77,7 @@ fn nodes_move_along_a_vector() {
         for n in 0..m.num_nodes() {
             m.v0[n] = w;
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(n as u32),
                 dof: MotionDof::Along { dir: d, only },
                 vad: Vad::Displacement,
@@ -155,6 +157,7 @@ fn rigid_bodies_move_along_and_turn_about_vectors() {
             [0.0, 0.0, 1.0]
         };
         m.prescribed.push(PrescribedMotion {
+            window: cleave_core::model::Window::ALWAYS,
             target: MotionTarget::Rigid(rp),
             dof: MotionDof::Along { dir: d, only },
             vad: Vad::Velocity,
@@ -162,6 +165,7 @@ fn rigid_bodies_move_along_and_turn_about_vectors() {
             sf: v,
         });
         m.prescribed.push(PrescribedMotion {
+            window: cleave_core::model::Window::ALWAYS,
             target: MotionTarget::Rigid(rp),
             dof: MotionDof::Rotation { dir: axis, only },
             vad: Vad::Velocity,
@@ -202,5 +206,98 @@ fn rigid_bodies_move_along_and_turn_about_vectors() {
         assert!(centre_err < 1e-12, "{centre_err}");
         assert!(place_err < 2.0 * bound + 1e-12, "{place_err} vs {bound}");
         assert!(place_err > 0.0 && x_cm0[0] > 0.05);
+    }
+}
+
+/// BIRTH and DEATH: a free soft block (nothing else acts on it) whose 27 nodes get
+/// - a velocity V = 3 m/s along x from BIRTH = T/4 on, until the end: the nodes start at rest
+///   and are driven from the first step whose middle is past BIRTH, so x(T) = V (T - t_b) with
+///   t_b within one step of T/4;
+/// - a velocity W = -2 m/s along y from the start until DEATH = T/2: after it the nodes keep
+///   moving at W (no force acts on the block);
+/// - DOF -4 along z, displacement 0 (VAD 2), applied after them, until DEATH = T/8: while it
+///   acts it holds every node where it is (x and y too), so y moves at W only from the first
+///   step past T/8 and y(T) = W (T - t_d), t_d within a step of T/8; z stays 0.
+#[test]
+fn motions_act_between_birth_and_death() {
+    let mut m = box_model([2, 2, 2], [0.02; 3], soft(), 2e-3);
+    let t_end = m.control.end_time;
+    m.curves.push(Curve {
+        id: 1,
+        t: vec![0.0],
+        y: vec![1.0],
+    });
+    let (v, w) = (3.0, -2.0);
+    for n in 0..m.num_nodes() as u32 {
+        for (window, dof, vad, sf) in [
+            (
+                Window {
+                    birth: t_end / 4.0,
+                    death: f64::INFINITY,
+                },
+                MotionDof::Axis(0),
+                Vad::Velocity,
+                v,
+            ),
+            (
+                Window {
+                    birth: 0.0,
+                    death: t_end / 2.0,
+                },
+                MotionDof::Axis(1),
+                Vad::Velocity,
+                w,
+            ),
+            (
+                Window {
+                    birth: 0.0,
+                    death: t_end / 8.0,
+                },
+                MotionDof::Along {
+                    dir: [0.0, 0.0, 1.0],
+                    only: true,
+                },
+                Vad::Displacement,
+                0.0,
+            ),
+        ] {
+            m.prescribed.push(PrescribedMotion {
+                window,
+                target: MotionTarget::Node(n),
+                dof,
+                vad,
+                curve: 0,
+                sf,
+            });
+        }
+    }
+    let x0 = m.x0.to_vec();
+    let mut dt_max = 0.0f64;
+    let mut held = 0.0f64;
+    let s = run(&m, |s| {
+        dt_max = dt_max.max(s.state.dt);
+        if s.state.t <= t_end / 8.0 {
+            // the -4 motion holds every node where it was
+            for (n, x) in s.positions().iter().enumerate() {
+                held = held.max(norm(sub(*x, x0[n])));
+            }
+        }
+    });
+    let u = sub(s.positions()[13], x0[13]);
+    let (ex, ey) = (
+        (u[0] - v * 0.75 * t_end).abs() / (v * dt_max),
+        (u[1] - w * 0.875 * t_end).abs() / (w.abs() * dt_max),
+    );
+    eprintln!(
+        "BIRTH/DEATH: {} steps, dt {dt_max:.2e}; held {held:.1e} m; x off by {ex:.2} steps, y by {ey:.2} steps, z {:.1e}",
+        s.state.step, u[2]
+    );
+    assert!(s.state.step > 20);
+    assert!(held < 1e-15, "{held}");
+    assert!(ex <= 1.0 && ey <= 1.0, "{ex} {ey}");
+    assert!(u[2].abs() < 1e-15, "{}", u[2]);
+    // every node alike
+    for (n, x) in s.positions().iter().enumerate() {
+        assert!(norm(sub(sub(*x, x0[n]), u)) <= 1e-12 * norm(u));
     }
 }

@@ -59,6 +59,7 @@ fn deck() -> Model {
     for node in m.nodes_where(0, 0.04, 1e-12) {
         for axis in [0, 2] {
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(axis),
                 vad: Vad::Velocity,
@@ -70,6 +71,7 @@ fn deck() -> Model {
     // above the block (normal -z): the far face, pushed up at 20 m/s, reaches it at about
     // 30 us of the 100
     m.rigid_walls.push(RigidWall {
+        extent: None,
         id: 1,
         nodes: None,
         tail: [0.0, 0.0, 0.0305],
@@ -170,6 +172,7 @@ fn pulled_bar(sep: SeparationDef, end_time: f64, ramp: f64) -> Model {
     for (x, sf) in [(0.0, -PULL), (BAR_L, PULL)] {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
@@ -331,6 +334,7 @@ fn cohesive_bar(model: i32, slide: f64) {
         for (x, sf) in [(0.0, -slide), (BAR_L, slide)] {
             for node in bar.nodes_where(0, x, 1e-12) {
                 bar.prescribed.push(PrescribedMotion {
+                    window: cleave_core::model::Window::ALWAYS,
                     target: MotionTarget::Node(node),
                     dof: cleave_core::model::MotionDof::Axis(1),
                     vad: Vad::Velocity,
@@ -755,6 +759,7 @@ fn weibull_bars_follow_the_weakest_link_size_effect() {
             for (x, sf) in [(0.0, -0.5 * rate * len), (len, 0.5 * rate * len)] {
                 for node in bar.nodes_where(0, x, 1e-12) {
                     bar.prescribed.push(PrescribedMotion {
+                        window: cleave_core::model::Window::ALWAYS,
                         target: MotionTarget::Node(node),
                         dof: cleave_core::model::MotionDof::Axis(0),
                         vad: Vad::Velocity,

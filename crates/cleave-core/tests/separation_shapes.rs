@@ -73,6 +73,7 @@ fn split_tetrahedra_and_wedges_move_as_the_original() {
         });
         for node in m.nodes_where(0, 0.04, 1e-9) {
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(1),
                 vad: Vad::Velocity,
@@ -127,6 +128,7 @@ fn pulled_bar(mesh: BoxMesh, sep: SeparationDef, end_time: f64) -> Model {
     for (x, sf) in [(0.0, -PULL), (BAR_L, PULL)] {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,

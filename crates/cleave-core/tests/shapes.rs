@@ -222,6 +222,7 @@ fn elastic_wave_on_tetrahedra_and_wedges() {
         });
         for node in m.nodes_where(0, 0.0, 1e-6 * h) {
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,

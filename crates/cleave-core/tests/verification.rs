@@ -110,6 +110,7 @@ fn elastic_wave_speed_and_impedance() {
     m.curves.push(unit_curve(1));
     for node in m.nodes_where(0, 0.0, 1e-6 * h) {
         m.prescribed.push(PrescribedMotion {
+            window: cleave_core::model::Window::ALWAYS,
             target: MotionTarget::Node(node),
             dof: cleave_core::model::MotionDof::Axis(0),
             vad: Vad::Velocity,
@@ -635,6 +636,7 @@ fn rigid_body_follows_prescribed_velocity() {
     let (mut m, nodes) = rigid_block_model(t_end, elastic(0.3));
     m.curves.push(unit_curve(1));
     m.prescribed.push(PrescribedMotion {
+        window: cleave_core::model::Window::ALWAYS,
         target: MotionTarget::Rigid(1),
         dof: cleave_core::model::MotionDof::Axis(0),
         vad: Vad::Velocity,
@@ -772,6 +774,7 @@ fn block_sliding_on_frictional_wall_decelerates_at_mu_g() {
         sf: g,
     });
     m.rigid_walls.push(RigidWall {
+        extent: None,
         id: 1,
         nodes: None,
         tail: [0.0; 3],
@@ -888,6 +891,7 @@ fn pulled_bar_energy_equals_external_work() {
                 }
             }
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Rigid(1),
                 dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
@@ -897,6 +901,7 @@ fn pulled_bar_energy_equals_external_work() {
         } else {
             for node in m.nodes_where(0, len, 1e-9) {
                 m.prescribed.push(PrescribedMotion {
+                    window: cleave_core::model::Window::ALWAYS,
                     target: MotionTarget::Node(node),
                     dof: cleave_core::model::MotionDof::Axis(0),
                     vad: Vad::Velocity,

@@ -31,7 +31,7 @@
 use cleave_core::element::Shape;
 use cleave_core::erosion::ErosionRule;
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, SolidLaw};
-use cleave_core::math::{norm, scale, sub};
+use cleave_core::math::sub;
 use cleave_core::model::{Hourglass, Model, MotionDof, MotionTarget, Vad};
 use cleave_core::setup::Setup;
 use cleave_core::solver::kernel_controls;
@@ -51,14 +51,15 @@ pub const SLOT: u32 = (1 << 28) - 1;
 pub const MAT_STRIDE: usize = 14;
 /// Values per node action in `par` (at `mot_off + NODE_STRIDE k`), the first its kind:
 /// - 0, a prescribed motion: axis, VAD 0 velocity / 1 displacement, SF, curve offset, the
-///   node's initial coordinate on the axis;
+///   node's initial coordinate on the axis, two unused, its birth and death times;
 /// - 1, a concentrated load (`*LOAD_NODE`): axis, SF, curve offset;
 /// - 2, a pressure segment (`*LOAD_SEGMENT`) the node carries: SF, curve offset, birth time,
 ///   then its nodes N1 N2 N3 N4 (a triangle `N1 N2 N3 N3`);
 /// - 3, a tied slave node whose force the node takes (`crate::tied`): the slave, the weight;
 /// - 4 and 5, a prescribed motion along a unit vector d (DOF 4; 5: DOF -4, the motion normal
-///   to d held): d_x, VAD, SF, curve offset, the node's initial coordinate along d, d_y, d_z.
-pub const NODE_STRIDE: usize = 8;
+///   to d held): d_x, VAD, SF, curve offset, the node's initial coordinate along d, d_y, d_z,
+///   its birth and death times.
+pub const NODE_STRIDE: usize = 10;
 /// The most rigid walls (the bits of `nflag` above the SPC's, the ledger's partial sums).
 pub const MAX_WALLS: usize = 8;
 
@@ -89,9 +90,10 @@ pub struct Layout {
 
 /// Values per rigid body in `par`: mass, reference centre of mass (3), reference inertia (9,
 /// by rows), the fixed translations and rotations (3 + 3, 1 fixed), the offset and number of
-/// its prescribed motions (8 values each: code 0-2 a global axis, 3 a translation along d, 4
+/// its prescribed motions (10 values each: code 0-2 a global axis, 3 a translation along d, 4
 /// a rotation about d; VAD 0 velocity / 1 displacement; SF; curve offset; d (3); 1 when the
-/// motion normal to d is held), the first and the number of its entries in the node list.
+/// motion normal to d is held; birth and death times), the first and the number of its
+/// entries in the node list.
 pub const RB_PAR: usize = 23;
 /// Values per rigid body in the state buffer `rb`: centre of mass (3), velocity of the centre
 /// (3), rotation (9), angular momentum (3), angular velocity (3), the next placement (3 + 9),
@@ -232,7 +234,8 @@ impl Layout {
         }
         for l in &model.pressure_loads {
             let pts = if l.nodes[3] == l.nodes[2] { 3 } else { 4 };
-            let mut a = [2.0, l.sf, curve_off[l.curve], l.at, 0.0, 0.0, 0.0, 0.0];
+            let mut a = [0.0; NODE_STRIDE];
+            a[..4].copy_from_slice(&[2.0, l.sf, curve_off[l.curve], l.at]);
             for (k, &n) in l.nodes.iter().enumerate() {
                 a[4 + k] = at(n) as f64;
             }
@@ -244,10 +247,11 @@ impl Layout {
         for t in ties {
             for a in 0..4 {
                 let w = t.weights[a];
-                actions.push((
-                    t.masters[a],
-                    [3.0, t.slave as f64, w, 0.0, 0.0, 0.0, 0.0, 0.0],
-                ));
+                actions.push((t.masters[a], {
+                    let mut a = [0.0; NODE_STRIDE];
+                    a[..3].copy_from_slice(&[3.0, t.slave as f64, w]);
+                    a
+                }));
             }
         }
         for m in &setup.node_motion {
@@ -259,30 +263,25 @@ impl Layout {
                 let x0 = m.dof.component(model.x0[n as usize]);
                 // kind 0: along a global axis; 4 and 5: along a unit vector, the normal motion
                 // free (4, DOF 4) or held (5, DOF -4)
-                let a = match m.dof {
-                    MotionDof::Axis(axis) => [
-                        0.0,
-                        axis as f64,
-                        vad,
-                        m.sf,
-                        curve_off[m.curve],
-                        x0,
-                        0.0,
-                        0.0,
-                    ],
-                    MotionDof::Along { dir, only } => [
-                        if only { 5.0 } else { 4.0 },
-                        dir[0],
-                        vad,
-                        m.sf,
-                        curve_off[m.curve],
-                        x0,
-                        dir[1],
-                        dir[2],
-                    ],
+                let (kind, d) = match m.dof {
+                    MotionDof::Axis(axis) => (0.0, [axis as f64, 0.0, 0.0]),
+                    MotionDof::Along { dir, only } => (if only { 5.0 } else { 4.0 }, dir),
                     // the reader refuses rotations of nodes
                     MotionDof::Rotation { .. } => continue,
                 };
+                let w = m.window;
+                let a = [
+                    kind,
+                    d[0],
+                    vad,
+                    m.sf,
+                    curve_off[m.curve],
+                    x0,
+                    d[1],
+                    d[2],
+                    w.birth,
+                    w.death.min(f64::MAX),
+                ];
                 actions.push((at(n), a));
             }
         }
@@ -302,9 +301,9 @@ impl Layout {
         let entries: usize = bodies.iter().map(|b| b.nodes.len()).sum();
         let entry_off = rb_off as usize + RB_PAR * bodies.len();
         let motion_off = entry_off + 4 * entries;
-        // a body's prescribed motion: [code, VAD, SF, curve, d_x, d_y, d_z, only], code 0-2 a
-        // global axis, 3 a translation along d, 4 a rotation about d
-        const BODY_MOTION: usize = 8;
+        // a body's prescribed motion: [code, VAD, SF, curve, d_x, d_y, d_z, only, birth,
+        // death], code 0-2 a global axis, 3 a translation along d, 4 a rotation about d
+        const BODY_MOTION: usize = 10;
         let mut rbi = vec![u32::MAX; nn];
         let (mut first, mut motions) = (0usize, 0usize);
         for (b, body) in bodies.iter().enumerate() {
@@ -348,6 +347,7 @@ impl Layout {
                 par.extend_from_slice(&[code, vad, pm.sf, curve_off[pm.curve]]);
                 par.extend_from_slice(&dir);
                 par.push(only as u8 as f64);
+                par.extend_from_slice(&[pm.window.birth, pm.window.death.min(f64::MAX)]);
             }
         }
         rbi.extend(bodies.iter().flat_map(|b| b.nodes.iter().copied()));
@@ -358,11 +358,19 @@ impl Layout {
             par.extend_from_slice(&t.weights);
         }
         let wall_off = par.len() as u32;
+        // each wall: tail, unit normal, FRIC, then for a finite wall l, LENL, LENM (an
+        // unbounded one: LENL -1)
         for wall in &model.rigid_walls {
-            let d = sub(wall.head, wall.tail);
             par.extend_from_slice(&wall.tail);
-            par.extend_from_slice(&scale(d, 1.0 / norm(d)));
+            par.extend_from_slice(&wall.normal());
             par.push(wall.fric);
+            match wall.extent {
+                Some(e) => {
+                    par.extend_from_slice(&e.l);
+                    par.extend_from_slice(&[e.len_l, e.len_m]);
+                }
+                None => par.extend_from_slice(&[0.0, 0.0, 0.0, -1.0, 0.0]),
+            }
         }
         let mut nflag = vec![0u32; nn];
         for (w, nodes) in setup.wall_nodes.iter().enumerate() {

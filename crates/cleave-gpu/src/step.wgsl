@@ -163,7 +163,7 @@ const SRI: u32 = 0x10000000u;
 const NP: u32 = 0x20000000u;
 const RIGID_EL: u32 = 0x40000000u;
 const TET_EL: u32 = 0x80000000u;
-const NODE_STRIDE: u32 = 8u;
+const NODE_STRIDE: u32 = 10u;
 const BIG: f64 = 1.7976931348623157e308lf;
 
 fn halted() -> bool {
@@ -1974,7 +1974,11 @@ fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
     for (var k = 0u; k < u32(par[bo + 20u]); k = k + 1u) {
         // code 0-2: a global axis; 3: along the unit vector d; 4: a rotation about d; with
         // `only` the components normal to d are held (model.rs MotionDof::apply)
-        let o = mo + 8u * k;
+        let o = mo + 10u * k;
+        let tm = t + 0.5lf * dt;
+        if (tm < par[o + 8u] || tm >= par[o + 9u]) {
+            continue;
+        }
         let code = u32(par[o]);
         let c = u32(par[o + 3u]);
         let d = vec3<f64>(par[o + 4u], par[o + 5u], par[o + 6u]);
@@ -2733,7 +2737,9 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
         for (var k = mptr[n]; k < mptr[n + 1u]; k = k + 1u) {
             let o = prm.mot_off + NODE_STRIDE * k;
             let kind = par[o];
-            if (kind > 0.5lf && kind < 3.5lf) {
+            // not a motion, or not acting in this step (model.rs Window::holds)
+            let tm = t + 0.5lf * dt;
+            if ((kind > 0.5lf && kind < 3.5lf) || tm < par[o + 8u] || tm >= par[o + 9u]) {
                 continue;
             }
             let c = u32(par[o + 4u]);
@@ -2770,14 +2776,25 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
             if ((flags & (8u << wl)) == 0u) {
                 continue;
             }
-            let o = prm.wall_off + 7u * wl;
+            let o = prm.wall_off + 12u * wl;
             let tail = vec3<f64>(par[o], par[o + 1u], par[o + 2u]);
             let nrm = vec3<f64>(par[o + 3u], par[o + 4u], par[o + 5u]);
             let fric = par[o + 6u];
-            let gap = dot(ld(0u, n) - tail, nrm);
+            let rel = ld(0u, n) - tail;
+            let gap = dot(rel, nrm);
             let vnn = dot(v, nrm);
             if (gap + dt * vnn >= 0.0lf) {
                 continue;
+            }
+            // a finite wall (model.rs RigidWall::covers): within LENL along l, LENM along n x l
+            let len_l = par[o + 10u];
+            if (len_l >= 0.0lf) {
+                let l = vec3<f64>(par[o + 7u], par[o + 8u], par[o + 9u]);
+                let a = dot(rel, l);
+                let b = dot(rel, cross(nrm, l));
+                if (!(a >= 0.0lf && a <= len_l && b >= 0.0lf && b <= par[o + 11u])) {
+                    continue;
+                }
             }
             var vn_new = 0.0lf;
             if (gap >= 0.0lf) {

@@ -17,7 +17,8 @@ use cleave_core::math::{norm, sub, Vec3};
 use cleave_core::mesh::BoxMesh;
 use cleave_core::model::{
     BodyLoad, Hourglass, HourglassDef, Material, MaterialKind, Model, MotionDof, MotionTarget,
-    NodalRigidBody, NodeLoad, NodeSet, Part, PrescribedMotion, PressureLoad, Spc, Vad,
+    NodalRigidBody, NodeLoad, NodeSet, Part, PrescribedMotion, PressureLoad, RigidWall, Spc, Vad,
+    WallExtent,
 };
 use cleave_core::solver::{Observer, Solver};
 mod common;
@@ -509,6 +510,7 @@ fn rigid_bodies_match_the_cpu() {
                 (MotionDof::Axis(2), None)
             };
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Rigid(1),
                 dof,
                 vad,
@@ -516,7 +518,12 @@ fn rigid_bodies_match_the_cpu() {
                 sf,
             });
             if let Some(dof) = turn {
+                // the turn stops driving the body halfway (DEATH): it spins on freely
                 m.prescribed.push(PrescribedMotion {
+                    window: cleave_core::model::Window {
+                        birth: 0.0,
+                        death: 0.5 * m.control.end_time,
+                    },
                     target: MotionTarget::Rigid(1),
                     dof,
                     vad: Vad::Velocity,
@@ -528,7 +535,22 @@ fn rigid_bodies_match_the_cpu() {
             // the top face pulled along a vector, its normal motion held; one corner free
             // across it
             for (k, &n) in top.iter().enumerate() {
+                if k == 0 {
+                    // the free corner pushed across from a quarter of the run on (BIRTH)
+                    m.prescribed.push(PrescribedMotion {
+                        window: cleave_core::model::Window {
+                            birth: 0.25 * m.control.end_time,
+                            death: f64::INFINITY,
+                        },
+                        target: MotionTarget::Node(n),
+                        dof: MotionDof::Axis(0),
+                        vad: Vad::Velocity,
+                        curve: 0,
+                        sf: 0.5,
+                    });
+                }
                 m.prescribed.push(PrescribedMotion {
+                    window: cleave_core::model::Window::ALWAYS,
                     target: MotionTarget::Node(n),
                     dof: MotionDof::Along {
                         dir: [0.0, 0.6, 0.8],
@@ -909,4 +931,40 @@ fn profiled_steps_are_the_same_steps() {
         }
         None => eprintln!("SKIPPED the shares: the device has no timestamp queries"),
     }
+}
+
+/// Planar rigid walls with friction: one finite (`_FINITE`: its rectangle turned 45 degrees
+/// under the block's bottom, covering part of it) and one unbounded beside the block. The
+/// block, thrown down and sideways at 30 and 6 m/s, lands on them and yields as on the CPU.
+#[test]
+fn rigid_walls_match_the_cpu() {
+    let mut m = block(Hourglass::Viscous);
+    m.spcs.clear();
+    m.prescribed.clear();
+    m.body_loads.clear();
+    for v in m.v0.as_mut_slice() {
+        *v = [6.0, 2.0, -30.0];
+    }
+    let s = 0.5f64.sqrt();
+    m.rigid_walls.push(RigidWall {
+        id: 1,
+        nodes: None,
+        tail: [0.0, -0.01, -0.0002],
+        head: [0.0, -0.01, 0.9998],
+        fric: 0.3,
+        extent: Some(WallExtent {
+            l: [s, s, 0.0],
+            len_l: 0.03,
+            len_m: 0.02,
+        }),
+    });
+    m.rigid_walls.push(RigidWall {
+        id: 2,
+        nodes: None,
+        tail: [0.0301, 0.0, 0.0],
+        head: [-0.9699, 0.0, 0.0],
+        fric: 0.0,
+        extent: None,
+    });
+    compare_runs(m, "rigid walls");
 }

@@ -205,6 +205,7 @@ fn pulled_bar_with(model: i32, gc: f64, ends: f64) -> Model {
     for (x, sf) in [(0.0, -PULL), (BAR_L, PULL)] {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,
@@ -398,6 +399,7 @@ fn cohesive_bar(model: i32, slide: f64) -> Model {
     for (x, sf) in [(0.0, -slide), (BAR_L, slide)] {
         for node in bar.nodes_where(0, x, 1e-12) {
             bar.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(1),
                 vad: Vad::Velocity,

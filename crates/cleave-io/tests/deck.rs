@@ -706,9 +706,9 @@ fn unsupported_options_are_errors() {
     let cases: &[(&str, &str, &str, &str)] = &[
         (
             "2, 1, 0, 1, 0.5",
-            "2, 5, 0, 1, 0.5",
+            "2, 9, 0, 1, 0.5",
             "DOF",
-            "only translational DOF 1-3 supported",
+            "9 not supported",
         ),
         ("2, 1, 0, 1, 0.5", "2, 1, 1, 1, 0.5", "VAD", "not supported"),
         ("4, 0.05", "6, 0.05", "IHQ", "not supported"),
@@ -1163,6 +1163,7 @@ fn round_trip_model() -> Model {
         ],
         prescribed: vec![
             PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(2),
                 dof: MotionDof::Axis(1),
                 vad: Vad::Displacement,
@@ -1170,6 +1171,7 @@ fn round_trip_model() -> Model {
                 sf: 2.5,
             },
             PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Rigid(1),
                 dof: MotionDof::Axis(2),
                 vad: Vad::Velocity,
@@ -1177,6 +1179,7 @@ fn round_trip_model() -> Model {
                 sf: -1.0,
             },
             PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(4),
                 dof: MotionDof::Axis(0),
                 vad: Vad::Velocity,
@@ -1184,6 +1187,7 @@ fn round_trip_model() -> Model {
                 sf: 1.0,
             },
             PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::NodalRigid(0),
                 dof: MotionDof::Axis(1),
                 vad: Vad::Velocity,
@@ -1217,6 +1221,7 @@ fn round_trip_model() -> Model {
         }],
         rigid_walls: vec![
             RigidWall {
+                extent: None,
                 id: 1,
                 nodes: None,
                 tail: [0.0, 0.0, -0.5],
@@ -1224,6 +1229,7 @@ fn round_trip_model() -> Model {
                 fric: 1.0,
             },
             RigidWall {
+                extent: None,
                 id: 2,
                 nodes: Some(vec![0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10]),
                 tail: [0.0; 3],
@@ -1231,6 +1237,7 @@ fn round_trip_model() -> Model {
                 fric: 0.0,
             },
             RigidWall {
+                extent: None,
                 id: 3,
                 nodes: Some(vec![3, 1]),
                 tail: [0.0; 3],
@@ -2481,8 +2488,32 @@ fn motions_along_vectors_and_rotations() {
             ),
         )
     };
-    let t = motions("2, -4, 0, 1, 2., 7\n2, 6, 0, 1, 3.\n2, -8, 0, 1, 1., 8\n2, 4, 2, 1, 1., 7\n");
+    let t = motions(
+        "2, -4, 0, 1, 2., 7\n2, 6, 0, 1, 3., 0, 1.5e-3, 1.0e-4\n2, -8, 0, 1, 1., 8, 1e28\n\
+         2, 4, 2, 1, 1., 7, 2e-3\n",
+    );
     let m = parse(&t);
+    // DEATH and BIRTH: blank, 0 and 1e28 mean never and from the start
+    let windows: Vec<Window> = m.prescribed[1..5].iter().map(|p| p.window).collect();
+    let never = f64::INFINITY;
+    assert_eq!(
+        windows,
+        vec![
+            Window::ALWAYS,
+            Window {
+                birth: 1e-4,
+                death: 1.5e-3
+            },
+            Window {
+                birth: 0.0,
+                death: never
+            },
+            Window {
+                birth: 0.0,
+                death: 2e-3
+            },
+        ]
+    );
     let dofs: Vec<MotionDof> = m.prescribed[1..5].iter().map(|p| p.dof).collect();
     assert_eq!(
         dofs,
@@ -2519,6 +2550,9 @@ fn motions_along_vectors_and_rotations() {
         ("2, 4, 0, 1, 1., 9\n", "VID", "vector 9 is not defined"),
         ("2, 7, 2, 1\n", "VAD", "angular velocity"),
         ("2, 9, 0, 1\n", "DOF", "9 not supported"),
+        ("2, 1, 2, 1, 1., 0, 0., 1e-4\n", "BIRTH", "VAD 2"),
+        ("2, 1, 0, 1, 1., 0, 1e-4, 2e-4\n", "BIRTH", "before DEATH"),
+        ("2, 1, 0, 1, 1., 0, 0., -1.\n", "BIRTH", "at least 0"),
     ] {
         let e = err(&motions(cards));
         assert_eq!(e.field.as_deref(), Some(field), "{cards}: {e}");
@@ -2543,4 +2577,44 @@ fn motions_along_vectors_and_rotations() {
         e.message.contains("coordinate system 4 is not defined"),
         "{e}"
     );
+}
+
+/// `*RIGIDWALL_PLANAR_FINITE` and `_ID`: the rectangle read (l made a unit vector in the plane),
+/// written and read back, and the options cleave does not model refused by name.
+#[test]
+fn finite_walls_and_wall_options() {
+    let wall = |kw: &str, extra: &str| {
+        with(
+            "*RIGIDWALL_PLANAR\n0\n0., 0., -0.1, 0., 0., 1., 0.5\n",
+            &format!("{kw}\n0\n0., 0., -0.1, 0., 0., 1., 0.5\n{extra}"),
+        )
+    };
+    // the edge vector from the tail to (3, 4, 7): its part along the normal (z) dropped
+    let m = parse(&wall(
+        "*RIGIDWALL_PLANAR_FINITE_ID\n7 floor",
+        "3., 4., 7., 2.5, 1.5\n",
+    ));
+    let e = m.rigid_walls[0].extent.expect("finite");
+    assert_eq!((e.l, e.len_l, e.len_m), ([0.6, 0.8, 0.0], 2.5, 1.5));
+    assert_eq!(m.rigid_walls[1].extent, None);
+    let back = parse(&write_deck(&m));
+    let b = back.rigid_walls[0].extent.expect("written finite");
+    assert!((0..3).all(|i| (b.l[i] - e.l[i]).abs() <= 1e-15), "{b:?}");
+    assert_eq!((b.len_l, b.len_m), (2.5, 1.5));
+    // an _ID card alone
+    let m = parse(&wall("*RIGIDWALL_PLANAR_ID\n3", ""));
+    assert_eq!(m.rigid_walls.len(), 2);
+    for (kw, extra, words) in [
+        ("*RIGIDWALL_PLANAR_MOVING", "100., 5.\n", "_MOVING"),
+        ("*RIGIDWALL_PLANAR_ORTHO", "", "_ORTHO"),
+        ("*RIGIDWALL_PLANAR_FINITE", "1., 0., 0., 0., 1.\n", "LENL"),
+        (
+            "*RIGIDWALL_PLANAR_FINITE",
+            "0., 0., 5., 1., 1.\n",
+            "along the wall's normal",
+        ),
+    ] {
+        let e = err(&wall(kw, extra));
+        assert!(e.to_string().contains(words), "{kw}: {e}");
+    }
 }

@@ -53,6 +53,7 @@ fn bar_deck(dir: &Path, sigmax: f64) -> PathBuf {
     for (x, sf) in [(0.0, -PULL), (L, PULL)] {
         for node in m.nodes_where(0, x, 1e-12) {
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,

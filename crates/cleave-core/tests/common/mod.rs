@@ -120,6 +120,7 @@ pub fn uniaxial_cube(
     }
     for node in m.nodes_where(0, l0, 1e-9 * l0) {
         m.prescribed.push(PrescribedMotion {
+            window: cleave_core::model::Window::ALWAYS,
             target: MotionTarget::Node(node),
             dof: cleave_core::model::MotionDof::Axis(0),
             vad: Vad::Displacement,

@@ -58,6 +58,7 @@ pub fn block(hourglass: Hourglass) -> Model {
             });
         } else if (x[2] - 0.06).abs() < 1e-9 {
             m.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(n),
                 dof: cleave_core::model::MotionDof::Axis(2),
                 vad: Vad::Velocity,

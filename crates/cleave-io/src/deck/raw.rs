@@ -236,6 +236,7 @@ pub struct RawMotion {
     pub src: Src,
     /// `Node`, `NodeSet` or `Part` (rigid).
     pub target: Target,
+    pub window: cleave_core::model::Window,
     pub dof: RawDof,
     pub vad: Vad,
     pub lcid: i64,
@@ -318,6 +319,7 @@ pub struct RawWall {
     pub tail: Vec3,
     pub head: Vec3,
     pub fric: f64,
+    pub extent: Option<cleave_core::model::WallExtent>,
 }
 
 /// A contact side: SSID/MSID with SSTYP/MSTYP (0 segment set, 2 part set, 3 part).

@@ -13,7 +13,7 @@ use cleave_core::element::shape::{shape_of, Shape};
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear};
 use cleave_core::model::{
     ContactSurface, Hourglass, Material, MaterialKind, Model, MotionDof, MotionTarget, PenaltyRule,
-    StrengthDist, TiedSlave, Vad,
+    StrengthDist, TiedSlave, Vad, Window,
 };
 
 /// One field of a card.
@@ -913,7 +913,11 @@ fn conditions(o: &mut String, m: &Model) {
         if kw != last_kw {
             o.push_str(kw);
             o.push('\n');
-            names(o, &["id", "dof", "vad", "lcid", "sf", "vid"], &W10);
+            names(
+                o,
+                &["id", "dof", "vad", "lcid", "sf", "vid", "death", "birth"],
+                &W10,
+            );
             last_kw = kw;
         }
         let vad = match p.vad {
@@ -927,8 +931,17 @@ fn conditions(o: &mut String, m: &Model) {
             F::I(m.curves[p.curve].id),
             F::R(p.sf),
         ];
-        if vid > 0 {
+        let timed = p.window != Window::ALWAYS;
+        if vid > 0 || timed {
             f.push(F::I(vid));
+        }
+        if timed {
+            let death = if p.window.death.is_finite() {
+                p.window.death
+            } else {
+                1e28
+            };
+            f.extend([F::R(death), F::R(p.window.birth)]);
         }
         card(o, &f, &W10);
     }
@@ -985,13 +998,25 @@ fn surface(m: &Model, s: Option<&ContactSurface>) -> (F, F) {
 
 fn interactions(o: &mut String, m: &Model, wall_sets: &[i64]) {
     for (w, &nsid) in m.rigid_walls.iter().zip(wall_sets) {
-        simple(o, "*RIGIDWALL_PLANAR", &["nsid"], &[F::I(nsid)]);
+        let kw = if w.extent.is_some() {
+            "*RIGIDWALL_PLANAR_FINITE"
+        } else {
+            "*RIGIDWALL_PLANAR"
+        };
+        simple(o, kw, &["nsid"], &[F::I(nsid)]);
         names(o, &["xt", "yt", "zt", "xh", "yh", "zh", "fric"], &W10);
         let f = [
             w.tail[0], w.tail[1], w.tail[2], w.head[0], w.head[1], w.head[2], w.fric,
         ]
         .map(F::R);
         card(o, &f, &W10);
+        if let Some(e) = w.extent {
+            // the edge vector's head: tail + l (l a unit vector in the plane)
+            names(o, &["xhev", "yhev", "zhev", "lenl", "lenm"], &W10);
+            let hev = cleave_core::math::add(w.tail, e.l);
+            let f = [hev[0], hev[1], hev[2], e.len_l, e.len_m].map(F::R);
+            card(o, &f, &W10);
+        }
     }
     for c in &m.contacts {
         let kw = if c.single_surface {

@@ -164,6 +164,7 @@ pub fn fragmenting_bar(spec: BarSpec) -> Result<Model, String> {
     for (x, sf) in [(0.0, -0.5 * eps_dot * len), (len, 0.5 * eps_dot * len)] {
         for node in model.nodes_where(0, x, 1e-9 * h) {
             model.prescribed.push(PrescribedMotion {
+                window: cleave_core::model::Window::ALWAYS,
                 target: MotionTarget::Node(node),
                 dof: cleave_core::model::MotionDof::Axis(0),
                 vad: Vad::Velocity,

@@ -221,6 +221,7 @@ pub fn three_point_bend(model: i32, end_time: f64) -> Result<Model, String> {
         y: vec![1.0, 1.0],
     }];
     m.prescribed = vec![PrescribedMotion {
+        window: cleave_core::model::Window::ALWAYS,
         target: MotionTarget::Rigid(tup_part),
         dof: cleave_core::model::MotionDof::Axis(1),
         vad: Vad::Velocity,

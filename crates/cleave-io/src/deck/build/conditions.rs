@@ -200,6 +200,7 @@ impl Builder<'_> {
                 tail: w.tail,
                 head: w.head,
                 fric: w.fric,
+                extent: w.extent,
             });
         }
         for (k, c) in raw.contacts.iter().enumerate() {
@@ -378,6 +379,7 @@ impl Builder<'_> {
                 }
             };
             let mk = |target| PrescribedMotion {
+                window: p.window,
                 target,
                 dof,
                 vad: p.vad,

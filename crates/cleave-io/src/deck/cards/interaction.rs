@@ -1,5 +1,8 @@
-//! `*RIGIDWALL_PLANAR` and `*CONTACT_AUTOMATIC_{SINGLE_SURFACE,SURFACE_TO_SURFACE}`
+//! `*RIGIDWALL_PLANAR` (`_FINITE`, `_ID`) and `*CONTACT_AUTOMATIC_{SINGLE_SURFACE,SURFACE_TO_SURFACE}`
 //! (LS-DYNA Keyword Manual, Vol. I).
+
+use cleave_core::math::{dot, norm, scale, sub};
+use cleave_core::model::WallExtent;
 
 use super::control::warn_ignored;
 use super::Reader;
@@ -15,10 +18,41 @@ fn must_be_blank(c: &Card<'_>, i: usize, name: &str, what: &str) -> Result<(), D
     Ok(())
 }
 
-/// `*RIGIDWALL_PLANAR`: card 1 `NSID NSIDEX BOXID OFFSET BIRTH DEATH RWKSF` (NSID 0: every
-/// node); card 2 `XT YT ZT XH YH ZH FRIC WVEL`. The wall is a fixed stonewall whose normal
-/// points from tail to head.
+/// `*RIGIDWALL_PLANAR`, `_ID` and `_FINITE`: with `_ID` a first card `RWID HEADING` (read
+/// past: rwforc.csv numbers the walls in deck order); card 1 `NSID NSIDEX BOXID OFFSET BIRTH
+/// DEATH RWKSF` (NSID 0: every node); card 2 `XT YT ZT XH YH ZH FRIC WVEL`; with `_FINITE` a
+/// card `XHEV YHEV ZHEV LENL LENM`: the edge vector l from the tail to (XHEV, YHEV, ZHEV)
+/// (its part along the normal dropped), the wall covering LENL along l and LENM along n x l.
+/// The wall is a fixed stonewall whose normal points from tail to head. The options `_ORTHO`
+/// (orthotropic friction), `_MOVING` (a wall with mass) and `_FORCES` (force segments) are
+/// errors naming them.
 pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let kw = r.keyword.trim_end_matches("_TITLE");
+    let (kw, titled) = match kw.strip_suffix("_ID") {
+        Some(k) => (k, true),
+        None => (kw, false),
+    };
+    let finite = match kw.strip_prefix("*RIGIDWALL_PLANAR").unwrap_or(kw) {
+        "" => false,
+        "_FINITE" => true,
+        other => {
+            let what = if other.contains("MOVING") {
+                "a moving wall with a mass (_MOVING)"
+            } else if other.contains("ORTHO") {
+                "orthotropic friction (_ORTHO)"
+            } else if other.contains("FORCES") {
+                "wall force segments (_FORCES)"
+            } else {
+                "this option"
+            };
+            return Err(r.error_at_keyword(format!(
+                "{what} is not supported (cleave reads *RIGIDWALL_PLANAR with _FINITE and _ID)"
+            )));
+        }
+    };
+    if titled {
+        r.title()?;
+    }
     let c = r.required(W10, "NSID NSIDEX BOXID OFFSET BIRTH DEATH RWKSF")?;
     let nsid = c.ref_id(0, "NSID")?;
     must_be_blank(&c, 1, "NSIDEX", "an exclusion node set is")?;
@@ -58,12 +92,47 @@ pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
         return Err(c2.field_err("FRIC", format!("{fric} must not be negative")));
     }
     warn_ignored(&c2, 7, "WVEL", "wall failure is not modelled", deck)?;
+    let extent = if finite {
+        let c3 = r.required(W10, "XHEV YHEV ZHEV LENL LENM")?;
+        let hev = [
+            c3.f64_or(0, "XHEV", 0.0)?,
+            c3.f64_or(1, "YHEV", 0.0)?,
+            c3.f64_or(2, "ZHEV", 0.0)?,
+        ];
+        let len_l = c3.f64_or(3, "LENL", 0.0)?;
+        let len_m = c3.f64_or(4, "LENM", 0.0)?;
+        for (v, name) in [(len_l, "LENL"), (len_m, "LENM")] {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(c3.field_err(name, format!("{v}: the wall's length must be positive")));
+            }
+        }
+        // l in the wall's plane: the edge vector less its part along the normal
+        let d = sub(head, tail);
+        let n = scale(d, 1.0 / norm(d));
+        let e = sub(hev, tail);
+        let l = sub(e, scale(n, dot(e, n)));
+        let ll = norm(l);
+        if ll.is_nan() || ll <= 1e-9 * norm(e).max(norm(d)) {
+            return Err(c3.field_err(
+                "XHEV",
+                "the edge vector from the tail to (XHEV, YHEV, ZHEV) is zero or along the wall's normal",
+            ));
+        }
+        Some(WallExtent {
+            l: l.map(|x| x / ll),
+            len_l,
+            len_m,
+        })
+    } else {
+        None
+    };
     deck.walls.push(RawWall {
         src: r.src(c.line),
         nsid,
         tail,
         head,
         fric,
+        extent,
     });
     Ok(())
 }

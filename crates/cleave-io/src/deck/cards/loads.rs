@@ -2,7 +2,7 @@
 //! `*INITIAL_VELOCITY_GENERATION`, `*INITIAL_VELOCITY_NODE`, `*BOUNDARY_SPC_{NODE,SET}`,
 //! `*BOUNDARY_PRESCRIBED_MOTION_{NODE,SET,RIGID}`, `*LOAD_BODY_{X,Y,Z}`.
 
-use cleave_core::model::Vad;
+use cleave_core::model::{Vad, Window};
 
 use super::control::warn_ignored;
 use super::Reader;
@@ -224,8 +224,9 @@ pub fn spc(r: &mut Reader<'_>, deck: &mut RawDeck, set: bool) -> Result<(), Deck
 /// 3 (x, y, z), 4 (along `*DEFINE_VECTOR` VID, the motion normal to it free) and -4 (normal
 /// motion held at zero); on rigid bodies also 5, 6, 7 (angular velocity about x, y, z through
 /// the centre of mass), 8 and -8 (about VID; -8 holds the other rotations); VAD 0 velocity, 2
-/// displacement (translations only); SF blank or 0 means 1. DEATH and BIRTH must be left at
-/// their defaults. (LS-DYNA Keyword Manual, `*BOUNDARY_PRESCRIBED_MOTION`.)
+/// displacement (translations only); SF blank or 0 means 1; DEATH (blank, 0 or 1e28: never)
+/// and BIRTH bound when it acts ([`Window`]; a birth time only with VAD 0). (LS-DYNA Keyword
+/// Manual, `*BOUNDARY_PRESCRIBED_MOTION`.)
 pub fn prescribed(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     // the variant, without the `_ID` or `_TITLE` option
     let kw = r.keyword.trim_end_matches("_ID").trim_end_matches("_TITLE");
@@ -298,16 +299,28 @@ pub fn prescribed(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckErro
         }
         let lcid = c.id(3, "LCID")?;
         let sf = c.f64_nz(4, "SF", 1.0)?;
-        let death = c.f64_or(6, "DEATH", 0.0)?;
-        if death != 0.0 && death < 1.0e20 {
-            return Err(c.field_err("DEATH", "a death time is not supported; leave it blank"));
+        // DEATH blank or 0: never (LS-DYNA's default 1e28)
+        let death = match c.f64_or(6, "DEATH", 0.0)? {
+            d if d == 0.0 || d >= 1e28 => f64::INFINITY,
+            d => d,
+        };
+        let birth = c.f64_or(7, "BIRTH", 0.0)?;
+        if !(birth >= 0.0 && birth < death) {
+            return Err(c.field_err(
+                "BIRTH",
+                format!("{birth}: the birth time must be at least 0 and before DEATH"),
+            ));
         }
-        if c.f64_or(7, "BIRTH", 0.0)? != 0.0 {
-            return Err(c.field_err("BIRTH", "a birth time is not supported; leave it blank"));
+        if birth > 0.0 && vad == Vad::Displacement {
+            return Err(c.field_err(
+                "BIRTH",
+                "a displacement (VAD 2) from a birth time is not supported (from where it is measured then is not settled): give a velocity (VAD 0) or no BIRTH",
+            ));
         }
         deck.motions.push(RawMotion {
             src: r.src(c.line),
             target: mk(id),
+            window: Window { birth, death },
             dof,
             vad,
             lcid,

@@ -155,7 +155,9 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
             "*LOAD_BODY_X" => loads::body(&mut r, &mut deck, 0)?,
             "*LOAD_BODY_Y" => loads::body(&mut r, &mut deck, 1)?,
             "*LOAD_BODY_Z" => loads::body(&mut r, &mut deck, 2)?,
-            "*RIGIDWALL_PLANAR" => interaction::rigidwall_planar(&mut r, &mut deck)?,
+            k if k.starts_with("*RIGIDWALL_PLANAR") => {
+                interaction::rigidwall_planar(&mut r, &mut deck)?
+            }
             "*CONTACT_TIED_SURFACE_TO_SURFACE" | "*CONTACT_TIED_NODES_TO_SURFACE" => {
                 interaction::tied(&mut r, &mut deck)?
             }

@@ -427,6 +427,33 @@ pub struct RigidWall {
     pub fric: f64,
     /// `_FINITE`: the rectangle the wall covers; `None`: the whole plane.
     pub extent: Option<WallExtent>,
+    /// The wall's body: the plane of `*RIGIDWALL_PLANAR` (and `*RIGIDWALL_GEOMETRIC_FLAT`),
+    /// or a sphere or a cylinder (`*RIGIDWALL_GEOMETRIC_...`), which nodes stay out of.
+    pub shape: WallShape,
+    /// `_MOTION` of a geometric wall: its prescribed translation; `None`: fixed.
+    pub motion: Option<WallMotion>,
+}
+
+/// The body of a rigid wall.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WallShape {
+    /// The half-space behind the plane through the tail, normal tail -> head.
+    Plane,
+    /// A ball of radius `radius` about the tail.
+    Sphere { radius: f64 },
+    /// A solid cylinder of radius `radius` about the axis from the tail towards the head,
+    /// from the tail over `length` along it (infinite: `f64::INFINITY`).
+    Cylinder { radius: f64, length: f64 },
+}
+
+/// A geometric wall's prescribed translation along the unit vector `dir`: its displacement is
+/// the curve (`displacement`, OPT 1) or the curve's integral from 0 (a velocity, OPT 0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallMotion {
+    /// Index into `Model::curves`.
+    pub curve: usize,
+    pub displacement: bool,
+    pub dir: Vec3,
 }
 
 /// The rectangle of a `*RIGIDWALL_PLANAR_FINITE`: edges along the unit vectors l and
@@ -447,16 +474,62 @@ impl RigidWall {
         crate::math::scale(d, 1.0 / crate::math::norm(d))
     }
 
-    /// Whether the wall reaches a node at `x`: always for an unbounded wall; for a finite one,
-    /// when `0 <= (x - tail).l <= LENL` and `0 <= (x - tail).m <= LENM`, m = n x l.
-    pub fn covers(&self, x: Vec3, n: Vec3) -> bool {
+    /// Whether the plane reaches a node at `x` (`tail` where the wall's tail is now):
+    /// always for an unbounded wall; for a finite one, when `0 <= (x - tail).l <= LENL` and
+    /// `0 <= (x - tail).m <= LENM`, m = n x l.
+    pub fn covers(&self, x: Vec3, tail: Vec3, n: Vec3) -> bool {
         let Some(e) = self.extent else {
             return true;
         };
-        let r = crate::math::sub(x, self.tail);
+        let r = crate::math::sub(x, tail);
         let m = crate::math::cross(n, e.l);
         let (a, b) = (crate::math::dot(r, e.l), crate::math::dot(r, m));
         (0.0..=e.len_l).contains(&a) && (0.0..=e.len_m).contains(&b)
+    }
+
+    /// How far the wall's tail has moved by time `t` (`_MOTION`; zero for a fixed wall).
+    pub fn offset(&self, curves: &[crate::curve::Curve], t: f64) -> Vec3 {
+        match self.motion {
+            None => [0.0; 3],
+            Some(m) => {
+                let c = &curves[m.curve];
+                let d = if m.displacement {
+                    c.eval(t)
+                } else {
+                    c.integral(t)
+                };
+                crate::math::scale(m.dir, d)
+            }
+        }
+    }
+
+    /// The gap of a node at `x` to the wall's surface, with the surface's outward unit normal
+    /// there, the tail being at `tail` (negative: inside the wall's body); `None` where the
+    /// wall does not reach (outside a finite plane's rectangle or past a finite cylinder's
+    /// ends, or on a sphere's centre or a cylinder's axis).
+    /// - plane: `g = (x - tail).n`;
+    /// - sphere: `g = |x - tail| - R`, n along `x - tail`;
+    /// - cylinder: with a the axis and `s = (x - tail).a`, `q = x - tail - s a`: `g = |q| - R`,
+    ///   n along q.
+    pub fn gap(&self, x: Vec3, tail: Vec3) -> Option<(f64, Vec3)> {
+        use crate::math::{dot, norm, scale, sub};
+        let n = self.normal();
+        let r = sub(x, tail);
+        let radial = |q: Vec3, radius: f64| {
+            let d = norm(q);
+            (d > 0.0).then(|| (d - radius, scale(q, 1.0 / d)))
+        };
+        match self.shape {
+            WallShape::Plane => self.covers(x, tail, n).then(|| (dot(r, n), n)),
+            WallShape::Sphere { radius } => radial(r, radius),
+            WallShape::Cylinder { radius, length } => {
+                let s = dot(r, n);
+                if !(0.0..=length).contains(&s) {
+                    return None;
+                }
+                radial(sub(r, scale(n, s)), radius)
+            }
+        }
     }
 }
 

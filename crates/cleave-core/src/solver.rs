@@ -1410,15 +1410,28 @@ impl<'m> Solver<'m> {
         work
     }
 
-    /// Planar stonewalls: a node that would cross the wall during the next step lands on it
-    /// (normal velocity -d^n/dt for the gap d^n, or 0 if already behind); friction removes up to
-    /// FRIC times the normal impulse from the tangential momentum (FRIC >= 1: no sliding).
-    /// Returns the work of the wall on the model.
+    /// Stonewalls (planar, spherical, cylindrical; fixed or moving): a node that would cross
+    /// the wall's surface during the next step lands on it (relative normal velocity -d^n/dt
+    /// for the gap d^n, or 0 if already behind; on a curved wall it lands on the tangent plane
+    /// at its nearest surface point); friction removes up to FRIC times the normal impulse
+    /// from the tangential velocity relative to the wall (FRIC >= 1: no sliding). Returns the
+    /// work of the wall on the model.
     fn apply_rigid_walls(&mut self, dt_mid: f64, dt_new: f64) -> Work {
         let mut work = Work::default();
         for wi in 0..self.model.rigid_walls.len() {
             let wall = &self.model.rigid_walls[wi];
-            let nrm = wall.normal();
+            // where the wall is now and how fast it moves over the step (`_MOTION`)
+            let t = self.state.t;
+            let off = wall.offset(&self.model.curves, t);
+            let tail = if wall.motion.is_some() {
+                add(wall.tail, off)
+            } else {
+                wall.tail
+            };
+            let wv = scale(
+                sub(wall.offset(&self.model.curves, t + dt_new), off),
+                1.0 / dt_new,
+            );
             let mut total = [0.0; 3];
             let mut normal = 0.0;
             for k in 0..self.setup.wall_nodes[wi].len() {
@@ -1433,22 +1446,32 @@ impl<'m> Solver<'m> {
                 }
                 let x = self.state.x[i];
                 let v = self.state.v[i];
-                let gap = dot(sub(x, wall.tail), nrm);
-                let vn = dot(v, nrm);
-                if gap + dt_new * vn >= 0.0 || !wall.covers(x, nrm) {
+                let Some((gap, nrm)) = wall.gap(x, tail) else {
+                    continue;
+                };
+                // the velocity relative to the wall
+                let vr = sub(v, wv);
+                let vn = dot(vr, nrm);
+                if gap + dt_new * vn >= 0.0 {
                     continue;
                 }
-                // land exactly on the wall; a node already behind it only stops
+                // land exactly on the wall (on its tangent plane, for a curved one); a node
+                // already behind it only stops
                 let vn_new = if gap >= 0.0 { -gap / dt_new } else { 0.0 };
                 let dvn = vn_new - vn; // > 0
-                let vt = sub(v, scale(nrm, vn));
+                let vt = sub(vr, scale(nrm, vn));
                 let vt_mag = norm(vt);
                 let vt_new = if wall.fric >= 1.0 || vt_mag <= wall.fric * dvn {
                     [0.0; 3]
                 } else {
                     scale(vt, 1.0 - wall.fric * dvn / vt_mag)
                 };
-                let v_new = add(scale(nrm, vn_new), vt_new);
+                let v_rel = add(scale(nrm, vn_new), vt_new);
+                let v_new = if wall.motion.is_some() {
+                    add(wv, v_rel)
+                } else {
+                    v_rel
+                };
                 let m = self.entry_mass(i);
                 let impulse = scale(sub(v_new, v), m);
                 total = add(total, impulse);

@@ -189,6 +189,8 @@ fn hertz_sphere_on_rigid_wall() {
     let (a, nodes) = sphere();
     let mut m = a.finish();
     m.rigid_walls.push(RigidWall {
+        shape: cleave_core::model::WallShape::Plane,
+        motion: None,
         extent: None,
         id: 1,
         nodes: None,

@@ -3,7 +3,7 @@
 
 use cleave_core::math::cross;
 use cleave_core::mesh::box_model;
-use cleave_core::model::{Material, MaterialKind, RigidWall, WallExtent};
+use cleave_core::model::{Material, MaterialKind, RigidWall, WallExtent, WallMotion, WallShape};
 mod common;
 use common::run;
 
@@ -23,6 +23,8 @@ fn soft() -> Material {
 fn a_finite_wall_covers_its_rectangle() {
     let s = 0.5f64.sqrt();
     let w = RigidWall {
+        shape: cleave_core::model::WallShape::Plane,
+        motion: None,
         id: 1,
         nodes: None,
         tail: [1.0, 2.0, 0.0],
@@ -49,12 +51,12 @@ fn a_finite_wall_covers_its_rectangle() {
     ] {
         // the height above or below the plane does not matter
         for z in [-0.3, 0.0, 0.7] {
-            assert_eq!(w.covers(at(a, b, z), n), inside, "({a}, {b}, {z})");
+            assert_eq!(w.covers(at(a, b, z), w.tail, n), inside, "({a}, {b}, {z})");
         }
     }
     let mut unbounded = w.clone();
     unbounded.extent = None;
-    assert!(unbounded.covers(at(5.0, -3.0, 1.0), n));
+    assert!(unbounded.covers(at(5.0, -3.0, 1.0), w.tail, n));
 }
 
 /// Two separate soft cubes (10 mm) thrown down at 2 m/s from 0.5 mm above the plane z = 0,
@@ -75,6 +77,8 @@ fn nodes_beside_a_finite_wall_pass_it() {
         *v = [0.0, 0.0, -2.0];
     }
     m.rigid_walls.push(RigidWall {
+        shape: cleave_core::model::WallShape::Plane,
+        motion: None,
         id: 1,
         nodes: None,
         tail: [0.0; 3],
@@ -108,4 +112,156 @@ fn nodes_beside_a_finite_wall_pass_it() {
     assert!(2.0 * t > 0.002, "the free cube passes the plane");
     assert!((-1e-15..1e-9).contains(&lowest), "{lowest}");
     assert!(fall_err < 1e-15, "{fall_err}");
+}
+
+/// A wall of `shape` at `tail` with its axis along +z (the normal of a plane).
+fn wall(tail: [f64; 3], shape: WallShape, motion: Option<WallMotion>) -> RigidWall {
+    RigidWall {
+        id: 1,
+        nodes: None,
+        tail,
+        head: [tail[0], tail[1], tail[2] + 1.0],
+        fric: 0.0,
+        extent: None,
+        shape,
+        motion,
+    }
+}
+
+/// Geometric walls (`*RIGIDWALL_GEOMETRIC_...`), each against a block of 4 x 4 x 2 elements
+/// (20 x 20 x 10 mm, E 2 GPa, 600 us) at rest on nothing:
+/// - a sphere of radius R = 15 mm driven down at U = 2 m/s (`_MOTION`, a velocity curve) onto
+///   the block's top centre, indenting it by 0.7 mm;
+/// - a plane (FLAT, finite) driven up under the block by a displacement ramp to 2 mm;
+/// - a fixed rod (a cylinder of radius 3 mm along y, over 12 mm of its length) that the block,
+///   thrown down at 4 m/s, lands on.
+///
+/// No node goes into a wall's body: a node that would cross lands on the tangent plane at its
+/// nearest surface point, so on a curved wall it ends inside by at most (|v_t| dt)^2 / (2R)
+/// for its tangential speed v_t relative to the wall, and stays so, the next steps only
+/// stopping its normal motion: over the run at most T max|v_t|^2 max(dt) / (2R), the bound
+/// asserted (with 1e-15 m of round-off). Each wall touches the block: some node ends on its
+/// surface within that bound. The plane moves exactly as its curve says: the block's bottom
+/// nodes it pushes sit on it.
+#[test]
+fn geometric_walls_keep_nodes_out() {
+    let flat = WallShape::Plane;
+    let cases = [
+        (
+            "sphere",
+            wall(
+                [0.01, 0.01, 0.01 + 0.015 + 0.0005],
+                WallShape::Sphere { radius: 0.015 },
+                Some(WallMotion {
+                    curve: 0,
+                    displacement: false,
+                    dir: [0.0, 0.0, -1.0],
+                }),
+            ),
+            2.0,
+            0.0,
+        ),
+        (
+            "moving plane",
+            wall(
+                [-0.005, -0.005, -0.0005],
+                flat,
+                Some(WallMotion {
+                    curve: 1,
+                    displacement: true,
+                    dir: [0.0, 0.0, 1.0],
+                }),
+            ),
+            0.0,
+            0.0,
+        ),
+        (
+            "rod",
+            wall(
+                [0.01, 0.004, -0.0035],
+                WallShape::Cylinder {
+                    radius: 0.003,
+                    length: 0.012,
+                },
+                None,
+            ),
+            0.0,
+            -4.0,
+        ),
+    ];
+    for (name, mut w, speed, v0) in cases {
+        if name == "rod" {
+            // the rod's axis along +y
+            w.head = [0.01, 1.004, -0.0035];
+        }
+        if name == "moving plane" {
+            w.extent = Some(WallExtent {
+                l: [1.0, 0.0, 0.0],
+                len_l: 0.03,
+                len_m: 0.03,
+            });
+        }
+        // stiffer than `soft` (E 2 GPa), for about 70 steps
+        let stiff = Material {
+            young: 2e9,
+            ..soft()
+        };
+        let mut m = box_model([4, 4, 2], [0.02, 0.02, 0.01], stiff, 6e-4);
+        m.curves.push(cleave_core::curve::Curve {
+            id: 1,
+            t: vec![0.0],
+            y: vec![speed],
+        });
+        m.curves.push(cleave_core::curve::Curve {
+            id: 2,
+            t: vec![0.0, 6e-4],
+            y: vec![0.0, 0.0025],
+        });
+        for v in m.v0.as_mut_slice() {
+            *v = [0.0, 0.0, v0];
+        }
+        let radius = match w.shape {
+            WallShape::Sphere { radius } | WallShape::Cylinder { radius, .. } => radius,
+            WallShape::Plane => f64::INFINITY,
+        };
+        m.rigid_walls.push(w.clone());
+        let (mut deepest, mut vt_max, mut dt_max, mut touch) =
+            (0.0f64, 0.0f64, 0.0f64, f64::INFINITY);
+        let s = run(&m, |s| {
+            let t = s.state.t;
+            dt_max = dt_max.max(s.state.dt);
+            let tail = cleave_core::math::add(w.tail, w.offset(&s.model.curves, t));
+            let wv = cleave_core::math::scale(
+                cleave_core::math::sub(
+                    w.offset(&s.model.curves, t + 1e-9),
+                    w.offset(&s.model.curves, t),
+                ),
+                1e9,
+            );
+            let (x, v) = (s.positions(), s.velocities());
+            for n in 0..x.len() {
+                if let Some((gap, nrm)) = w.gap(x[n], tail) {
+                    deepest = deepest.max(-gap);
+                    if gap.abs() < 1e-4 {
+                        touch = touch.min(gap.abs());
+                        let vr = cleave_core::math::sub(v[n], wv);
+                        let vn = cleave_core::math::dot(vr, nrm);
+                        let vt = cleave_core::math::sub(vr, cleave_core::math::scale(nrm, vn));
+                        vt_max = vt_max.max(cleave_core::math::norm(vt));
+                    }
+                }
+            }
+        });
+        let bound = s.state.t * vt_max * vt_max * dt_max / (2.0 * radius) + 1e-15;
+        eprintln!(
+            "{name}: {} steps; deepest {deepest:.2e} m (bound {bound:.2e}), nearest {touch:.1e} m",
+            s.state.step
+        );
+        assert!(s.state.step > 20, "{name}");
+        assert!(deepest <= bound, "{name}: {deepest} vs {bound}");
+        assert!(
+            touch <= bound.max(1e-12),
+            "{name}: the wall touches ({touch})"
+        );
+    }
 }

@@ -71,6 +71,8 @@ fn deck() -> Model {
     // above the block (normal -z): the far face, pushed up at 20 m/s, reaches it at about
     // 30 us of the 100
     m.rigid_walls.push(RigidWall {
+        shape: cleave_core::model::WallShape::Plane,
+        motion: None,
         extent: None,
         id: 1,
         nodes: None,

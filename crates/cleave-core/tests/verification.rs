@@ -774,6 +774,8 @@ fn block_sliding_on_frictional_wall_decelerates_at_mu_g() {
         sf: g,
     });
     m.rigid_walls.push(RigidWall {
+        shape: cleave_core::model::WallShape::Plane,
+        motion: None,
         extent: None,
         id: 1,
         nodes: None,

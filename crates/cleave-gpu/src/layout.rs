@@ -32,7 +32,7 @@ use cleave_core::element::Shape;
 use cleave_core::erosion::ErosionRule;
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear, SolidLaw};
 use cleave_core::math::sub;
-use cleave_core::model::{Hourglass, Model, MotionDof, MotionTarget, Vad};
+use cleave_core::model::{Hourglass, Model, MotionDof, MotionTarget, Vad, WallShape};
 use cleave_core::setup::Setup;
 use cleave_core::solver::kernel_controls;
 use cleave_core::tied::Tie;
@@ -358,8 +358,10 @@ impl Layout {
             par.extend_from_slice(&t.weights);
         }
         let wall_off = par.len() as u32;
-        // each wall: tail, unit normal, FRIC, then for a finite wall l, LENL, LENM (an
-        // unbounded one: LENL -1)
+        // each wall (WALL_STRIDE values): tail, unit normal, FRIC; for a finite plane l, LENL,
+        // LENM (else LENL -1); the shape (0 plane, 1 sphere, 2 cylinder), its radius and length
+        // (infinite: -1); the motion's curve offset (-1: fixed), 1 for a displacement curve,
+        // its direction
         for wall in &model.rigid_walls {
             par.extend_from_slice(&wall.tail);
             par.extend_from_slice(&wall.normal());
@@ -370,6 +372,21 @@ impl Layout {
                     par.extend_from_slice(&[e.len_l, e.len_m]);
                 }
                 None => par.extend_from_slice(&[0.0, 0.0, 0.0, -1.0, 0.0]),
+            }
+            let (code, radius, length) = match wall.shape {
+                WallShape::Plane => (0.0, 0.0, -1.0),
+                WallShape::Sphere { radius } => (1.0, radius, -1.0),
+                WallShape::Cylinder { radius, length } => {
+                    (2.0, radius, if length.is_finite() { length } else { -1.0 })
+                }
+            };
+            par.extend_from_slice(&[code, radius, length]);
+            match wall.motion {
+                Some(m) => {
+                    par.extend_from_slice(&[curve_off[m.curve], m.displacement as u8 as f64]);
+                    par.extend_from_slice(&m.dir);
+                }
+                None => par.extend_from_slice(&[-1.0, 0.0, 0.0, 0.0, 0.0]),
             }
         }
         let mut nflag = vec![0u32; nn];

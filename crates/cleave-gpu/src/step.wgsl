@@ -164,6 +164,8 @@ const NP: u32 = 0x20000000u;
 const RIGID_EL: u32 = 0x40000000u;
 const TET_EL: u32 = 0x80000000u;
 const NODE_STRIDE: u32 = 10u;
+// Values per rigid wall in par (layout.rs).
+const WALL_STRIDE: u32 = 20u;
 const BIG: f64 = 1.7976931348623157e308lf;
 
 fn halted() -> bool {
@@ -199,6 +201,34 @@ fn curve_eval(o: u32, t: f64) -> f64 {
     let y0 = par[ys + i - 1u];
     let y1 = par[ys + i];
     return y0 + (y1 - y0) * (t - t0) / (t1 - t0);
+}
+
+// The integral of curve o from 0 to t (curve.rs Curve::integral: the trapezoids between its
+// points, exact for the piecewise-linear curve).
+fn curve_integral(o: u32, t: f64) -> f64 {
+    var a = 0.0lf;
+    var b = t;
+    var sign = 1.0lf;
+    if (b < a) {
+        a = t;
+        b = 0.0lf;
+        sign = -1.0lf;
+    }
+    let n = u32(par[o]);
+    var s = 0.0lf;
+    var prev = a;
+    var fprev = curve_eval(o, a);
+    for (var i = 0u; i < n; i = i + 1u) {
+        let tk = par[o + 1u + i];
+        if (tk > a && tk < b) {
+            let fk = curve_eval(o, tk);
+            s = s + 0.5lf * (fprev + fk) * (tk - prev);
+            prev = tk;
+            fprev = fk;
+        }
+    }
+    let fb = curve_eval(o, b);
+    return sign * (s + 0.5lf * (fprev + fb) * (b - prev));
 }
 
 // Base acceleration of the body loads at t: each load at body_off + 3k is (axis, curve offset
@@ -2770,44 +2800,93 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
             acc[4] = acc[4] + r.now;
             acc[5] = acc[5] + r.later;
         }
-        // planar rigid walls (solver.rs apply_rigid_walls): a node that would cross a wall in
-        // the next step lands on it; friction takes up to FRIC times the normal impulse
+        // rigid walls (solver.rs apply_rigid_walls): a node that would cross a wall's surface
+        // in the next step lands on it; friction takes up to FRIC times the normal impulse
         for (var wl = 0u; wl < prm.n_walls; wl = wl + 1u) {
             if ((flags & (8u << wl)) == 0u) {
                 continue;
             }
-            let o = prm.wall_off + 12u * wl;
-            let tail = vec3<f64>(par[o], par[o + 1u], par[o + 2u]);
-            let nrm = vec3<f64>(par[o + 3u], par[o + 4u], par[o + 5u]);
+            let o = prm.wall_off + WALL_STRIDE * wl;
+            var tail = vec3<f64>(par[o], par[o + 1u], par[o + 2u]);
+            let ax = vec3<f64>(par[o + 3u], par[o + 4u], par[o + 5u]);
             let fric = par[o + 6u];
-            let rel = ld(0u, n) - tail;
-            let gap = dot(rel, nrm);
-            let vnn = dot(v, nrm);
-            if (gap + dt * vnn >= 0.0lf) {
-                continue;
+            // a moving wall (model.rs RigidWall::offset): where it is now, its velocity over
+            // the step
+            let moving = par[o + 15u] >= 0.0lf;
+            var wv = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+            if (moving) {
+                let c = u32(par[o + 15u]);
+                let dir = vec3<f64>(par[o + 17u], par[o + 18u], par[o + 19u]);
+                var d0 = 0.0lf;
+                var d1 = 0.0lf;
+                if (par[o + 16u] > 0.5lf) {
+                    d0 = curve_eval(c, t);
+                    d1 = curve_eval(c, t + dt);
+                } else {
+                    d0 = curve_integral(c, t);
+                    d1 = curve_integral(c, t + dt);
+                }
+                tail = tail + dir * d0;
+                wv = (dir * d1 - dir * d0) * (1.0lf / dt);
             }
-            // a finite wall (model.rs RigidWall::covers): within LENL along l, LENM along n x l
-            let len_l = par[o + 10u];
-            if (len_l >= 0.0lf) {
-                let l = vec3<f64>(par[o + 7u], par[o + 8u], par[o + 9u]);
-                let a = dot(rel, l);
-                let b = dot(rel, cross(nrm, l));
-                if (!(a >= 0.0lf && a <= len_l && b >= 0.0lf && b <= par[o + 11u])) {
+            // the gap and outward normal (model.rs RigidWall::gap)
+            let rel = ld(0u, n) - tail;
+            var gap = 0.0lf;
+            var nrm = ax;
+            let shape = par[o + 12u];
+            if (shape < 0.5lf) {
+                gap = dot(rel, ax);
+                // a finite plane: within LENL along l, LENM along n x l
+                let len_l = par[o + 10u];
+                if (len_l >= 0.0lf) {
+                    let l = vec3<f64>(par[o + 7u], par[o + 8u], par[o + 9u]);
+                    let a = dot(rel, l);
+                    let b = dot(rel, cross(ax, l));
+                    if (!(a >= 0.0lf && a <= len_l && b >= 0.0lf && b <= par[o + 11u])) {
+                        continue;
+                    }
+                }
+            } else {
+                var q = rel;
+                if (shape > 1.5lf) {
+                    // a cylinder about the axis, over its length
+                    let s = dot(rel, ax);
+                    let len = par[o + 14u];
+                    if (s < 0.0lf || (len >= 0.0lf && s > len)) {
+                        continue;
+                    }
+                    q = rel - ax * s;
+                }
+                let d = sqrt(dot(q, q));
+                if (!(d > 0.0lf)) {
                     continue;
                 }
+                gap = d - par[o + 13u];
+                nrm = q * (1.0lf / d);
+            }
+            var vr = v;
+            if (moving) {
+                vr = v - wv;
+            }
+            let vnn = dot(vr, nrm);
+            if (gap + dt * vnn >= 0.0lf) {
+                continue;
             }
             var vn_new = 0.0lf;
             if (gap >= 0.0lf) {
                 vn_new = -gap / dt;
             }
             let dvn = vn_new - vnn;
-            let vt = v - nrm * vnn;
+            let vt = vr - nrm * vnn;
             let vt_mag = sqrt(dot(vt, vt));
             var vt_new = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
             if (!(fric >= 1.0lf || vt_mag <= fric * dvn)) {
                 vt_new = vt * (1.0lf - fric * dvn / vt_mag);
             }
-            let v_new = nrm * vn_new + vt_new;
+            var v_new = nrm * vn_new + vt_new;
+            if (moving) {
+                v_new = wv + v_new;
+            }
             let imp = (v_new - v) * m;
             wacc[4u * wl] = wacc[4u * wl] + m * dvn;
             for (var i = 0u; i < 3u; i = i + 1u) {

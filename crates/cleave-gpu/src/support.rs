@@ -9,7 +9,7 @@
 //! their extra nodes, `*CONSTRAINED_NODAL_RIGID_BODY`, their constraints and prescribed
 //! motion; not with a given inertia), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM),
 //! `*LOAD_BODY`, `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and
-//! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 `*RIGIDWALL_PLANAR`, tied contact
+//! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 rigid walls (`*RIGIDWALL_PLANAR`, `_FINITE`, `*RIGIDWALL_GEOMETRIC_...` fixed or moving), tied contact
 //! (`*CONTACT_TIED_...`), element erosion
 //! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), element separation
 //! with every MODEL (not with rigid bodies, erosion or tied contact: `crate::separation`), the

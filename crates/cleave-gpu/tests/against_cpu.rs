@@ -18,7 +18,7 @@ use cleave_core::mesh::BoxMesh;
 use cleave_core::model::{
     BodyLoad, Hourglass, HourglassDef, Material, MaterialKind, Model, MotionDof, MotionTarget,
     NodalRigidBody, NodeLoad, NodeSet, Part, PrescribedMotion, PressureLoad, RigidWall, Spc, Vad,
-    WallExtent,
+    WallExtent, WallMotion, WallShape,
 };
 use cleave_core::solver::{Observer, Solver};
 mod common;
@@ -947,6 +947,8 @@ fn rigid_walls_match_the_cpu() {
     }
     let s = 0.5f64.sqrt();
     m.rigid_walls.push(RigidWall {
+        shape: cleave_core::model::WallShape::Plane,
+        motion: None,
         id: 1,
         nodes: None,
         tail: [0.0, -0.01, -0.0002],
@@ -959,6 +961,8 @@ fn rigid_walls_match_the_cpu() {
         }),
     });
     m.rigid_walls.push(RigidWall {
+        shape: cleave_core::model::WallShape::Plane,
+        motion: None,
         id: 2,
         nodes: None,
         tail: [0.0301, 0.0, 0.0],
@@ -967,4 +971,75 @@ fn rigid_walls_match_the_cpu() {
         extent: None,
     });
     compare_runs(m, "rigid walls");
+}
+
+/// Geometric rigid walls: the block, thrown down at 30 m/s onto a fixed rod (a finite cylinder
+/// along x), is hit on its top by a sphere driven down at 40 m/s (a velocity curve) and on its
+/// side by a finite plane driven by a displacement curve; as on the CPU.
+#[test]
+fn geometric_walls_match_the_cpu() {
+    let mut m = block(Hourglass::Viscous);
+    m.spcs.clear();
+    m.prescribed.clear();
+    m.body_loads.clear();
+    for v in m.v0.as_mut_slice() {
+        *v = [0.0, 0.0, -30.0];
+    }
+    let t_end = m.control.end_time;
+    m.curves.push(Curve {
+        id: 2,
+        t: vec![0.0],
+        y: vec![40.0],
+    });
+    m.curves.push(Curve {
+        id: 3,
+        t: vec![0.0, t_end],
+        y: vec![0.0, 0.004],
+    });
+    let wall = |tail: [f64; 3], head: [f64; 3], shape, motion| RigidWall {
+        id: 1,
+        nodes: None,
+        tail,
+        head,
+        fric: 0.2,
+        extent: None,
+        shape,
+        motion,
+    };
+    m.rigid_walls.push(wall(
+        [-0.01, 0.015, -0.0045],
+        [1.0, 0.015, -0.0045],
+        WallShape::Cylinder {
+            radius: 0.004,
+            length: 0.03,
+        },
+        None,
+    ));
+    m.rigid_walls.push(wall(
+        [0.015, 0.015, 0.0805],
+        [0.015, 0.015, 1.0],
+        WallShape::Sphere { radius: 0.02 },
+        Some(WallMotion {
+            curve: 1,
+            displacement: false,
+            dir: [0.0, 0.0, -1.0],
+        }),
+    ));
+    let mut side = wall(
+        [0.0305, -0.01, -0.01],
+        [-0.9695, -0.01, -0.01],
+        WallShape::Plane,
+        Some(WallMotion {
+            curve: 2,
+            displacement: true,
+            dir: [-1.0, 0.0, 0.0],
+        }),
+    );
+    side.extent = Some(WallExtent {
+        l: [0.0, 1.0, 0.0],
+        len_l: 0.05,
+        len_m: 0.04,
+    });
+    m.rigid_walls.push(side);
+    compare_runs(m, "geometric walls");
 }

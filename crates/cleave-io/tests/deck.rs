@@ -1221,6 +1221,8 @@ fn round_trip_model() -> Model {
         }],
         rigid_walls: vec![
             RigidWall {
+                shape: cleave_core::model::WallShape::Plane,
+                motion: None,
                 extent: None,
                 id: 1,
                 nodes: None,
@@ -1229,6 +1231,8 @@ fn round_trip_model() -> Model {
                 fric: 1.0,
             },
             RigidWall {
+                shape: cleave_core::model::WallShape::Plane,
+                motion: None,
                 extent: None,
                 id: 2,
                 nodes: Some(vec![0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10]),
@@ -1237,6 +1241,8 @@ fn round_trip_model() -> Model {
                 fric: 0.0,
             },
             RigidWall {
+                shape: cleave_core::model::WallShape::Plane,
+                motion: None,
                 extent: None,
                 id: 3,
                 nodes: Some(vec![3, 1]),
@@ -2615,6 +2621,103 @@ fn finite_walls_and_wall_options() {
         ),
     ] {
         let e = err(&wall(kw, extra));
+        assert!(e.to_string().contains(words), "{kw}: {e}");
+    }
+}
+
+/// `*RIGIDWALL_GEOMETRIC_{SPHERE,CYLINDER,FLAT}` with `_MOTION`, `_DISPLAY` and `_ID`: what each
+/// reads as, written and read back, and the refusals.
+#[test]
+fn geometric_walls() {
+    let wall = |kw: &str, cards: &str| {
+        with(
+            "*RIGIDWALL_PLANAR\n0\n0., 0., -0.1, 0., 0., 1., 0.5\n",
+            &format!("{kw}\n0\n0.1, 0.2, 0.3, 0.1, 0.2, 1.3, 0.25\n{cards}"),
+        )
+    };
+    let m = parse(&wall(
+        "*RIGIDWALL_GEOMETRIC_SPHERE_MOTION_DISPLAY_ID\n4 ball",
+        "0.05\n1, 0, 0., 3., 4.\n9, 7800., 2e11, 0.3\n",
+    ));
+    let w = &m.rigid_walls[0];
+    assert_eq!(w.shape, WallShape::Sphere { radius: 0.05 });
+    assert_eq!(
+        w.motion,
+        Some(WallMotion {
+            curve: 0,
+            displacement: false,
+            dir: [0.0, 0.6, 0.8]
+        })
+    );
+    assert_eq!((w.tail, w.fric), ([0.1, 0.2, 0.3], 0.25));
+    let back = parse(&write_deck(&m));
+    assert_eq!(
+        format!("{:?}", back.rigid_walls),
+        format!("{:?}", m.rigid_walls)
+    );
+    // a cylinder: LENCYL blank is infinite
+    let m = parse(&wall("*RIGIDWALL_GEOMETRIC_CYLINDER", "0.02\n"));
+    assert_eq!(
+        m.rigid_walls[0].shape,
+        WallShape::Cylinder {
+            radius: 0.02,
+            length: f64::INFINITY
+        }
+    );
+    let m = parse(&wall(
+        "*RIGIDWALL_GEOMETRIC_CYLINDER_MOTION",
+        "0.02, 0.5\n1, 1, 1.\n",
+    ));
+    let w = &m.rigid_walls[0];
+    assert_eq!(
+        w.shape,
+        WallShape::Cylinder {
+            radius: 0.02,
+            length: 0.5
+        }
+    );
+    assert!(w
+        .motion
+        .is_some_and(|mo| mo.displacement && mo.dir == [1.0, 0.0, 0.0]));
+    assert_eq!(
+        format!("{:?}", parse(&write_deck(&m)).rigid_walls),
+        format!("{:?}", m.rigid_walls)
+    );
+    // FLAT: a finite plane
+    let m = parse(&wall(
+        "*RIGIDWALL_GEOMETRIC_FLAT",
+        "1.1, 0.2, 0.3, 2., 3.\n",
+    ));
+    let w = &m.rigid_walls[0];
+    assert_eq!(
+        (w.shape, w.extent.map(|e| e.l)),
+        (WallShape::Plane, Some([1.0, 0.0, 0.0]))
+    );
+    for (kw, cards, words) in [
+        (
+            "*RIGIDWALL_GEOMETRIC_PRISM",
+            "1., 0., 0., 1., 1., 1.\n",
+            "prism",
+        ),
+        ("*RIGIDWALL_GEOMETRIC_SPHERE", "0.\n", "RADSPH"),
+        (
+            "*RIGIDWALL_GEOMETRIC_SPHERE_MOTION",
+            "0.1\n1, 2, 1.\n",
+            "OPT",
+        ),
+        (
+            "*RIGIDWALL_GEOMETRIC_SPHERE_MOTION",
+            "0.1\n1, 0\n",
+            "direction",
+        ),
+        (
+            "*RIGIDWALL_GEOMETRIC_SPHERE_MOTION",
+            "0.1\n8, 0, 1.\n",
+            "curve 8",
+        ),
+        ("*RIGIDWALL_GEOMETRIC_SPHERE_FORCES", "0.1\n", "_FORCES"),
+    ] {
+        let e = err(&wall(kw, cards));
         assert!(e.to_string().contains(words), "{kw}: {e}");
     }
 }

@@ -320,6 +320,9 @@ pub struct RawWall {
     pub head: Vec3,
     pub fric: f64,
     pub extent: Option<cleave_core::model::WallExtent>,
+    pub shape: cleave_core::model::WallShape,
+    /// `_MOTION`: LCID, OPT 1 (a displacement), the unit direction.
+    pub motion: Option<(i64, bool, Vec3)>,
 }
 
 /// A contact side: SSID/MSID with SSTYP/MSTYP (0 segment set, 2 part set, 3 part).

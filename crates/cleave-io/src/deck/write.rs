@@ -13,7 +13,7 @@ use cleave_core::element::shape::{shape_of, Shape};
 use cleave_core::material::{Eos, JohnsonCook, PiecewiseLinear};
 use cleave_core::model::{
     ContactSurface, Hourglass, Material, MaterialKind, Model, MotionDof, MotionTarget, PenaltyRule,
-    StrengthDist, TiedSlave, Vad, Window,
+    RigidWall, StrengthDist, TiedSlave, Vad, WallShape, Window,
 };
 
 /// One field of a card.
@@ -996,8 +996,72 @@ fn surface(m: &Model, s: Option<&ContactSurface>) -> (F, F) {
     }
 }
 
+/// A `*RIGIDWALL_GEOMETRIC_...` wall: a sphere, a cylinder, or a finite plane (FLAT), with
+/// its `_MOTION`.
+fn geometric_wall(o: &mut String, m: &Model, w: &RigidWall, nsid: i64) {
+    let kind = match w.shape {
+        WallShape::Plane => "FLAT",
+        WallShape::Sphere { .. } => "SPHERE",
+        WallShape::Cylinder { .. } => "CYLINDER",
+    };
+    let motion = if w.motion.is_some() { "_MOTION" } else { "" };
+    simple(
+        o,
+        &format!("*RIGIDWALL_GEOMETRIC_{kind}{motion}"),
+        &["nsid"],
+        &[F::I(nsid)],
+    );
+    names(o, &["xt", "yt", "zt", "xh", "yh", "zh", "fric"], &W10);
+    let f = [
+        w.tail[0], w.tail[1], w.tail[2], w.head[0], w.head[1], w.head[2], w.fric,
+    ]
+    .map(F::R);
+    card(o, &f, &W10);
+    match w.shape {
+        WallShape::Plane => {
+            // a moving wall is a finite one (the reader makes FLAT walls finite)
+            let e = w.extent.unwrap_or(cleave_core::model::WallExtent {
+                l: [1.0, 0.0, 0.0],
+                len_l: 1e20,
+                len_m: 1e20,
+            });
+            names(o, &["xhev", "yhev", "zhev", "lenl", "lenm"], &W10);
+            let hev = cleave_core::math::add(w.tail, e.l);
+            card(
+                o,
+                &[hev[0], hev[1], hev[2], e.len_l, e.len_m].map(F::R),
+                &W10,
+            );
+        }
+        WallShape::Sphere { radius } => {
+            names(o, &["radsph"], &W10);
+            card(o, &[F::R(radius)], &W10);
+        }
+        WallShape::Cylinder { radius, length } => {
+            names(o, &["radcyl", "lencyl"], &W10);
+            let len = if length.is_finite() { length } else { 0.0 };
+            card(o, &[F::R(radius), F::R(len)], &W10);
+        }
+    }
+    if let Some(mo) = w.motion {
+        names(o, &["lcid", "opt", "vx", "vy", "vz"], &W10);
+        let f = [
+            F::I(m.curves[mo.curve].id),
+            F::I(mo.displacement as i64),
+            F::R(mo.dir[0]),
+            F::R(mo.dir[1]),
+            F::R(mo.dir[2]),
+        ];
+        card(o, &f, &W10);
+    }
+}
+
 fn interactions(o: &mut String, m: &Model, wall_sets: &[i64]) {
     for (w, &nsid) in m.rigid_walls.iter().zip(wall_sets) {
+        if w.shape != WallShape::Plane || w.motion.is_some() {
+            geometric_wall(o, m, w, nsid);
+            continue;
+        }
         let kw = if w.extent.is_some() {
             "*RIGIDWALL_PLANAR_FINITE"
         } else {

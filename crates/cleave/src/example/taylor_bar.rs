@@ -68,6 +68,8 @@ pub fn taylor_bar_of(shape: Shape, elform: i32) -> Model {
     m.parts[0].title = "copper bar".into();
     m.v0.iter_mut().for_each(|v| *v = [0.0, 0.0, -227.0]);
     m.rigid_walls = vec![RigidWall {
+        shape: cleave_core::model::WallShape::Plane,
+        motion: None,
         extent: None,
         id: 1,
         nodes: None,

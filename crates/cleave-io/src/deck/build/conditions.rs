@@ -7,7 +7,7 @@ use cleave_core::math::{cross, sub, Vec3};
 use cleave_core::model::{
     BodyLoad, ContactDef, ContactSurface, ExtraNodes, MaterialKind, Model, MotionDof, MotionTarget,
     NodalRigidBody, NodeLoad, PrescribedMotion, PressureLoad, RigidWall, SegmentSet, Spc, TiedDef,
-    TiedSlave,
+    TiedSlave, WallMotion,
 };
 
 use super::mesh::dedup;
@@ -201,6 +201,15 @@ impl Builder<'_> {
                 head: w.head,
                 fric: w.fric,
                 extent: w.extent,
+                shape: w.shape,
+                motion: match w.motion {
+                    None => None,
+                    Some((lcid, displacement, dir)) => Some(WallMotion {
+                        curve: self.find(&ids.curves, lcid, &w.src, "LCID", "curve")?,
+                        displacement,
+                        dir,
+                    }),
+                },
             });
         }
         for (k, c) in raw.contacts.iter().enumerate() {

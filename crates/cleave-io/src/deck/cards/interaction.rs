@@ -1,8 +1,9 @@
 //! `*RIGIDWALL_PLANAR` (`_FINITE`, `_ID`) and `*CONTACT_AUTOMATIC_{SINGLE_SURFACE,SURFACE_TO_SURFACE}`
 //! (LS-DYNA Keyword Manual, Vol. I).
 
+use cleave_core::math::Vec3;
 use cleave_core::math::{dot, norm, scale, sub};
-use cleave_core::model::WallExtent;
+use cleave_core::model::{WallExtent, WallShape};
 
 use super::control::warn_ignored;
 use super::Reader;
@@ -71,6 +72,58 @@ pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
     }
     warn_ignored(&c, 6, "RWKSF", "the wall is a kinematic constraint", deck)?;
     let c2 = r.required(W10, "XT YT ZT XH YH ZH FRIC WVEL")?;
+    let (tail, head, fric) = wall_points(&c2)?;
+    warn_ignored(&c2, 7, "WVEL", "wall failure is not modelled", deck)?;
+    let extent = if finite {
+        let c3 = r.required(W10, "XHEV YHEV ZHEV LENL LENM")?;
+        Some(finite_extent(&c3, tail, head)?)
+    } else {
+        None
+    };
+    deck.walls.push(RawWall {
+        src: r.src(c.line),
+        nsid,
+        tail,
+        head,
+        fric,
+        extent,
+        shape: WallShape::Plane,
+        motion: None,
+    });
+    Ok(())
+}
+
+/// The rectangle of a finite plane from its card `XHEV YHEV ZHEV LENL LENM`: l from the tail
+/// towards (XHEV, YHEV, ZHEV), less its part along the normal, as a unit vector.
+fn finite_extent(c3: &Card<'_>, tail: Vec3, head: Vec3) -> Result<WallExtent, DeckError> {
+    let hev = [
+        c3.f64_or(0, "XHEV", 0.0)?,
+        c3.f64_or(1, "YHEV", 0.0)?,
+        c3.f64_or(2, "ZHEV", 0.0)?,
+    ];
+    let len_l = length(c3, 3, "LENL")?;
+    let len_m = length(c3, 4, "LENM")?;
+    let d = sub(head, tail);
+    let n = scale(d, 1.0 / norm(d));
+    let e = sub(hev, tail);
+    let l = sub(e, scale(n, dot(e, n)));
+    let ll = norm(l);
+    if ll.is_nan() || ll <= 1e-9 * norm(e).max(norm(d)) {
+        return Err(c3.field_err(
+            "XHEV",
+            "the edge vector from the tail to (XHEV, YHEV, ZHEV) is zero or along the wall's normal",
+        ));
+    }
+    Ok(WallExtent {
+        l: l.map(|x| x / ll),
+        len_l,
+        len_m,
+    })
+}
+
+/// The tail, head and FRIC card of a rigid wall (`XT YT ZT XH YH ZH FRIC ...`): the head must
+/// differ from the tail and FRIC must not be negative.
+fn wall_points(c2: &Card<'_>) -> Result<(Vec3, Vec3, f64), DeckError> {
     let tail = [
         c2.f64_or(0, "XT", 0.0)?,
         c2.f64_or(1, "YT", 0.0)?,
@@ -91,41 +144,117 @@ pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
     if fric < 0.0 {
         return Err(c2.field_err("FRIC", format!("{fric} must not be negative")));
     }
-    warn_ignored(&c2, 7, "WVEL", "wall failure is not modelled", deck)?;
-    let extent = if finite {
-        let c3 = r.required(W10, "XHEV YHEV ZHEV LENL LENM")?;
-        let hev = [
-            c3.f64_or(0, "XHEV", 0.0)?,
-            c3.f64_or(1, "YHEV", 0.0)?,
-            c3.f64_or(2, "ZHEV", 0.0)?,
-        ];
-        let len_l = c3.f64_or(3, "LENL", 0.0)?;
-        let len_m = c3.f64_or(4, "LENM", 0.0)?;
-        for (v, name) in [(len_l, "LENL"), (len_m, "LENM")] {
-            if !(v > 0.0 && v.is_finite()) {
-                return Err(c3.field_err(name, format!("{v}: the wall's length must be positive")));
+    Ok((tail, head, fric))
+}
+
+/// A positive, finite length field.
+fn length(c: &Card<'_>, i: usize, name: &str) -> Result<f64, DeckError> {
+    let v = c.f64_or(i, name, 0.0)?;
+    if !(v > 0.0 && v.is_finite()) {
+        return Err(c.field_err(name, format!("{v}: must be positive")));
+    }
+    Ok(v)
+}
+
+/// `*RIGIDWALL_GEOMETRIC_{FLAT,SPHERE,CYLINDER}` with the options `_MOTION`, `_DISPLAY` and
+/// `_ID`: (with `_ID` a card `RWID HEADING`, read past) card 1 `NSID NSIDEX BOXID BIRTH
+/// DEATH`; card 2 `XT YT ZT XH YH ZH FRIC`; the shape's card: FLAT `XHEV YHEV ZHEV LENL LENM`
+/// (as `*RIGIDWALL_PLANAR_FINITE`), SPHERE `RADSPH` (about the tail), CYLINDER `RADCYL LENCYL`
+/// (about the axis from the tail towards the head; LENCYL 0 or blank: infinite); `_MOTION`:
+/// `LCID OPT VX VY VZ`, the wall translated along (VX, VY, VZ) by the curve, a velocity (OPT
+/// 0) or a displacement (OPT 1); `_DISPLAY`: `PID RO E PR`, read past (a picture only). Nodes
+/// stay out of the body. PRISM is an error naming it.
+pub fn rigidwall_geometric(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
+    let kw = r.keyword.trim_end_matches("_TITLE");
+    let rest = kw.strip_prefix("*RIGIDWALL_GEOMETRIC_").unwrap_or("");
+    let mut words = rest.split('_');
+    let kind = words.next().unwrap_or("");
+    let (mut motion, mut display, mut titled) = (false, false, false);
+    for w in words {
+        match w {
+            "MOTION" => motion = true,
+            "DISPLAY" => display = true,
+            "ID" => titled = true,
+            other => {
+                return Err(r.error_at_keyword(format!(
+                    "the option _{other} is not supported (cleave reads _MOTION, _DISPLAY and _ID)"
+                )))
             }
         }
-        // l in the wall's plane: the edge vector less its part along the normal
-        let d = sub(head, tail);
-        let n = scale(d, 1.0 / norm(d));
-        let e = sub(hev, tail);
-        let l = sub(e, scale(n, dot(e, n)));
-        let ll = norm(l);
-        if ll.is_nan() || ll <= 1e-9 * norm(e).max(norm(d)) {
-            return Err(c3.field_err(
-                "XHEV",
-                "the edge vector from the tail to (XHEV, YHEV, ZHEV) is zero or along the wall's normal",
-            ));
+    }
+    if !matches!(kind, "FLAT" | "SPHERE" | "CYLINDER") {
+        return Err(r.error_at_keyword(format!(
+            "{}: cleave reads the geometric walls FLAT, SPHERE and CYLINDER",
+            if kind == "PRISM" {
+                "a prism wall is not supported"
+            } else {
+                "unknown shape"
+            }
+        )));
+    }
+    if titled {
+        r.title()?;
+    }
+    let c = r.required(W10, "NSID NSIDEX BOXID BIRTH DEATH")?;
+    let nsid = c.ref_id(0, "NSID")?;
+    must_be_blank(&c, 1, "NSIDEX", "an exclusion node set is")?;
+    must_be_blank(&c, 2, "BOXID", "a box is")?;
+    must_be_blank(&c, 3, "BIRTH", "a birth time is")?;
+    let death = c.f64_or(4, "DEATH", 0.0)?;
+    if death != 0.0 && death < 1.0e20 {
+        return Err(c.field_err("DEATH", "a death time is not supported; leave it blank"));
+    }
+    let c2 = r.required(W10, "XT YT ZT XH YH ZH FRIC")?;
+    let (tail, head, fric) = wall_points(&c2)?;
+    let mut extent = None;
+    let shape = match kind {
+        "FLAT" => {
+            let c3 = r.required(W10, "XHEV YHEV ZHEV LENL LENM")?;
+            extent = Some(finite_extent(&c3, tail, head)?);
+            WallShape::Plane
         }
-        Some(WallExtent {
-            l: l.map(|x| x / ll),
-            len_l,
-            len_m,
-        })
+        "SPHERE" => {
+            let c3 = r.required(W10, "RADSPH")?;
+            WallShape::Sphere {
+                radius: length(&c3, 0, "RADSPH")?,
+            }
+        }
+        _ => {
+            let c3 = r.required(W10, "RADCYL LENCYL")?;
+            let len = c3.f64_or(1, "LENCYL", 0.0)?;
+            if len.is_nan() || len < 0.0 {
+                return Err(c3.field_err("LENCYL", format!("{len} must not be negative")));
+            }
+            WallShape::Cylinder {
+                radius: length(&c3, 0, "RADCYL")?,
+                length: if len == 0.0 { f64::INFINITY } else { len },
+            }
+        }
+    };
+    let motion = if motion {
+        let c4 = r.required(W10, "LCID OPT VX VY VZ")?;
+        let lcid = c4.id(0, "LCID")?;
+        let displacement = match c4.i64_or(1, "OPT", 0)? {
+            0 => false,
+            1 => true,
+            v => return Err(c4.field_err("OPT", format!("{v}: 0 (velocity) or 1 (displacement)"))),
+        };
+        let d = [
+            c4.f64_or(2, "VX", 0.0)?,
+            c4.f64_or(3, "VY", 0.0)?,
+            c4.f64_or(4, "VZ", 0.0)?,
+        ];
+        let l = norm(d);
+        if !(l > 0.0 && l.is_finite()) {
+            return Err(c4.field_err("VX", "the direction (VX, VY, VZ) is zero"));
+        }
+        Some((lcid, displacement, d.map(|x| x / l)))
     } else {
         None
     };
+    if display {
+        r.ignore(1);
+    }
     deck.walls.push(RawWall {
         src: r.src(c.line),
         nsid,
@@ -133,6 +262,8 @@ pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
         head,
         fric,
         extent,
+        shape,
+        motion,
     });
     Ok(())
 }

@@ -158,6 +158,9 @@ pub fn read_blocks<'a>(blocks: &[&'a Block<'a>], params: &'a Params) -> Result<R
             k if k.starts_with("*RIGIDWALL_PLANAR") => {
                 interaction::rigidwall_planar(&mut r, &mut deck)?
             }
+            k if k.starts_with("*RIGIDWALL_GEOMETRIC_") => {
+                interaction::rigidwall_geometric(&mut r, &mut deck)?
+            }
             "*CONTACT_TIED_SURFACE_TO_SURFACE" | "*CONTACT_TIED_NODES_TO_SURFACE" => {
                 interaction::tied(&mut r, &mut deck)?
             }

@@ -666,6 +666,9 @@ pub struct Control {
     /// DTMIN times the first one. LS-DYNA's blank means no floor; cleave's default is
     /// [`DEFAULT_DTMIN`], so that a collapsing step ends the run instead of running for ever.
     pub dt_min: f64,
+    /// LCTM of `*CONTROL_TIMESTEP` (index into `Model::curves`): the largest time step
+    /// allowed, against time.
+    pub dt_max_curve: Option<usize>,
 }
 
 /// The time step floor, as a fraction of the first step, when a deck gives no DTMIN: a step a
@@ -696,6 +699,7 @@ impl Default for Control {
             slsfac: 0.1,
             penalty: PenaltyRule::Smaller,
             dt_min: DEFAULT_DTMIN,
+            dt_max_curve: None,
         }
     }
 }

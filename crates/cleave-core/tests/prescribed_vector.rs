@@ -301,3 +301,47 @@ fn motions_act_between_birth_and_death() {
         assert!(norm(sub(sub(*x, x0[n]), u)) <= 1e-12 * norm(u));
     }
 }
+
+/// LCTM of `*CONTROL_TIMESTEP`: the largest time step against time. A block at rest with a
+/// curve holding the step to 2e-5 s until 1 ms, then (over 1e-12 s) to 1 s, no limit: every
+/// step is the smaller of the block's own (7.8e-5 s, constant: nothing moves) and the curve at
+/// the step's start, so 50 steps of 2e-5 s, then the block's own.
+#[test]
+fn a_time_step_curve_bounds_the_step() {
+    let mut m = box_model([2, 2, 2], [0.02; 3], soft(), 2e-3);
+    // the block's own step (constant: nothing moves)
+    let free = {
+        let mut first = 0.0;
+        run(&m, |s| {
+            if s.state.step == 1 {
+                first = s.state.t;
+            }
+        });
+        first
+    };
+    m.curves.push(Curve {
+        id: 1,
+        t: vec![0.0, 1e-3, 1e-3 + 1e-12],
+        y: vec![2e-5, 2e-5, 1.0],
+    });
+    m.control.dt_max_curve = Some(0);
+    let mut steps: Vec<(f64, f64)> = Vec::new();
+    let s = run(&m, |s| steps.push((s.state.t, s.state.dt)));
+    let before = steps.iter().filter(|(t, _)| *t < 1e-3).count();
+    eprintln!(
+        "LCTM: {} steps, {before} before 1 ms; the block's own step {free:.3e}",
+        s.state.step
+    );
+    assert!(free > 3e-5, "{free}");
+    // each step the smaller of the block's own and the curve at its start (the last one
+    // shortened to end at ENDTIM)
+    let curve = &m.curves[0];
+    for w in steps.windows(2) {
+        let (t, dt) = (w[0].0, w[1].0 - w[0].0);
+        if w[1].0 < 2e-3 - 1e-12 {
+            let want = free.min(curve.eval(t));
+            assert!((dt - want).abs() <= 1e-12 * want, "{t}: {dt} vs {want}");
+        }
+    }
+    assert!(before >= 49, "{before}");
+}

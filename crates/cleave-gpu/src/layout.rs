@@ -71,6 +71,8 @@ pub struct Layout {
     pub n_body: u32,
     pub mot_off: u32,
     pub wall_off: u32,
+    /// The offset in `par` of the curve of the largest time step (LCTM), `u32::MAX`: none.
+    pub dt_max_off: u32,
     pub conn: Vec<u32>,
     pub emat: Vec<u32>,
     pub nptr: Vec<u32>,
@@ -425,6 +427,10 @@ impl Layout {
             n_body: model.body_loads.len() as u32,
             mot_off,
             wall_off,
+            dt_max_off: model
+                .control
+                .dt_max_curve
+                .map_or(u32::MAX, |k| curve_off[k] as u32),
             conn,
             emat,
             nptr,

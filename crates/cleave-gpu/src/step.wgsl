@@ -70,7 +70,8 @@ struct Params {
     c_inc: u32,
     c_slots: u32,
     c_coh: u32,
-    pad0: u32,
+    // LCTM of *CONTROL_TIMESTEP: the offset of its curve in par (0xffffffff: none)
+    dt_max_off: u32,
     pad1: u32,
 }
 
@@ -2253,6 +2254,10 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     }
     if (cf[DT_INIT] > 0.0lf && (step0 || none)) {
         d = min(d, cf[DT_INIT]);
+    }
+    if (prm.dt_max_off != 0xffffffffu) {
+        // LCTM: the largest step allowed at this time
+        d = min(d, curve_eval(prm.dt_max_off, cf[T]));
     }
     atomicStore(&cu[DT_ELEM], c_id[0]);
     cf[DT] = d;

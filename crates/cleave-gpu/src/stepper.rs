@@ -116,7 +116,8 @@ struct Params {
     c_inc: u32,
     c_slots: u32,
     c_coh: u32,
-    pad: [u32; 2],
+    dt_max_off: u32,
+    pad: u32,
 }
 
 /// The state arrays read back for output, in their binding order.
@@ -394,7 +395,8 @@ impl GpuStepper {
             c_inc: sep.c_inc,
             c_slots: sep.c_slots,
             c_coh: sep.c_coh,
-            pad: [0; 2],
+            dt_max_off: lay.dt_max_off,
+            pad: 0,
         };
         let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),

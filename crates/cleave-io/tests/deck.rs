@@ -1343,6 +1343,7 @@ fn round_trip_model() -> Model {
             slsfac: 0.15,
             penalty: PenaltyRule::Face,
             dt_min: 0.05,
+            dt_max_curve: None,
         },
         output: OutputRequests {
             glstat_dt: 1.0e-6,
@@ -2720,4 +2721,31 @@ fn geometric_walls() {
         let e = err(&wall(kw, cards));
         assert!(e.to_string().contains(words), "{kw}: {e}");
     }
+}
+
+/// LCTM of `*CONTROL_TIMESTEP`: the curve of the largest time step, read, written and read
+/// back; an undefined curve or one with a point at or below zero is an error naming LCTM.
+#[test]
+fn time_step_curve() {
+    let m = parse(&with(
+        "*CONTROL_TIMESTEP\n0.0, 0.8\n",
+        "*CONTROL_TIMESTEP\n0.0, 0.8, 0, 0., 0., 2\n",
+    ));
+    assert_eq!(m.control.dt_max_curve, Some(1));
+    assert_eq!(parse(&write_deck(&m)).control.dt_max_curve, Some(1));
+    assert_eq!(parse(BASE).control.dt_max_curve, None);
+    let e = err(&with(
+        "*CONTROL_TIMESTEP\n0.0, 0.8\n",
+        "*CONTROL_TIMESTEP\n0.0, 0.8, 0, 0., 0., 7\n",
+    ));
+    assert!(
+        e.field.as_deref() == Some("LCTM") && e.message.contains("curve 7"),
+        "{e}"
+    );
+    // curve 1 passes through 0 at t = 0
+    let e = err(&with(
+        "*CONTROL_TIMESTEP\n0.0, 0.8\n",
+        "*CONTROL_TIMESTEP\n0.0, 0.8, 0, 0., 0., 1\n",
+    ));
+    assert!(e.message.contains("must be positive"), "{e}");
 }

@@ -448,6 +448,8 @@ pub struct RawDeck {
     pub walls: Vec<RawWall>,
     pub contacts: Vec<RawContact>,
     pub control: Control,
+    /// LCTM of `*CONTROL_TIMESTEP` (a curve id) and where it was given.
+    pub lctm: Option<(i64, Src)>,
     /// Where ENDTIM was set, if anywhere.
     pub termination: Option<Src>,
     pub output: OutputRequests,

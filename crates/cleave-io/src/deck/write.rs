@@ -199,12 +199,27 @@ fn controls(o: &mut String, m: &Model) {
             &[F::R(c.end_time), F::B, F::R(c.dt_min)],
         );
     }
-    simple(
-        o,
-        "*CONTROL_TIMESTEP",
-        &["dtinit", "tssfac"],
-        &[F::R(c.dt_init), F::R(c.tssfac)],
-    );
+    match c.dt_max_curve {
+        None => simple(
+            o,
+            "*CONTROL_TIMESTEP",
+            &["dtinit", "tssfac"],
+            &[F::R(c.dt_init), F::R(c.tssfac)],
+        ),
+        Some(k) => simple(
+            o,
+            "*CONTROL_TIMESTEP",
+            &["dtinit", "tssfac", "isdo", "tslimt", "dt2ms", "lctm"],
+            &[
+                F::R(c.dt_init),
+                F::R(c.tssfac),
+                F::B,
+                F::B,
+                F::B,
+                F::I(m.curves[k].id),
+            ],
+        ),
+    }
     let ihq = match c.hourglass {
         Hourglass::Viscous => 1,
         Hourglass::Stiffness => 4,

@@ -35,6 +35,21 @@ pub fn build(raw: RawDeck, file: &str) -> Result<(Model, Vec<String>), DeckError
     };
     let ids = b.mesh(&mut model)?;
     b.conditions(&mut model, &ids)?;
+    if let Some((id, src)) = &raw.lctm {
+        let k = b.find(&ids.curves, *id, src, "LCTM", "curve")?;
+        let c = &model.curves[k];
+        if c.y.iter().any(|&y| y.is_nan() || y <= 0.0) {
+            return Err(b
+                .err(
+                    src,
+                    format!(
+                        "curve {id} (LCTM): the largest time step must be positive at every point"
+                    ),
+                )
+                .with_field("LCTM"));
+        }
+        model.control.dt_max_curve = Some(k);
+    }
     if raw.termination.is_none() {
         return Err(DeckError::deck(
             file,

@@ -177,7 +177,8 @@ fn termination(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> 
 }
 
 /// `*CONTROL_TIMESTEP`: DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST; an optional second
-/// card is ignored. TSSFAC blank or 0 means 0.9.
+/// card is ignored. TSSFAC blank or 0 means 0.9; LCTM, a curve of the largest time step
+/// against time.
 fn timestep(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     let c = r.card_or_defaults(W10)?;
     deck.control.dt_init = non_negative(&c, 0, "DTINIT")?;
@@ -187,13 +188,9 @@ fn timestep(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), DeckError> {
     }
     deck.control.tssfac = tssfac;
     warn_ignored(&c, 4, "DT2MS", "mass scaling is not supported", deck)?;
-    warn_ignored(
-        &c,
-        5,
-        "LCTM",
-        "a time step limit curve is not supported",
-        deck,
-    )?;
+    if let Some(id) = c.ref_id(5, "LCTM")? {
+        deck.lctm = Some((id, r.src(c.line)));
+    }
     r.ignore(1);
     Ok(())
 }

@@ -34,6 +34,15 @@ impl Curve {
         y0 + (y1 - y0) * (t - t0) / (t1 - t0)
     }
 
+    /// The largest time step a `*CONTROL_TIMESTEP` LCTM curve allows at `t`: its value, except
+    /// past its last abscissa or where it is 0, where the computed step is used (`None`), as
+    /// the LS-DYNA keyword manual says.
+    pub fn step_cap(&self, t: f64) -> Option<f64> {
+        let last = *self.t.last()?;
+        let y = self.eval(t);
+        (t <= last && y != 0.0).then_some(y)
+    }
+
     /// Integral of the curve from 0 to `t` (exact for the piecewise-linear function, with the
     /// held end values outside the abscissa range). Used to turn a prescribed velocity into the
     /// displacement it implies.

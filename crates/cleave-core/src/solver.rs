@@ -1170,8 +1170,11 @@ impl<'m> Solver<'m> {
 
     /// dt^(n+1/2) = TSSFAC * min(element time step, contact time step), or the step the
     /// softening cohesive springs take if shorter ([`Separation::cohesive_time_step`], which
-    /// holds its own margin); DTINIT caps the first, LCTM's curve (at t^n) every one, and the
-    /// step is clamped so the run ends exactly at ENDTIM.
+    /// holds its own margin); DTINIT caps the first, LCTM's curve (at t^n, [`Curve::step_cap`])
+    /// every one after the DTMIN floor is checked, and the step is clamped so the run ends
+    /// exactly at ENDTIM.
+    ///
+    /// [`Curve::step_cap`]: crate::curve::Curve::step_cap
     fn next_time_step(&mut self, dt_crit: f64, dt_elem: u32) -> Result<f64, SolverError> {
         let c = &self.model.control;
         let mut dt = c.tssfac * dt_crit.min(self.dt_contact);
@@ -1185,10 +1188,6 @@ impl<'m> Solver<'m> {
         if c.dt_init > 0.0 && (self.state.step == 0 || !dt_crit.is_finite()) {
             // DTINIT caps the first step, and is the step of a model with no deformable element
             dt = dt.min(c.dt_init);
-        }
-        if let Some(k) = c.dt_max_curve {
-            // LCTM: the largest step allowed at this time
-            dt = dt.min(self.model.curves[k].eval(self.state.t));
         }
         let element_id = |e: u32| self.model.elem_ids.get(e as usize).copied().unwrap_or(0);
         if self.state.step == 0 {
@@ -1204,6 +1203,13 @@ impl<'m> Solver<'m> {
         }
         if !dt.is_finite() || dt <= 0.0 {
             return Err(self.bad_time_step(dt, dt_elem));
+        }
+        if let Some(k) = c.dt_max_curve {
+            // LCTM: the largest step allowed at this time (after the floor, which guards the
+            // elements' own step: a curve asking for a short step is no collapse)
+            if let Some(cap) = self.model.curves[k].step_cap(self.state.t) {
+                dt = dt.min(cap);
+            }
         }
         self.state.dt_element = dt_elem;
         let remaining = c.end_time - self.state.t;

@@ -345,3 +345,44 @@ fn a_time_step_curve_bounds_the_step() {
     }
     assert!(before >= 49, "{before}");
 }
+
+/// LCTM past its last abscissa and at 0: the computed step (the LS-DYNA manual's rule); and a
+/// curve asking for steps far below DTMIN times the first one does not stop the run (the floor
+/// guards the elements' own step).
+#[test]
+fn a_time_step_curve_ends_and_does_not_trip_the_floor() {
+    let mut m = box_model([2, 2, 2], [0.02; 3], soft(), 2e-3);
+    // 0 (no limit) until 0.5 ms, 5e-6 s (a fifteenth of the block's own step) until 1.5 ms,
+    // nothing after
+    m.curves.push(Curve {
+        id: 1,
+        t: vec![0.0, 5e-4, 5e-4 + 1e-12, 1.5e-3],
+        y: vec![0.0, 0.0, 5e-6, 5e-6],
+    });
+    m.control.dt_max_curve = Some(0);
+    m.control.dt_min = 0.5;
+    let mut steps: Vec<(f64, f64)> = Vec::new();
+    let s = run(&m, |s| steps.push((s.state.t, s.state.dt)));
+    let own = steps[1].0;
+    let held = steps
+        .windows(2)
+        .filter(|w| w[0].0 > 5e-4 + 1e-12 && w[0].0 <= 1.5e-3)
+        .count();
+    eprintln!(
+        "LCTM ends: {} steps, {held} held to 5e-6 s; own step {own:.2e}",
+        s.state.step
+    );
+    for w in steps.windows(2) {
+        let (t, dt) = (w[0].0, w[1].0 - w[0].0);
+        let want = if t > 5e-4 + 1e-12 && t <= 1.5e-3 {
+            5e-6
+        } else {
+            own
+        };
+        if w[1].0 < 2e-3 - 1e-12 && !(t > 5e-4 && t < 5e-4 + 1e-11) {
+            assert!((dt - want).abs() <= 1e-12 * want, "{t}: {dt} vs {want}");
+        }
+    }
+    assert!(held >= 190, "{held}");
+    assert!((s.state.t - 2e-3).abs() < 1e-15);
+}

@@ -2255,10 +2255,6 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     if (cf[DT_INIT] > 0.0lf && (step0 || none)) {
         d = min(d, cf[DT_INIT]);
     }
-    if (prm.dt_max_off != 0xffffffffu) {
-        // LCTM: the largest step allowed at this time
-        d = min(d, curve_eval(prm.dt_max_off, cf[T]));
-    }
     atomicStore(&cu[DT_ELEM], c_id[0]);
     cf[DT] = d;
     if (step0) {
@@ -2270,6 +2266,15 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     if (!finite(d) || d <= 0.0lf) {
         fail(3u);
         return;
+    }
+    if (prm.dt_max_off != 0xffffffffu) {
+        // LCTM, after the floor (curve.rs Curve::step_cap): its value, but for past its last
+        // abscissa or where it is 0
+        let o = prm.dt_max_off;
+        let cap = curve_eval(o, cf[T]);
+        if (cf[T] <= par[o + u32(par[o])] && cap != 0.0lf) {
+            d = min(d, cap);
+        }
     }
     let remaining = cf[END_TIME] - cf[T];
     if (remaining <= 1e-9lf * min(d, cf[END_TIME])) {

@@ -1044,19 +1044,21 @@ fn geometric_walls_match_the_cpu() {
     compare_runs(m, "geometric walls");
 }
 
-/// LCTM of `*CONTROL_TIMESTEP`: a curve of the largest time step, below the block's own step
-/// for the first half of the run and rising above it after; the steps and the fields as on
-/// the CPU.
+/// LCTM of `*CONTROL_TIMESTEP`: a curve of the largest time step, 0 (no limit) at first, then
+/// below the block's own step, rising above it, and ending before the run does; the steps and
+/// the fields as on the CPU.
 #[test]
 fn a_time_step_curve_matches_the_cpu() {
     let mut m = block(Hourglass::Viscous);
     let (dt, _) = cleave_core::setup::estimate_time_step(&m).unwrap();
     let own = dt * m.control.tssfac;
     let t_end = m.control.end_time;
+    // 0 (no limit) for the first quarter, then below the block's own step, rising above it,
+    // and nothing past 0.8 of the run (the computed step)
     m.curves.push(Curve {
         id: 9,
-        t: vec![0.0, 0.5 * t_end, t_end],
-        y: vec![0.6 * own, 0.6 * own, 2.0 * own],
+        t: vec![0.0, 0.25 * t_end, 0.26 * t_end, 0.5 * t_end, 0.8 * t_end],
+        y: vec![0.0, 0.0, 0.6 * own, 0.6 * own, 2.0 * own],
     });
     m.control.dt_max_curve = Some(m.curves.len() - 1);
     compare_runs(m, "time step curve");

@@ -2546,6 +2546,21 @@ fn motions_along_vectors_and_rotations() {
         ]
     );
     assert_eq!(m.prescribed[4].vad, Vad::Displacement);
+    // a direction of many digits comes back to round-off (written in full, not in 10 columns)
+    let m2 = parse(&motions(
+        "2, 4, 0, 1, 1., 9\n*DEFINE_VECTOR\n9, 0., 0., 0., 1., 2., 3.\n",
+    ));
+    let back = parse(&write_deck(&m2));
+    let dir = |m: &Model| match m.prescribed[1].dof {
+        MotionDof::Along { dir, .. } => dir,
+        d => panic!("{d:?}"),
+    };
+    let (a, b) = (dir(&m2), dir(&back));
+    assert!(
+        (0..3).all(|i| (a[i] - b[i]).abs() <= 2e-16),
+        "{a:?} vs {b:?}"
+    );
+    assert!((a[2] - 3.0 / 14f64.sqrt()).abs() <= 2e-16);
     // written and read back
     assert_eq!(
         format!("{:?}", parse(&write_deck(&m)).prescribed),
@@ -2742,10 +2757,15 @@ fn time_step_curve() {
         e.field.as_deref() == Some("LCTM") && e.message.contains("curve 7"),
         "{e}"
     );
-    // curve 1 passes through 0 at t = 0
-    let e = err(&with(
+    // curve 1 passes through 0 at t = 0 (0: no limit there); a negative step is an error
+    let m = parse(&with(
         "*CONTROL_TIMESTEP\n0.0, 0.8\n",
         "*CONTROL_TIMESTEP\n0.0, 0.8, 0, 0., 0., 1\n",
     ));
-    assert!(e.message.contains("must be positive"), "{e}");
+    assert_eq!(m.control.dt_max_curve, Some(0));
+    let e = err(&with(
+        "*CONTROL_TIMESTEP\n0.0, 0.8\n",
+        "*DEFINE_CURVE\n5\n0., -1.\n*CONTROL_TIMESTEP\n0.0, 0.8, 0, 0., 0., 5\n",
+    ));
+    assert!(e.message.contains("must not be negative"), "{e}");
 }

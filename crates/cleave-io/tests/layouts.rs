@@ -18,14 +18,16 @@ enum Layout {
 }
 
 impl Layout {
-    /// The width of a field whose standard width is `w` (keyword manual, "General card
-    /// format": I10 widens fields under 10 to 10, long those under 20 to 20, wider ones double).
+    /// The width of a field whose standard width is `w` (PRIMER's manual, "Format: setting the
+    /// file format": I10 widens fields under 10 to 10; long those under 20 to 20, 80-column
+    /// text to 160, and keeps the 20-column ones).
     fn width(self, w: usize) -> usize {
         match self {
             Layout::Standard | Layout::Free => w,
             Layout::I10 => w.max(10),
             Layout::Long if w < 20 => 20,
-            Layout::Long => 2 * w,
+            Layout::Long if w >= 80 => 2 * w,
+            Layout::Long => w,
         }
     }
 }
@@ -153,6 +155,15 @@ fn model(n0: i64, e0: i64) -> Vec<Keyword> {
             lines: vec![
                 vec![num(5, 10)],
                 vec![num(n0 + 2, 10), num(n0 + 5, 10), num(n0 + 8, 10)],
+            ],
+        },
+        // a curve: its points are 20-column fields, which the long layout keeps
+        Keyword {
+            name: "*DEFINE_CURVE",
+            lines: vec![
+                vec![num(3, 10)],
+                vec![num("0.0", 20), num("1.0", 20)],
+                vec![num("1.0e-3", 20), num("2.5", 20)],
             ],
         },
         Keyword {

@@ -6,11 +6,11 @@
 //! (`1.0d-3`, `1.0D+3`); NaN and infinities are rejected.
 //!
 //! Three fixed-format layouts ([`Format`]): standard (the manual's widths), I10 (every field
-//! under 10 characters widened to 10) and long (every field under 20 widened to 20, wider ones,
-//! such as 80-character titles and file names, doubled), chosen for a whole file by
-//! `*KEYWORD I10=Y` or `*KEYWORD LONG=Y` and for one keyword by the suffix `%`, `+` (or `-`,
-//! standard) written after its name, as LS-DYNA (since 971 R7.1 and R9) and the pre-processors
-//! that write them (LS-PrePost, PRIMER, PyDyna) do.
+//! under 10 characters widened to 10) and long (every field under 20 widened to 20; the
+//! 20-column ones, such as `*DEFINE_CURVE`'s points, kept; 80-column titles and file names
+//! doubled to 160), chosen for a whole file by `*KEYWORD I10=Y` or `*KEYWORD LONG=Y` and for
+//! one keyword by the suffix `%`, `+` (or `-`, standard) written after its name, as LS-DYNA
+//! (since 971 R7.1 and R9) reads them and PRIMER's manual and PyDyna's writer lay them out.
 
 use std::borrow::Cow;
 
@@ -29,7 +29,8 @@ pub enum Format {
     Standard,
     /// `I10=Y` / `%`: fields narrower than 10 characters are 10 wide (ids up to 10 digits).
     I10,
-    /// `LONG=Y` / `+`: fields narrower than 20 characters are 20 wide, wider ones twice as wide.
+    /// `LONG=Y` / `+`: fields narrower than 20 characters are 20 wide; 80-column text
+    /// (titles, file names) 160; the others keep their width.
     Long,
 }
 
@@ -42,7 +43,11 @@ impl Format {
             Format::Long => Cow::Owned(
                 widths
                     .iter()
-                    .map(|&w| if w < 20 { 20 } else { 2 * w })
+                    .map(|&w| match w {
+                        0..=19 => 20,
+                        80.. => 2 * w,
+                        _ => w,
+                    })
                     .collect(),
             ),
         }

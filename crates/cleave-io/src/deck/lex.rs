@@ -80,7 +80,14 @@ fn name_and_sign(rest: &str) -> (&str, Option<Format>) {
 fn keyword_options(rest: &str) -> Result<Option<Format>, String> {
     let mut format = None;
     let mut long = false;
-    for opt in rest.split(|c: char| c.is_whitespace() || c == ',') {
+    // `LONG = Y` as `LONG=Y`
+    let mut joined = rest.to_string();
+    for (a, b) in [(" =", "="), ("= ", "="), ("\t=", "="), ("=\t", "=")] {
+        while joined.contains(a) {
+            joined = joined.replace(a, b);
+        }
+    }
+    for opt in joined.split(|c: char| c.is_whitespace() || c == ',') {
         let Some((key, value)) = opt.split_once('=') else {
             continue;
         };
@@ -181,6 +188,10 @@ mod tests {
 
     #[test]
     fn layout_signs_and_keyword_options() {
+        assert_eq!(
+            lex("*KEYWORD LONG = Y\n", "f").unwrap()[0].format,
+            Some(Format::Long)
+        );
         let t = "*KEYWORD 100m LONG=Y\n*NODE+\n*ELEMENT_SOLID %\n*PART-\n\
                  *ELEMENT_SOLID (ten nodes format)\n*MAT_MOONEY-RIVLIN_RUBBER\n";
         let b = lex(t, "f").unwrap();

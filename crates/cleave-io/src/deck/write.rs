@@ -131,6 +131,21 @@ pub(crate) fn card(out: &mut String, fields: &[F], widths: &[usize]) {
     out.push('\n');
 }
 
+/// Writes a card comma-separated with every real in its shortest exact form: for the unit
+/// vectors (directions, edge vectors), which 10 columns would cut to 8 digits.
+fn exact_card(out: &mut String, fields: &[F]) {
+    let text: Vec<String> = fields
+        .iter()
+        .map(|f| match *f {
+            F::I(i) => i.to_string(),
+            F::R(r) => format!("{r:?}"),
+            F::B => String::new(),
+        })
+        .collect();
+    out.push_str(&text.join(", "));
+    out.push('\n');
+}
+
 pub(crate) const W10: [usize; 8] = [10; 8];
 
 /// A keyword with one card of 10-character fields.
@@ -913,7 +928,7 @@ fn conditions(o: &mut String, m: &Model) {
                 F::R(d[1]),
                 F::R(d[2]),
             ];
-            card(o, &f, &W10);
+            exact_card(o, &f);
         }
     }
     let mut last_kw = "";
@@ -1042,11 +1057,7 @@ fn geometric_wall(o: &mut String, m: &Model, w: &RigidWall, nsid: i64) {
             });
             names(o, &["xhev", "yhev", "zhev", "lenl", "lenm"], &W10);
             let hev = cleave_core::math::add(w.tail, e.l);
-            card(
-                o,
-                &[hev[0], hev[1], hev[2], e.len_l, e.len_m].map(F::R),
-                &W10,
-            );
+            exact_card(o, &[hev[0], hev[1], hev[2], e.len_l, e.len_m].map(F::R));
         }
         WallShape::Sphere { radius } => {
             names(o, &["radsph"], &W10);
@@ -1067,7 +1078,7 @@ fn geometric_wall(o: &mut String, m: &Model, w: &RigidWall, nsid: i64) {
             F::R(mo.dir[1]),
             F::R(mo.dir[2]),
         ];
-        card(o, &f, &W10);
+        exact_card(o, &f);
     }
 }
 
@@ -1094,7 +1105,7 @@ fn interactions(o: &mut String, m: &Model, wall_sets: &[i64]) {
             names(o, &["xhev", "yhev", "zhev", "lenl", "lenm"], &W10);
             let hev = cleave_core::math::add(w.tail, e.l);
             let f = [hev[0], hev[1], hev[2], e.len_l, e.len_m].map(F::R);
-            card(o, &f, &W10);
+            exact_card(o, &f);
         }
     }
     for c in &m.contacts {

@@ -38,12 +38,12 @@ pub fn build(raw: RawDeck, file: &str) -> Result<(Model, Vec<String>), DeckError
     if let Some((id, src)) = &raw.lctm {
         let k = b.find(&ids.curves, *id, src, "LCTM", "curve")?;
         let c = &model.curves[k];
-        if c.y.iter().any(|&y| y.is_nan() || y <= 0.0) {
+        if c.y.iter().any(|&y| y.is_nan() || y < 0.0) {
             return Err(b
                 .err(
                     src,
                     format!(
-                        "curve {id} (LCTM): the largest time step must be positive at every point"
+                        "curve {id} (LCTM): a largest time step must not be negative (0: no limit)"
                     ),
                 )
                 .with_field("LCTM"));

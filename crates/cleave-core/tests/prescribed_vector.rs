@@ -6,34 +6,17 @@ use cleave_core::curve::Curve;
 use cleave_core::math::{add, dot, norm, scale, sub, Vec3};
 use cleave_core::mesh::box_model;
 use cleave_core::model::{
-    BodyLoad, Material, MaterialKind, Model, MotionDof, MotionTarget, PrescribedMotion, Spc, Vad,
-    Window,
+    BodyLoad, Material, Model, MotionDof, MotionTarget, PrescribedMotion, Spc, Vad, Window,
 };
 mod common;
 use common::run;
 
 fn soft() -> Material {
-    Material {
-        id: 1,
-        density: 1000.0,
-        young: 1e7,
-        poisson: 0.3,
-        kind: MaterialKind::Elastic,
-    }
+    common::soft_elastic()
 }
 
 fn rigid() -> Material {
-    Material {
-        id: 2,
-        density: 7800.0,
-        young: 2e11,
-        poisson: 0.3,
-        kind: MaterialKind::Rigid {
-            cmo: 0,
-            con1: 0,
-            con2: 0,
-        },
-    }
+    common::free_rigid()
 }
 
 /// `v` turned by `angle` about the unit axis `a` (Rodrigues).

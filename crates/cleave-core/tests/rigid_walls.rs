@@ -3,18 +3,12 @@
 
 use cleave_core::math::cross;
 use cleave_core::mesh::box_model;
-use cleave_core::model::{Material, MaterialKind, RigidWall, WallExtent, WallMotion, WallShape};
+use cleave_core::model::{Material, RigidWall, WallExtent, WallMotion, WallShape};
 mod common;
 use common::run;
 
 fn soft() -> Material {
-    Material {
-        id: 1,
-        density: 1000.0,
-        young: 1e7,
-        poisson: 0.3,
-        kind: MaterialKind::Elastic,
-    }
+    common::soft_elastic()
 }
 
 /// `covers` against the rectangle drawn by hand: a wall in the plane z = 0 (normal +z) from

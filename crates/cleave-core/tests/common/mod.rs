@@ -182,3 +182,29 @@ pub fn append_box(
     }
     (part, base..m.x0.len())
 }
+
+/// A soft elastic material (rho 1000, E 10 MPa, nu 0.3), id 1.
+pub fn soft_elastic() -> cleave_core::model::Material {
+    cleave_core::model::Material {
+        id: 1,
+        density: 1000.0,
+        young: 1e7,
+        poisson: 0.3,
+        kind: cleave_core::model::MaterialKind::Elastic,
+    }
+}
+
+/// A rigid steel (rho 7800) without constraints, id 2.
+pub fn free_rigid() -> cleave_core::model::Material {
+    cleave_core::model::Material {
+        id: 2,
+        density: 7800.0,
+        young: 2e11,
+        poisson: 0.3,
+        kind: cleave_core::model::MaterialKind::Rigid {
+            cmo: 0,
+            con1: 0,
+            con2: 0,
+        },
+    }
+}

@@ -55,9 +55,7 @@ pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
         r.title()?;
     }
     let c = r.required(W10, "NSID NSIDEX BOXID OFFSET BIRTH DEATH RWKSF")?;
-    let nsid = c.ref_id(0, "NSID")?;
-    must_be_blank(&c, 1, "NSIDEX", "an exclusion node set is")?;
-    must_be_blank(&c, 2, "BOXID", "a box is")?;
+    let nsid = wall_nodes(&c, 4)?;
     warn_ignored(
         &c,
         3,
@@ -65,11 +63,6 @@ pub fn rigidwall_planar(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(), De
         "nodes are captured at the wall plane",
         deck,
     )?;
-    must_be_blank(&c, 4, "BIRTH", "a birth time is")?;
-    let death = c.f64_or(5, "DEATH", 0.0)?;
-    if death != 0.0 && death < 1.0e20 {
-        return Err(c.field_err("DEATH", "a death time is not supported; leave it blank"));
-    }
     warn_ignored(&c, 6, "RWKSF", "the wall is a kinematic constraint", deck)?;
     let c2 = r.required(W10, "XT YT ZT XH YH ZH FRIC WVEL")?;
     let (tail, head, fric) = wall_points(&c2)?;
@@ -119,6 +112,20 @@ fn finite_extent(c3: &Card<'_>, tail: Vec3, head: Vec3) -> Result<WallExtent, De
         len_l,
         len_m,
     })
+}
+
+/// A rigid wall's first card, `NSID NSIDEX BOXID` and BIRTH, DEATH at `birth` and `birth + 1`:
+/// NSID (blank: every node); an exclusion set, a box, a birth or a death time are errors.
+fn wall_nodes(c: &Card<'_>, birth: usize) -> Result<Option<i64>, DeckError> {
+    let nsid = c.ref_id(0, "NSID")?;
+    must_be_blank(c, 1, "NSIDEX", "an exclusion node set is")?;
+    must_be_blank(c, 2, "BOXID", "a box is")?;
+    must_be_blank(c, birth, "BIRTH", "a birth time is")?;
+    let death = c.f64_or(birth + 1, "DEATH", 0.0)?;
+    if death != 0.0 && death < 1.0e20 {
+        return Err(c.field_err("DEATH", "a death time is not supported; leave it blank"));
+    }
+    Ok(nsid)
 }
 
 /// The tail, head and FRIC card of a rigid wall (`XT YT ZT XH YH ZH FRIC ...`): the head must
@@ -196,14 +203,7 @@ pub fn rigidwall_geometric(r: &mut Reader<'_>, deck: &mut RawDeck) -> Result<(),
         r.title()?;
     }
     let c = r.required(W10, "NSID NSIDEX BOXID BIRTH DEATH")?;
-    let nsid = c.ref_id(0, "NSID")?;
-    must_be_blank(&c, 1, "NSIDEX", "an exclusion node set is")?;
-    must_be_blank(&c, 2, "BOXID", "a box is")?;
-    must_be_blank(&c, 3, "BIRTH", "a birth time is")?;
-    let death = c.f64_or(4, "DEATH", 0.0)?;
-    if death != 0.0 && death < 1.0e20 {
-        return Err(c.field_err("DEATH", "a death time is not supported; leave it blank"));
-    }
+    let nsid = wall_nodes(&c, 3)?;
     let c2 = r.required(W10, "XT YT ZT XH YH ZH FRIC")?;
     let (tail, head, fric) = wall_points(&c2)?;
     let mut extent = None;

@@ -504,16 +504,16 @@ impl RigidWall {
     }
 
     /// The gap of a node at `x` to the wall's surface, with the surface's outward unit normal
-    /// there, the tail being at `tail` (negative: inside the wall's body); `None` where the
+    /// there, the tail being at `tail` and `n` the wall's [`Self::normal`] (worked out once per
+    /// step by the caller; negative gap: inside the wall's body); `None` where the
     /// wall does not reach (outside a finite plane's rectangle or past a finite cylinder's
     /// ends, or on a sphere's centre or a cylinder's axis).
     /// - plane: `g = (x - tail).n`;
     /// - sphere: `g = |x - tail| - R`, n along `x - tail`;
     /// - cylinder: with a the axis and `s = (x - tail).a`, `q = x - tail - s a`: `g = |q| - R`,
     ///   n along q.
-    pub fn gap(&self, x: Vec3, tail: Vec3) -> Option<(f64, Vec3)> {
+    pub fn gap(&self, x: Vec3, tail: Vec3, n: Vec3) -> Option<(f64, Vec3)> {
         use crate::math::{dot, norm, scale, sub};
-        let n = self.normal();
         let r = sub(x, tail);
         let radial = |q: Vec3, radius: f64| {
             let d = norm(q);

@@ -1442,6 +1442,7 @@ impl<'m> Solver<'m> {
                 sub(wall.offset(&self.model.curves, t + dt_new), off),
                 1.0 / dt_new,
             );
+            let axis = wall.normal();
             let mut total = [0.0; 3];
             let mut normal = 0.0;
             for k in 0..self.setup.wall_nodes[wi].len() {
@@ -1456,7 +1457,7 @@ impl<'m> Solver<'m> {
                 }
                 let x = self.state.x[i];
                 let v = self.state.v[i];
-                let Some((gap, nrm)) = wall.gap(x, tail) else {
+                let Some((gap, nrm)) = wall.gap(x, tail, axis) else {
                     continue;
                 };
                 // the velocity relative to the wall

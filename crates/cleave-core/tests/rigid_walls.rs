@@ -234,7 +234,7 @@ fn geometric_walls_keep_nodes_out() {
             );
             let (x, v) = (s.positions(), s.velocities());
             for n in 0..x.len() {
-                if let Some((gap, nrm)) = w.gap(x[n], tail) {
+                if let Some((gap, nrm)) = w.gap(x[n], tail, w.normal()) {
                     deepest = deepest.max(-gap);
                     if gap.abs() < 1e-4 {
                         touch = touch.min(gap.abs());

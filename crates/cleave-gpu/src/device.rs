@@ -41,7 +41,15 @@ impl Gpu {
     /// The first adapter that has f64 shaders, preferring a discrete, then an integrated GPU,
     /// then any (lavapipe, Mesa's Vulkan on the CPU, last).
     pub fn new() -> Result<Self, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        // wgpu checks the arguments of every indirect dispatch, in release builds too, by a
+        // dispatch of its own and two barriers before each: two of the step's passes are
+        // indirect (those over the node entries in use, and the softening faces'), and their
+        // arguments are written by the host alone (separation.rs node_grid, Cohesive::groups),
+        // within the limits, so the check is left off
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.flags
+            .remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
+        let instance = wgpu::Instance::new(desc);
         let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
         if adapters.is_empty() {
             return Err(GpuError::NoDevice(

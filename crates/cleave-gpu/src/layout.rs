@@ -449,8 +449,11 @@ impl Layout {
     /// `HAS_TET`, `HAS_SRI`, `HAS_EROSION`, and `LAWS`, a bit per law in use: 1 elastic,
     /// 2 bilinear plastic, 4 Johnson-Cook, 8 piecewise linear). The paths that are off are
     /// constant-false branches the driver's compiler drops, so a model of elastic hexahedra
-    /// runs a kernel without the registers of every other path.
-    pub fn shader_constants(&self, erodes: bool) -> String {
+    /// runs a kernel without the registers of every other path. `WALL_VALUES` (4 per rigid
+    /// wall, at least 1) sizes the nodes pass's private array of the walls' impulses: indexed
+    /// at run time, it lives in local memory, and a fixed size for the most walls cost every
+    /// node its zeroing.
+    pub fn shader_constants(&self, erodes: bool, walls: usize) -> String {
         let any = |bit: u32| self.emat.iter().any(|&b| b & bit != 0);
         let mut laws = 0u32;
         for &b in self.emat.iter().filter(|&&b| b & RIGID == 0) {
@@ -459,10 +462,12 @@ impl Layout {
         }
         format!(
             "const HAS_RIGID: bool = {};\nconst HAS_TET: bool = {};\nconst HAS_SRI: bool = {};\n\
-             const HAS_EROSION: bool = {erodes};\nconst LAWS: u32 = {laws}u;\n",
+             const HAS_EROSION: bool = {erodes};\nconst LAWS: u32 = {laws}u;\n\
+             const WALL_VALUES: u32 = {}u;\n",
             any(RIGID),
             any(TET),
             any(SRI),
+            (4 * walls).max(1),
         )
     }
 }
@@ -555,6 +560,33 @@ fn piecewise_block(pw: &PiecewiseLinear, ext_base: usize, out: &mut Vec<f64>) {
     }
 }
 
+/// An element array as the device stores it, by component (value k of element e at
+/// k ne + e, step.wgsl `ek`), from one stored by element (value k of element e at
+/// e k_count + k); `k_count` values per element. A tail past the whole elements (a buffer's
+/// padding) stays as it is.
+pub(crate) fn by_component<T: Copy>(a: &[T], k_count: usize) -> Vec<T> {
+    let ne = a.len() / k_count;
+    let mut out = a.to_vec();
+    for e in 0..ne {
+        for k in 0..k_count {
+            out[k * ne + e] = a[e * k_count + k];
+        }
+    }
+    out
+}
+
+/// The inverse of [`by_component`]: an element array read back from the device, by element.
+pub(crate) fn by_element<T: Copy>(a: &[T], k_count: usize) -> Vec<T> {
+    let ne = a.len() / k_count;
+    let mut out = a.to_vec();
+    for e in 0..ne {
+        for k in 0..k_count {
+            out[e * k_count + k] = a[k * ne + e];
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -588,5 +620,14 @@ mod tests {
         // the material: density, then elastic law 0
         assert_eq!(l.par[0], 7850.0);
         assert_eq!(l.par[5], 0.0);
+    }
+
+    #[test]
+    fn element_arrays_by_component_and_back() {
+        // two elements of three values, and a padding word that stays where it is
+        let a = [10, 11, 12, 20, 21, 22, 99];
+        let d = by_component(&a, 3);
+        assert_eq!(d, [10, 20, 11, 21, 12, 22, 99]);
+        assert_eq!(by_element(&d, 3), a);
     }
 }

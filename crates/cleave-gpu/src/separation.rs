@@ -26,7 +26,7 @@ use cleave_core::separation::cohesive::Envelope;
 use cleave_core::separation::interfaces::Status;
 use cleave_core::solver::{RunError, Solver};
 
-use crate::layout::{Layout, Slots};
+use crate::layout::{by_component, by_element, Layout, Slots};
 use crate::stepper::{Control, GpuStepper};
 
 /// Values per interface in `ifu` (step.wgsl `IF_STRIDE`).
@@ -267,7 +267,7 @@ impl GpuStepper {
         };
         // (the layout keeps its sizes: one slot per node, both material slots of each element)
         f64s(&b.par, &lay.par);
-        u32s(&b.conn, &lay.conn);
+        u32s(&b.conn, &by_component(&lay.conn, 8));
         u32s(&b.emat, &lay.emat);
         u32s(&b.nptr, &lay.nptr);
         u32s(&b.ninc, &lay.ninc);
@@ -349,7 +349,7 @@ impl GpuStepper {
         // mirror waits for the next output
         self.mirror_kinematics(solver);
         if self.sep.coh_cap > 0 {
-            let sig = self.download(&self.state.sig);
+            let sig = by_element(&self.download(&self.state.sig), 6);
             for (e, s) in solver.state.stress.iter_mut().enumerate() {
                 s.copy_from_slice(&sig[6 * e..6 * e + 6]);
             }

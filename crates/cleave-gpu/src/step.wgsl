@@ -36,7 +36,7 @@
 // with separation the coincident sets' slots (separation.rs; an indirect dispatch).
 //
 // The host puts the model's features before this text as constants (layout.rs
-// shader_constants: HAS_RIGID, HAS_TET, HAS_SRI, HAS_EROSION, LAWS); the paths a model does not
+// shader_constants: HAS_RIGID, HAS_TET, HAS_SRI, HAS_EROSION, LAWS, WALL_VALUES); the paths a model does not
 // use are constant-false branches that the driver drops, so their registers do not weigh on
 // the kernels of the others.
 
@@ -856,6 +856,14 @@ var<workgroup> r_eh: array<f64, 64>;
 var<workgroup> r_ee: array<f64, 64>;
 var<workgroup> r_en: array<f64, 64>;
 
+// The per-element arrays (connectivity, stress, hourglass forces, corner forces) are stored by
+// component, value k of element e at k ne + e: the threads of a group, neighbouring elements,
+// read and write neighbouring words (one element's values side by side cost a group a memory
+// transaction per thread and value).
+fn ek(e: u32, k: u32) -> u32 {
+    return k * prm.ne + e;
+}
+
 fn ld(b: u32, n: u32) -> vec3<f64> {
     if (b == 0u) {
         return vec3<f64>(xs[3u * n], xs[3u * n + 1u], xs[3u * n + 2u]);
@@ -933,7 +941,7 @@ fn eigenvalues(t: S6) -> vec3<f64> {
 fn log_strains(e: u32) -> vec3<f64> {
     var x: P8;
     for (var a = 0u; a < 8u; a = a + 1u) {
-        x[a] = ld(0u, conn[8u * e + a]);
+        x[a] = ld(0u, conn[ek(e, a)]);
     }
     let o = 9u * e;
     let j0i = M3(vec3<f64>(eref[o], eref[o + 1u], eref[o + 2u]),
@@ -1034,7 +1042,7 @@ fn erode(e: u32, m: Mat, work: f64) -> f64 {
         return -1.0lf;
     }
     let o = u32(m.ero);
-    let s = S6(sig[6u * e], sig[6u * e + 1u], sig[6u * e + 2u], sig[6u * e + 3u], sig[6u * e + 4u], sig[6u * e + 5u]);
+    let s = S6(sig[ek(e, 0u)], sig[ek(e, 1u)], sig[ek(e, 2u)], sig[ek(e, 3u)], sig[ek(e, 4u)], sig[ek(e, 5u)]);
     let eps_p = hist[7u * e];
     var fails = false;
     if (par[o + 12u] > 0.5lf && m.law > 1.5lf && m.law < 2.5lf) {
@@ -1055,10 +1063,10 @@ fn erode(e: u32, m: Mat, work: f64) -> f64 {
     }
     ero[4u * e] = 1.0lf;
     for (var i = 0u; i < 6u; i = i + 1u) {
-        sig[6u * e + i] = 0.0lf;
+        sig[ek(e, i)] = 0.0lf;
     }
     for (var i = 0u; i < 12u; i = i + 1u) {
-        hgf[12u * e + i] = 0.0lf;
+        hgf[ek(e, i)] = 0.0lf;
     }
     bq[e] = 0.0lf;
     return w;
@@ -1079,7 +1087,7 @@ struct Stress {
 // history and q are read and written back.
 fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, dt_prev: f64, np: bool, theta_bar: f64) -> Stress {
     var st = Stress(false, Point(S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf), 0.0lf, S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf)), 0.0lf, 0.0lf, 0.0lf);
-    var p = Point(S6(sig[6u * e], sig[6u * e + 1u], sig[6u * e + 2u], sig[6u * e + 3u], sig[6u * e + 4u], sig[6u * e + 5u]),
+    var p = Point(S6(sig[ek(e, 0u)], sig[ek(e, 1u)], sig[ek(e, 2u)], sig[ek(e, 3u)], sig[ek(e, 4u)], sig[ek(e, 5u)]),
                   0.0lf, S6(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf));
     // (a model of elastic parts alone keeps no history: it stays zero)
     if (LAWS != 1u) {
@@ -1129,13 +1137,12 @@ fn stress_update(e: u32, m: Mat, jn: M3, jv: M3, vol_per_det: f64, l_vol: f64, d
         de_int = de_int - vol_mid * 0.5lf * (bq[e] + q) * eps_v_rate * dt_prev;
     }
     bq[e] = q;
-    let o = 6u * e;
-    sig[o] = p.sigma[0];
-    sig[o + 1u] = p.sigma[1];
-    sig[o + 2u] = p.sigma[2];
-    sig[o + 3u] = p.sigma[3];
-    sig[o + 4u] = p.sigma[4];
-    sig[o + 5u] = p.sigma[5];
+    sig[ek(e, 0u)] = p.sigma[0];
+    sig[ek(e, 1u)] = p.sigma[1];
+    sig[ek(e, 2u)] = p.sigma[2];
+    sig[ek(e, 3u)] = p.sigma[3];
+    sig[ek(e, 4u)] = p.sigma[4];
+    sig[ek(e, 5u)] = p.sigma[5];
     if (LAWS != 1u) {
         let h = 7u * e;
         hist[h] = p.eps_p;
@@ -1179,7 +1186,7 @@ fn tet_element(e: u32, m: Mat) -> ElemOut {
     var x: array<vec3<f64>, 4>;
     var v: array<vec3<f64>, 4>;
     for (var k = 0u; k < 4u; k = k + 1u) {
-        let n = conn[8u * e + k + k / 3u];
+        let n = conn[ek(e, k + k / 3u)];
         x[k] = ld(0u, n);
         v[k] = ld(1u, n);
     }
@@ -1198,7 +1205,7 @@ fn tet_element(e: u32, m: Mat) -> ElemOut {
     var theta_bar = 0.0lf;
     if (np) {
         for (var k = 0u; k < 4u; k = k + 1u) {
-            theta_bar = theta_bar + npn[conn[8u * e + k + k / 3u]];
+            theta_bar = theta_bar + npn[conn[ek(e, k + k / 3u)]];
         }
         theta_bar = 0.25lf * theta_bar;
     }
@@ -1229,8 +1236,8 @@ fn tet_element(e: u32, m: Mat) -> ElemOut {
     }
     for (var a = 0u; a < 4u; a = a + 1u) {
         for (var i = 0u; i < 3u; i = i + 1u) {
-            fe_lo[12u * e + 3u * a + i] = f[a][i];
-            fe_hi[12u * e + 3u * a + i] = f[a + 4u][i];
+            fe_lo[ek(e, 3u * a + i)] = f[a][i];
+            fe_hi[ek(e, 3u * a + i)] = f[a + 4u][i];
         }
     }
     // l_c = 3 V / the largest face area (tet4.rs FACES)
@@ -1314,7 +1321,7 @@ fn sri_element(e: u32, m: Mat) -> ElemOut {
     var x: P8;
     var v: P8;
     for (var a = 0u; a < 8u; a = a + 1u) {
-        let n = conn[8u * e + a];
+        let n = conn[ek(e, a)];
         x[a] = ld(0u, n);
         v[a] = ld(1u, n);
     }
@@ -1424,15 +1431,15 @@ fn sri_element(e: u32, m: Mat) -> ElemOut {
         f[a] = f[a] + (p_bar + q) * bbar[a];
     }
     for (var i = 0u; i < 6u; i = i + 1u) {
-        sig[6u * e + i] = mean[i] / vol;
+        sig[ek(e, i)] = mean[i] / vol;
         hist[7u * e + 1u + i] = 0.0lf;
     }
     // the element's history for output: the points' mean plastic strain
     hist[7u * e] = eps_sum / 8.0lf;
     for (var a = 0u; a < 4u; a = a + 1u) {
         for (var i = 0u; i < 3u; i = i + 1u) {
-            fe_lo[12u * e + 3u * a + i] = f[a][i];
-            fe_hi[12u * e + 3u * a + i] = f[a + 4u][i];
+            fe_lo[ek(e, 3u * a + i)] = f[a][i];
+            fe_hi[ek(e, 3u * a + i)] = f[a + 4u][i];
         }
     }
     out.dt = stable_dt(vol_n / (0.5lf * sqrt(hex_c2max(x))), m.step_speed, tr_bar, m);
@@ -1447,8 +1454,8 @@ fn element(e: u32) -> ElemOut {
         // corner forces are zeroed each step: ELFORM 13's pressure correction adds to them
         // (a rigid tetrahedron takes part in the averages, as on the CPU)
         for (var i = 0u; i < 12u; i = i + 1u) {
-            fe_lo[12u * e + i] = 0.0lf;
-            fe_hi[12u * e + i] = 0.0lf;
+            fe_lo[ek(e, i)] = 0.0lf;
+            fe_hi[ek(e, i)] = 0.0lf;
         }
         return ElemOut(true, BIG, 0.0lf, 0.0lf);
     }
@@ -1509,20 +1516,22 @@ fn hex_rate(r: Rates, a: u32, v: vec3<f64>, jinv: M3, gx: Q4) -> Rates {
 }
 
 // Mode al's hourglass force from its rate (viscous: coef qd; stiffness: old + coef qd), stored
-// at hgf[k..k+3]; its energy increment 1/2 (old + new) qd dt is added to de in component order.
+// as element e's values 3 al .. 3 al + 2 of hgf; its energy increment 1/2 (old + new) qd dt is
+// added to de in component order.
 struct Mode {
     f: vec3<f64>,
     de: f64,
 }
-fn hex_mode(k: u32, qd: vec3<f64>, coef: f64, stiff: bool, dt_prev: f64, de: f64) -> Mode {
-    let old = vec3<f64>(hgf[k], hgf[k + 1u], hgf[k + 2u]);
+fn hex_mode(e: u32, al: u32, qd: vec3<f64>, coef: f64, stiff: bool, dt_prev: f64, de: f64) -> Mode {
+    let k = 3u * al;
+    let old = vec3<f64>(hgf[ek(e, k)], hgf[ek(e, k + 1u)], hgf[ek(e, k + 2u)]);
     var f = coef * qd;
     if (stiff) {
         f = old + coef * qd;
     }
-    hgf[k] = f[0];
-    hgf[k + 1u] = f[1];
-    hgf[k + 2u] = f[2];
+    hgf[ek(e, k)] = f[0];
+    hgf[ek(e, k + 1u)] = f[1];
+    hgf[ek(e, k + 2u)] = f[2];
     var d = de + 0.5lf * (old[0] + f[0]) * qd[0] * dt_prev;
     d = d + 0.5lf * (old[1] + f[1]) * qd[1] * dt_prev;
     d = d + 0.5lf * (old[2] + f[2]) * qd[2] * dt_prev;
@@ -1540,15 +1549,15 @@ fn hex_corner(e: u32, a: u32, vol: f64, s: S6, fhg: Q4, jinv: M3, gx: Q4) {
     f = f - fhg[1] * g[1];
     f = f - fhg[2] * g[2];
     f = f - fhg[3] * g[3];
-    let k = 12u * e + 3u * (a & 3u);
+    let k = 3u * (a & 3u);
     if (a < 4u) {
-        fe_lo[k] = f[0];
-        fe_lo[k + 1u] = f[1];
-        fe_lo[k + 2u] = f[2];
+        fe_lo[ek(e, k)] = f[0];
+        fe_lo[ek(e, k + 1u)] = f[1];
+        fe_lo[ek(e, k + 2u)] = f[2];
     } else {
-        fe_hi[k] = f[0];
-        fe_hi[k + 1u] = f[1];
-        fe_hi[k + 2u] = f[2];
+        fe_hi[ek(e, k)] = f[0];
+        fe_hi[ek(e, k + 1u)] = f[1];
+        fe_hi[ek(e, k + 2u)] = f[2];
     }
 }
 
@@ -1573,19 +1582,17 @@ fn hex_element(e: u32, m: Mat) -> ElemOut {
     } else {
         coef = m.qh * m.density * m.wave_speed * l_vol * l_vol / 4.0lf;
     }
-    let k = 12u * e;
-    let m0 = hex_mode(k, r.qd[0], coef, stiff, dt_prev, 0.0lf);
-    let m1 = hex_mode(k + 3u, r.qd[1], coef, stiff, dt_prev, m0.de);
-    let m2 = hex_mode(k + 6u, r.qd[2], coef, stiff, dt_prev, m1.de);
-    let m3 = hex_mode(k + 9u, r.qd[3], coef, stiff, dt_prev, m2.de);
+    let m0 = hex_mode(e, 0u, r.qd[0], coef, stiff, dt_prev, 0.0lf);
+    let m1 = hex_mode(e, 1u, r.qd[1], coef, stiff, dt_prev, m0.de);
+    let m2 = hex_mode(e, 2u, r.qd[2], coef, stiff, dt_prev, m1.de);
+    let m3 = hex_mode(e, 3u, r.qd[3], coef, stiff, dt_prev, m2.de);
     let fhg = Q4(m0.f, m1.f, m2.f, m3.f);
 
     // 5: corner forces, from the corners read again (J^-1 and gx formed again from them, the
     // same operations on the same values: the same bits), so that neither is held in
     // registers across the stress update
-    let c = 8u * e;
-    let x = P8(ld(0u, conn[c]), ld(0u, conn[c + 1u]), ld(0u, conn[c + 2u]), ld(0u, conn[c + 3u]),
-               ld(0u, conn[c + 4u]), ld(0u, conn[c + 5u]), ld(0u, conn[c + 6u]), ld(0u, conn[c + 7u]));
+    let x = P8(ld(0u, conn[ek(e, 0u)]), ld(0u, conn[ek(e, 1u)]), ld(0u, conn[ek(e, 2u)]), ld(0u, conn[ek(e, 3u)]),
+               ld(0u, conn[ek(e, 4u)]), ld(0u, conn[ek(e, 5u)]), ld(0u, conn[ek(e, 6u)]), ld(0u, conn[ek(e, 7u)]));
     let jn = centre_jacobian(x);
     let jinv = inv3(jn, det3(jn));
     let gx = hex_gx(x);
@@ -1623,9 +1630,8 @@ struct HexKin {
 fn hex_kinematics(e: u32, m: Mat, dt_prev: f64) -> HexKin {
     // (a var starts at zero: not ok)
     var out: HexKin;
-    let c = 8u * e;
-    let n = array<u32, 8>(conn[c], conn[c + 1u], conn[c + 2u], conn[c + 3u], conn[c + 4u],
-                          conn[c + 5u], conn[c + 6u], conn[c + 7u]);
+    let n = array<u32, 8>(conn[ek(e, 0u)], conn[ek(e, 1u)], conn[ek(e, 2u)], conn[ek(e, 3u)], conn[ek(e, 4u)],
+                          conn[ek(e, 5u)], conn[ek(e, 6u)], conn[ek(e, 7u)]);
     let x = P8(ld(0u, n[0]), ld(0u, n[1]), ld(0u, n[2]), ld(0u, n[3]), ld(0u, n[4]),
                ld(0u, n[5]), ld(0u, n[6]), ld(0u, n[7]));
     let v = P8(ld(1u, n[0]), ld(1u, n[1]), ld(1u, n[2]), ld(1u, n[3]), ld(1u, n[4]),
@@ -1677,8 +1683,8 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
         if (HAS_EROSION && prm.erosion != 0u && ero[4u * e] != 0.0lf) {
             // eroded: no force, no time step
             for (var i = 0u; i < 12u; i = i + 1u) {
-                fe_lo[12u * e + i] = 0.0lf;
-                fe_hi[12u * e + i] = 0.0lf;
+                fe_lo[ek(e, i)] = 0.0lf;
+                fe_hi[ek(e, i)] = 0.0lf;
             }
         } else {
             let r = element(e);
@@ -1723,12 +1729,13 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     }
     if (l == 0u && run && grp < prm.groups_e) {
         let g = grp;
-        epart[6u * g] = r_dt[0];
-        epart[6u * g + 1u] = f64(r_id[0]);
-        epart[6u * g + 2u] = r_ei[0];
-        epart[6u * g + 3u] = r_eh[0];
-        epart[6u * g + 4u] = r_ee[0];
-        epart[6u * g + 5u] = r_en[0];
+        let gs = prm.groups_e;
+        epart[g] = r_dt[0];
+        epart[gs + g] = f64(r_id[0]);
+        epart[2u * gs + g] = r_ei[0];
+        epart[3u * gs + g] = r_eh[0];
+        epart[4u * gs + g] = r_ee[0];
+        epart[5u * gs + g] = r_en[0];
     }
 }
 
@@ -1741,7 +1748,7 @@ fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
 
 // The corners 0, 1, 2, 4 of a tetrahedron's 8-node storage.
 fn tet_nodes(e: u32) -> array<u32, 4> {
-    return array<u32, 4>(conn[8u * e], conn[8u * e + 1u], conn[8u * e + 2u], conn[8u * e + 4u]);
+    return array<u32, 4>(conn[ek(e, 0u)], conn[ek(e, 1u)], conn[ek(e, 2u)], conn[ek(e, 4u)]);
 }
 
 @compute @workgroup_size(64)
@@ -1857,9 +1864,9 @@ fn np_correct(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_i
         for (var i = 0u; i < 3u; i = i + 1u) {
             let f = c * b[k][i];
             if (a < 4u) {
-                fe_lo[12u * e + 3u * a + i] = fe_lo[12u * e + 3u * a + i] + f;
+                fe_lo[ek(e, 3u * a + i)] = fe_lo[ek(e, 3u * a + i)] + f;
             } else {
-                fe_hi[12u * e + 3u * (a - 4u) + i] = fe_hi[12u * e + 3u * (a - 4u) + i] + f;
+                fe_hi[ek(e, 3u * (a - 4u) + i)] = fe_hi[ek(e, 3u * (a - 4u) + i)] + f;
             }
         }
     }
@@ -2131,7 +2138,9 @@ var<workgroup> c_w: array<f64, 256>;
 var<workgroup> c_om: array<f64, 256>;
 
 // An element group's partials: its smallest time step and the element giving it, its
-// internal, hourglass and eroded energy increments and its number of eroded elements.
+// internal, hourglass and eroded energy increments and its number of eroded elements. Stored
+// by value, partial k of group g at k groups_e + g (and the node groups' likewise, at
+// k groups_n + g), so that the one-group reductions' threads read neighbouring words.
 struct EPart {
     dt: f64,
     id: u32,
@@ -2141,8 +2150,8 @@ struct EPart {
     en: f64,
 }
 fn epart_at(g: u32) -> EPart {
-    let o = 6u * g;
-    return EPart(epart[o], u32(epart[o + 1u]), epart[o + 2u], epart[o + 3u], epart[o + 4u], epart[o + 5u]);
+    let gs = prm.groups_e;
+    return EPart(epart[g], u32(epart[gs + g]), epart[2u * gs + g], epart[3u * gs + g], epart[4u * gs + g], epart[5u * gs + g]);
 }
 // r then p: the smaller step (the lower element on a tie), the sums in that order.
 fn epart_add(r: EPart, p: EPart) -> EPart {
@@ -2329,8 +2338,8 @@ fn interfaces(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_i
     var sa: S6;
     var sb: S6;
     for (var k = 0u; k < 6u; k = k + 1u) {
-        sa[k] = sig[6u * ea + k];
-        sb[k] = sig[6u * eb + k];
+        sa[k] = sig[ek(ea, k)];
+        sb[k] = sig[ek(eb, k)];
     }
     // the cheap bound first (criteria/mod.rs traction_bound, bound_factor)
     var factor = 1.0lf;
@@ -2624,12 +2633,11 @@ fn node_force(n: u32) -> vec3<f64> {
         let c = ninc[k];
         let e = c >> 3u;
         let a = c & 7u;
+        let k = 3u * (a & 3u);
         if (a < 4u) {
-            let o = 12u * e + 3u * a;
-            f = f + vec3<f64>(fe_lo[o], fe_lo[o + 1u], fe_lo[o + 2u]);
+            f = f + vec3<f64>(fe_lo[ek(e, k)], fe_lo[ek(e, k + 1u)], fe_lo[ek(e, k + 2u)]);
         } else {
-            let o = 12u * e + 3u * (a - 4u);
-            f = f + vec3<f64>(fe_hi[o], fe_hi[o + 1u], fe_hi[o + 2u]);
+            f = f + vec3<f64>(fe_hi[ek(e, k)], fe_hi[ek(e, k + 1u)], fe_hi[ek(e, k + 2u)]);
         }
     }
     return f;
@@ -2718,7 +2726,7 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
     // the ledger's six values (kept apart from the walls', which only a deck with walls
     // indexes at run time)
     var acc = array<f64, 6>(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
-    var wacc: array<f64, 32>;
+    var wacc: array<f64, WALL_VALUES>;
     if (run && f64(n) < cf[SLOTS]) {
         let m = mass[n];
         let t = cf[T];
@@ -2939,18 +2947,18 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
     }
     if (keep) {
         let t = n_s6[0];
-        let o = prm.n_part * g;
-        npart[o] = t[0];
-        npart[o + 1u] = t[1];
-        npart[o + 2u] = t[2];
-        npart[o + 3u] = t[3];
-        npart[o + 4u] = t[4];
-        npart[o + 5u] = t[5];
+        let gs = prm.groups_n;
+        npart[g] = t[0];
+        npart[gs + g] = t[1];
+        npart[2u * gs + g] = t[2];
+        npart[3u * gs + g] = t[3];
+        npart[4u * gs + g] = t[4];
+        npart[5u * gs + g] = t[5];
     }
     for (var k = 0u; k < 4u * prm.n_walls; k = k + 1u) {
         let s = group_sum(l, wacc[k]);
         if (keep) {
-            npart[prm.n_part * g + 6u + k] = s;
+            npart[(6u + k) * prm.groups_n + g] = s;
         }
     }
 }
@@ -2977,19 +2985,18 @@ fn group_sum(l: u32, val: f64) -> f64 {
 // added in that order; the partials are read four groups ahead so that their loads overlap.
 fn ledger_sums(l: u32) -> array<f64, 6> {
     var a = array<f64, 6>(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
-    let np = prm.n_part;
     var g = l;
     let groups = node_groups();
     while (g + 768u < groups) {
-        let p0 = part6(np * g);
-        let p1 = part6(np * (g + 256u));
-        let p2 = part6(np * (g + 512u));
-        let p3 = part6(np * (g + 768u));
+        let p0 = part6(g);
+        let p1 = part6(g + 256u);
+        let p2 = part6(g + 512u);
+        let p3 = part6(g + 768u);
         a = add6(add6(add6(add6(a, p0), p1), p2), p3);
         g = g + 1024u;
     }
     while (g < groups) {
-        a = add6(a, part6(np * g));
+        a = add6(a, part6(g));
         g = g + 256u;
     }
     return a;
@@ -2999,14 +3006,16 @@ fn ledger_sums(l: u32) -> array<f64, 6> {
 fn node_groups() -> u32 {
     return (u32(cf[SLOTS]) + 63u) / 64u;
 }
-fn part6(o: u32) -> array<f64, 6> {
-    return array<f64, 6>(npart[o], npart[o + 1u], npart[o + 2u], npart[o + 3u], npart[o + 4u], npart[o + 5u]);
+fn part6(g: u32) -> array<f64, 6> {
+    let gs = prm.groups_n;
+    return array<f64, 6>(npart[g], npart[gs + g], npart[2u * gs + g], npart[3u * gs + g], npart[4u * gs + g], npart[5u * gs + g]);
 }
 fn add6(a: array<f64, 6>, b: array<f64, 6>) -> array<f64, 6> {
     return array<f64, 6>(a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5]);
 }
 
 var<workgroup> f_s: array<f64, 256>;
+var<workgroup> f_s6: array<array<f64, 6>, 256>;
 var<workgroup> f_tot: array<f64, MAX_PART>;
 
 @compute @workgroup_size(256)
@@ -3014,18 +3023,28 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
     let run = !halted();
     let l = lid.x;
     // each thread's sums over the partials g = l, l + 256, ... in that order, the six values of
-    // the ledger together (the walls' below, value by value)
+    // the ledger together, then summed over the threads by one tree of fixed shape (the walls'
+    // below, value by value, by trees of the same shape)
     var six = array<f64, 6>(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
     if (run) {
         six = ledger_sums(l);
     }
-    for (var k = 0u; k < prm.n_part; k = k + 1u) {
+    f_s6[l] = six;
+    workgroupBarrier();
+    for (var s = 128u; s > 0u; s = s >> 1u) {
+        if (l < s) {
+            f_s6[l] = add6(f_s6[l], f_s6[l + s]);
+        }
+        workgroupBarrier();
+    }
+    if (l < 6u) {
+        f_tot[l] = f_s6[0][l];
+    }
+    for (var k = 6u; k < prm.n_part; k = k + 1u) {
         var acc = 0.0lf;
-        if (k < 6u) {
-            acc = six[k];
-        } else if (run) {
+        if (run) {
             for (var g = l; g < node_groups(); g = g + 256u) {
-                acc = acc + npart[prm.n_part * g + k];
+                acc = acc + npart[k * prm.groups_n + g];
             }
         }
         f_s[l] = acc;
@@ -3041,6 +3060,7 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
         }
         workgroupBarrier();
     }
+    workgroupBarrier();
     if (l != 0u || !run) {
         return;
     }

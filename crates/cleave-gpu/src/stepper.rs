@@ -18,7 +18,7 @@ use cleave_core::solver::{Observer, RunError, Solver};
 use wgpu::util::DeviceExt;
 
 use crate::device::{Gpu, GpuError};
-use crate::layout::{Layout, RB_STATE};
+use crate::layout::{by_component, by_element, Layout, RB_STATE};
 use crate::separation::{kinematics, SepBuffers};
 
 /// The groups of `groups` threads' dispatch: (x, y), a second dimension past the per-dimension
@@ -141,8 +141,9 @@ pub struct GpuStepper {
     /// Bytes of the buffers on the device.
     device_bytes: u64,
     /// The buffers that carry the state from one step to the next, in the order of
-    /// [`Self::save`].
-    persistent: Vec<wgpu::Buffer>,
+    /// [`Self::save`], each with its values per element where the device stores it by
+    /// component (0: as it is; a restart file holds them by element, as before).
+    persistent: Vec<(wgpu::Buffer, usize)>,
     bind_group: wgpu::BindGroup,
     pub(crate) cf: wgpu::Buffer,
     pub(crate) cu: wgpu::Buffer,
@@ -332,7 +333,7 @@ impl GpuStepper {
             bq: zeros("bulk viscosity", ne),
         };
         let par = f64s("parameters", &lay.par);
-        let conn = u32s("connectivity", &lay.conn);
+        let conn = u32s("connectivity", &by_component(&lay.conn, 8));
         let emat = u32s("element materials", &lay.emat);
         let mass = f64s("mass", &mass0);
         let fe_lo = zeros("corner forces 1-4", 12 * ne);
@@ -477,7 +478,8 @@ impl GpuStepper {
         let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("step.wgsl"),
             source: wgpu::ShaderSource::Wgsl(
-                (lay.shader_constants(erodes) + include_str!("step.wgsl")).into(),
+                (lay.shader_constants(erodes, model.rigid_walls.len()) + include_str!("step.wgsl"))
+                    .into(),
             ),
         });
         let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -556,20 +558,20 @@ impl GpuStepper {
             usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
         });
         let mut persistent = vec![
-            cf_buf.clone(),
-            cu_buf.clone(),
-            state.x.clone(),
-            state.v.clone(),
-            state.vn.clone(),
-            state.sig.clone(),
-            state.hist.clone(),
-            state.hg.clone(),
-            state.bq.clone(),
-            rb.clone(),
-            gps.clone(),
+            (cf_buf.clone(), 0),
+            (cu_buf.clone(), 0),
+            (state.x.clone(), 0),
+            (state.v.clone(), 0),
+            (state.vn.clone(), 0),
+            (state.sig.clone(), 6),
+            (state.hist.clone(), 0),
+            (state.hg.clone(), 12),
+            (state.bq.clone(), 0),
+            (rb.clone(), 0),
+            (gps.clone(), 0),
         ];
         if erodes {
-            persistent.push(ero.clone());
+            persistent.push((ero.clone(), 0));
         }
         Ok(Self {
             pipelines,
@@ -710,8 +712,12 @@ impl GpuStepper {
             out.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
             out.extend_from_slice(bytes);
         };
-        for b in &self.persistent {
-            put(&self.download_bytes(b));
+        for (b, k) in &self.persistent {
+            if *k > 0 {
+                put(bytemuck::cast_slice(&by_element(&self.download(b), *k)));
+            } else {
+                put(&self.download_bytes(b));
+            }
         }
         if self.sep.n_if > 0 {
             put(&solver.save_state());
@@ -724,7 +730,7 @@ impl GpuStepper {
     pub fn load(&mut self, solver: &mut Solver, bytes: &[u8]) -> Result<(), String> {
         let mut rest = bytes;
         let mut parts = Vec::with_capacity(self.persistent.len());
-        for b in &self.persistent {
+        for (b, _) in &self.persistent {
             let (len, tail) = rest
                 .split_at_checked(8)
                 .ok_or("the GPU state is cut short")?;
@@ -760,8 +766,13 @@ impl GpuStepper {
         // (the control block is the first array, its size checked above)
         let cf_saved = parts[0];
         let q = &self.gpu.queue;
-        for (b, data) in self.persistent.iter().zip(parts) {
-            q.write_buffer(b, 0, data);
+        for ((b, k), data) in self.persistent.iter().zip(parts) {
+            if *k > 0 {
+                let values: Vec<f64> = bytemuck::pod_collect_to_vec(data);
+                q.write_buffer(b, 0, bytemuck::cast_slice(&by_component(&values, *k)));
+            } else {
+                q.write_buffer(b, 0, data);
+            }
         }
         // the deck's controls are this run's (a continued run may be given another end time)
         let deck = control_block(solver);
@@ -962,9 +973,9 @@ impl GpuStepper {
     pub(crate) fn mirror(&self, solver: &mut Solver, c: &Control) {
         self.mirror_kinematics(solver);
         let ne = solver.model.num_elements();
-        let sig = self.download(&self.state.sig);
+        let sig = by_element(&self.download(&self.state.sig), 6);
         let hist = self.download(&self.state.hist);
-        let hg = self.download(&self.state.hg);
+        let hg = by_element(&self.download(&self.state.hg), 12);
         let bq = self.download(&self.state.bq);
         // Johnson-Cook keeps its temperature rise, ln J and energy in the back stress slots
         let jc: Vec<bool> = (solver.setup.elem_mat.iter())

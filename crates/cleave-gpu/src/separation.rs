@@ -253,7 +253,7 @@ impl GpuStepper {
     /// Write the arrays that depend on the coincident sets from the solver's separation as it
     /// stands: the layout by slot, the masses, positions and velocities (per slot), the
     /// interface table; and empty the failure list.
-    pub(crate) fn upload_sets(&self, solver: &Solver) {
+    pub(crate) fn upload_sets(&self, solver: &Solver, step: f64) {
         let lay = Layout::new(solver.model, &solver.setup, solver.ties(), slots(solver));
         let q = &self.gpu().queue;
         let b = &self.model_bufs;
@@ -275,7 +275,12 @@ impl GpuStepper {
         u32s(&b.mptr, &lay.mptr);
         let (x, v, mass) = kinematics(solver);
         f64s(&b.mass, &mass);
-        f64s(&self.state.x, &x);
+        // (x^n, in the half of the positions of step `step`)
+        q.write_buffer(
+            &self.state.x,
+            8 * self.x_half(step).start as u64,
+            bytemuck::cast_slice(&x),
+        );
         f64s(&self.state.v, &v);
         // v^n: the solver's own (the GPU's v^n of a slot is only used within a step)
         let mut vn: Vec<f64> = (solver.velocities().entries().iter().flatten().copied()).collect();
@@ -347,7 +352,7 @@ impl GpuStepper {
         // what the release reads: the positions and velocities (the new slots start with their
         // set's), with a cohesive law the stresses (the onset traction); the rest of the
         // mirror waits for the next output
-        self.mirror_kinematics(solver);
+        self.mirror_kinematics(solver, c.step());
         if self.sep.coh_cap > 0 {
             let sig = by_element(&self.download(&self.state.sig), 6);
             for (e, s) in solver.state.stress.iter_mut().enumerate() {
@@ -370,7 +375,7 @@ impl GpuStepper {
                 "the GPU's interface table is out of date: {e}"
             )))
         })?;
-        self.upload_sets(solver);
+        self.upload_sets(solver, c.step());
         self.clear_halt();
         self.finish_step_after("interfaces_done");
         Ok(())

@@ -9,10 +9,9 @@
 // element/sri.rs, element/nodal_pressure.rs, material/, rigid.rs, solver.rs), operation for
 // operation; the Rust doc comments there carry the formulas and their sources.
 //
-// One step is five dispatches, six with rigid bodies, two or three more with separation
+// One step is four dispatches, five with rigid bodies, two or three more with separation
 // (four more with ELFORM 13: np_theta and np_node_theta before the elements, np_node_p and
 // np_correct after), each a no-op once `halt` is set:
-//   positions (per node)  x^n = x^(n-1) + dt v^(n-1/2), from the second step on
 //   elements (per elem)   stress update, corner forces, element time step; group partials
 //   interfaces (per interface, with separation)  the failure check; interfaces_done
 //                         (1 thread) halts the step if one failed (HALT 4: the host splits
@@ -22,7 +21,8 @@
 //                         (fixed tree); dt^(n+1/2)
 //   rigid (1 group/body)  force and moment of each rigid body (fixed tree), its 6-dof update
 //   nodes (per node)      force gather in a fixed order, v^(n+1/2), rigid bodies' nodes
-//                         placed, constraints and rigid walls; partials
+//                         placed, constraints and rigid walls; partials; x^(n+1) = x^n +
+//                         dt v^(n+1/2) into the other half of the positions (x_half)
 //   finish (1 group)      kinetic energy, external work; halts at output times and errors;
 //                         else ends the step (advance: t, dt_prev, step, the rigid bodies'
 //                         placements, body accelerations at t^(n+1) and t^n)
@@ -30,9 +30,10 @@
 //   commit (1 thread)     the end of a step that halted (COMMIT_DUE), so that the host read
 //                         the state at t^n; the body accelerations at the start of a run
 // (A batch that runs through leaves the control block one step on: t^(n+1), the progress bar's
-// time; a halt leaves it at t^n.)
+// time; a halt leaves it at t^n.) After a restart file is taken up, the positions pass
+// (per node) writes the x^(n+1) of the step its state had begun.
 // Every sum is taken in a fixed order (no float atomics): the same bits on every run. The
-// per-node passes (positions, nodes) run over the entries in use, `cf[SLOTS]`: every node, or
+// per-node passes (nodes, positions) run over the entries in use, `cf[SLOTS]`: every node, or
 // with separation the coincident sets' slots (separation.rs; an indirect dispatch).
 //
 // The host puts the model's features before this text as constants (layout.rs
@@ -864,9 +865,18 @@ fn ek(e: u32, k: u32) -> u32 {
     return k * prm.ne + e;
 }
 
+// The positions are kept for two steps: x^n, which the step reads, and x^(n+1), which the
+// nodes pass writes with v^(n+1/2), in the halves of xs (3 nn values each) by the parity of
+// the step: a step that halts leaves x^n where the host reads it, and no pass of its own
+// moves the nodes.
+fn x_half(next: bool) -> u32 {
+    return ((u32(cf[STEP]) & 1u) ^ select(0u, 1u, next)) * 3u * prm.nn;
+}
+
 fn ld(b: u32, n: u32) -> vec3<f64> {
     if (b == 0u) {
-        return vec3<f64>(xs[3u * n], xs[3u * n + 1u], xs[3u * n + 2u]);
+        let o = x_half(false) + 3u * n;
+        return vec3<f64>(xs[o], xs[o + 1u], xs[o + 2u]);
     }
     return vec3<f64>(vs[3u * n], vs[3u * n + 1u], vs[3u * n + 2u]);
 }
@@ -2064,6 +2074,17 @@ fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
 
 // ---------------------------------------------------------------- positions, end of a step
 
+// x^(n+1) = x^n + dt v^(n+1/2) of node n into the other half of xs (x_half).
+fn move_node(n: u32, v: vec3<f64>, dt: f64) {
+    let o = x_half(false) + 3u * n;
+    let p = x_half(true) + 3u * n;
+    xs[p] = xs[o] + v[0] * dt;
+    xs[p + 1u] = xs[o + 1u] + v[1] * dt;
+    xs[p + 2u] = xs[o + 2u] + v[2] * dt;
+}
+
+// x^(n+1) of every node from the state a restart file holds (x^n and v^(n+1/2) of a step that
+// had begun): the nodes pass of that step wrote it on the device it ran on.
 @compute @workgroup_size(64)
 fn positions(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
              @builtin(num_workgroups) nw: vec3<u32>) {
@@ -2071,10 +2092,7 @@ fn positions(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id
     if (f64(n) >= cf[SLOTS] || halted() || cf[PENDING] == 0.0lf) {
         return;
     }
-    let dt = cf[DT];
-    for (var i = 0u; i < 3u; i = i + 1u) {
-        xs[3u * n + i] = xs[3u * n + i] + vs[3u * n + i] * dt;
-    }
+    move_node(n, ld(1u, n), cf[DT]);
 }
 
 // The end of a step (solver.rs update_positions): t^(n+1) = t^n + dt, the step counted, the
@@ -2716,6 +2734,7 @@ fn tied(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid
         vs[3u * sl + i] = v[i];
         vns[3u * sl + i] = vn[i];
     }
+    move_node(sl, v, cf[DT]);
 }
 
 @compute @workgroup_size(64)
@@ -2920,6 +2939,7 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
             vs[3u * n + i] = v[i];
             vns[3u * n + i] = vn[i];
         }
+        move_node(n, v, dt);
         if (!finite(v[0]) || !finite(v[1]) || !finite(v[2])) {
             atomicMin(&cu[NONFINITE], n);
         }

@@ -141,9 +141,13 @@ pub struct GpuStepper {
     /// Bytes of the buffers on the device.
     device_bytes: u64,
     /// The buffers that carry the state from one step to the next, in the order of
-    /// [`Self::save`], each with its values per element where the device stores it by
-    /// component (0: as it is; a restart file holds them by element, as before).
-    persistent: Vec<(wgpu::Buffer, usize)>,
+    /// [`Self::save`], each with how it is stored.
+    persistent: Vec<(wgpu::Buffer, Stored)>,
+    /// Values of the positions of one step (3 per node entry); the buffer holds two steps'
+    /// (step.wgsl x_half).
+    x_len: usize,
+    /// The pass that writes x^(n+1) from x^n and v^(n+1/2), after a restart file is taken up.
+    positions: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
     pub(crate) cf: wgpu::Buffer,
     pub(crate) cu: wgpu::Buffer,
@@ -162,6 +166,18 @@ pub struct GpuStepper {
     /// The groups of the per-node passes ([`group_grid`] of the entries in use), read by their
     /// indirect dispatches.
     pub(crate) node_groups: wgpu::Buffer,
+}
+
+/// How a buffer that carries the state is stored on the device, and so turned for a restart
+/// file (which holds every array as the host does: by element, and one step's positions).
+#[derive(Clone, Copy)]
+enum Stored {
+    AsIs,
+    /// An element array of this many values per element, by component (layout.rs
+    /// by_component).
+    ByComponent(usize),
+    /// The positions of two steps, x^n in the half of the step's parity (step.wgsl x_half).
+    Positions,
 }
 
 /// The buffers of the model's arrays that a split rewrites ([`Layout`], per slot).
@@ -323,8 +339,10 @@ impl GpuStepper {
         // the state's positions (a tied slave node starts on its face), one entry per node or
         // per slot of the coincident sets
         let (x0, v0, mass0) = kinematics(solver);
+        // (two steps' positions: x^n and x^(n+1), step.wgsl x_half)
+        let x_len = x0.len();
         let state = StateBuffers {
-            x: f64s("x", &x0),
+            x: f64s("x", &[x0.as_slice(), &x0].concat()),
             v: f64s("v", &v0),
             vn: f64s("v_n", &v0),
             sig: zeros("stress", 6 * ne),
@@ -500,7 +518,7 @@ impl GpuStepper {
         // (entry point, groups) of each step; the passes of ELFORM 13 only where it is used.
         // The end of a step (time, step count) is the finish pass's, and the commit pass's
         // once at the start of each batch for a step that halted
-        let mut passes = vec![("positions", groups_n)];
+        let mut passes = vec![];
         if np {
             passes.extend([("np_theta", groups_e), ("np_node_theta", groups_n)]);
         }
@@ -534,13 +552,14 @@ impl GpuStepper {
                 name,
                 pipeline: pipeline(name),
                 groups: match name {
-                    "positions" | "nodes" => Groups::Nodes,
+                    "nodes" => Groups::Nodes,
                     "cohesive" => Groups::Cohesive,
                     _ => Groups::Fixed(g),
                 },
             })
             .collect();
         let commit = pipeline("commit");
+        let positions = pipeline("positions");
         let device_bytes =
             storage.iter().map(|(_, b, _)| b.size()).sum::<u64>() + uniform.size() + 2 * CTL_BYTES;
         let staging = || {
@@ -558,26 +577,28 @@ impl GpuStepper {
             usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
         });
         let mut persistent = vec![
-            (cf_buf.clone(), 0),
-            (cu_buf.clone(), 0),
-            (state.x.clone(), 0),
-            (state.v.clone(), 0),
-            (state.vn.clone(), 0),
-            (state.sig.clone(), 6),
-            (state.hist.clone(), 0),
-            (state.hg.clone(), 12),
-            (state.bq.clone(), 0),
-            (rb.clone(), 0),
-            (gps.clone(), 0),
+            (cf_buf.clone(), Stored::AsIs),
+            (cu_buf.clone(), Stored::AsIs),
+            (state.x.clone(), Stored::Positions),
+            (state.v.clone(), Stored::AsIs),
+            (state.vn.clone(), Stored::AsIs),
+            (state.sig.clone(), Stored::ByComponent(6)),
+            (state.hist.clone(), Stored::AsIs),
+            (state.hg.clone(), Stored::ByComponent(12)),
+            (state.bq.clone(), Stored::AsIs),
+            (rb.clone(), Stored::AsIs),
+            (gps.clone(), Stored::AsIs),
         ];
         if erodes {
-            persistent.push((ero.clone(), 0));
+            persistent.push((ero.clone(), Stored::AsIs));
         }
         Ok(Self {
             pipelines,
             commit,
             device_bytes,
             persistent,
+            x_len,
+            positions,
             bind_group,
             cf: cf_buf,
             cu: cu_buf,
@@ -712,11 +733,16 @@ impl GpuStepper {
             out.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
             out.extend_from_slice(bytes);
         };
-        for (b, k) in &self.persistent {
-            if *k > 0 {
-                put(bytemuck::cast_slice(&by_element(&self.download(b), *k)));
-            } else {
-                put(&self.download_bytes(b));
+        let step = self.download(&self.cf)[cf::STEP];
+        for (b, stored) in &self.persistent {
+            match *stored {
+                Stored::AsIs => put(&self.download_bytes(b)),
+                Stored::ByComponent(k) => {
+                    put(bytemuck::cast_slice(&by_element(&self.download(b), k)));
+                }
+                Stored::Positions => {
+                    put(bytemuck::cast_slice(&self.download(b)[self.x_half(step)]));
+                }
             }
         }
         if self.sep.n_if > 0 {
@@ -730,15 +756,18 @@ impl GpuStepper {
     pub fn load(&mut self, solver: &mut Solver, bytes: &[u8]) -> Result<(), String> {
         let mut rest = bytes;
         let mut parts = Vec::with_capacity(self.persistent.len());
-        for (b, _) in &self.persistent {
+        for (b, stored) in &self.persistent {
             let (len, tail) = rest
                 .split_at_checked(8)
                 .ok_or("the GPU state is cut short")?;
             let len = u64::from_le_bytes(len.try_into().expect("8 bytes"));
-            if len != b.size() {
+            let size = match stored {
+                Stored::Positions => 8 * self.x_len as u64,
+                _ => b.size(),
+            };
+            if len != size {
                 return Err(format!(
-                    "the GPU state holds an array of {len} bytes where this model has {}",
-                    b.size()
+                    "the GPU state holds an array of {len} bytes where this model has {size}"
                 ));
             }
             let (data, tail) = tail
@@ -747,6 +776,11 @@ impl GpuStepper {
             parts.push(data);
             rest = tail;
         }
+        // (the control block is the first array, its size checked above)
+        let cf_saved = parts[0];
+        let saved =
+            |k: usize| f64::from_le_bytes(cf_saved[8 * k..8 * k + 8].try_into().expect("8 bytes"));
+        let step = saved(cf::STEP);
         if self.sep.n_if > 0 {
             // the host's interfaces and sets, then the model's arrays for them
             let (len, tail) = rest
@@ -757,21 +791,23 @@ impl GpuStepper {
                 .split_at_checked(len)
                 .ok_or("the GPU state is cut short")?;
             solver.restore_state(data)?;
-            self.upload_sets(solver);
+            self.upload_sets(solver, step);
             rest = tail;
         }
         if !rest.is_empty() {
             return Err("the GPU state holds more arrays than this model".into());
         }
-        // (the control block is the first array, its size checked above)
-        let cf_saved = parts[0];
         let q = &self.gpu.queue;
-        for ((b, k), data) in self.persistent.iter().zip(parts) {
-            if *k > 0 {
-                let values: Vec<f64> = bytemuck::pod_collect_to_vec(data);
-                q.write_buffer(b, 0, bytemuck::cast_slice(&by_component(&values, *k)));
-            } else {
-                q.write_buffer(b, 0, data);
+        for ((b, stored), data) in self.persistent.iter().zip(parts) {
+            match *stored {
+                Stored::AsIs => q.write_buffer(b, 0, data),
+                Stored::ByComponent(k) => {
+                    let values: Vec<f64> = bytemuck::pod_collect_to_vec(data);
+                    q.write_buffer(b, 0, bytemuck::cast_slice(&by_component(&values, k)));
+                }
+                Stored::Positions => {
+                    q.write_buffer(b, 8 * self.x_half(step).start as u64, data);
+                }
             }
         }
         // the deck's controls are this run's (a continued run may be given another end time)
@@ -783,11 +819,7 @@ impl GpuStepper {
         // it was saved halted: running again from here, the step it halted at to be ended
         // first if it had begun (a file of an earlier cleave, which ended a step at the
         // start of the next, has no COMMIT_DUE of its own)
-        let pending = f64::from_le_bytes(
-            cf_saved[8 * cf::PENDING..8 * cf::PENDING + 8]
-                .try_into()
-                .expect("8 bytes"),
-        );
+        let pending = saved(cf::PENDING);
         q.write_buffer(
             &self.cf,
             (cf::COMMIT_DUE * 8) as u64,
@@ -801,6 +833,14 @@ impl GpuStepper {
             bytemuck::bytes_of(&0u32),
         );
         let mut enc = self.gpu.device.create_command_encoder(&Default::default());
+        {
+            // x^(n+1) of a step that had begun, which its nodes pass wrote on the device it ran
+            // on (the file holds one step's positions)
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.set_pipeline(&self.positions);
+            pass.dispatch_workgroups_indirect(&self.node_groups, 0);
+        }
         self.copy_control(&mut enc, 0);
         q.submit([enc.finish()]);
         let c = self.read_control(0);
@@ -950,14 +990,20 @@ impl GpuStepper {
         out
     }
 
-    /// Fill the host mirror's positions and velocities from the GPU, and the softening faces'
-    /// state.
-    pub(crate) fn mirror_kinematics(&self, solver: &mut Solver) {
+    /// The values of the positions buffer that hold x^n at step `step` (step.wgsl x_half).
+    pub(crate) fn x_half(&self, step: f64) -> std::ops::Range<usize> {
+        let o = (step as u64 % 2) as usize * self.x_len;
+        o..o + self.x_len
+    }
+
+    /// Fill the host mirror's positions and velocities at step `step` from the GPU, and the
+    /// softening faces' state.
+    pub(crate) fn mirror_kinematics(&self, solver: &mut Solver, step: f64) {
         let vec3s =
             |d: Vec<f64>| -> Vec<Vec3> { d.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect() };
         // one entry per node, or per slot of the coincident sets (as many as there are now)
         let nn = solver.positions().entries().len();
-        let mut x = vec3s(self.download(&self.state.x));
+        let mut x = vec3s(self.download(&self.state.x)[self.x_half(step)].to_vec());
         let mut v = vec3s(self.download(&self.state.v));
         let mut vn = vec3s(self.download(&self.state.vn));
         x.truncate(nn);
@@ -971,7 +1017,7 @@ impl GpuStepper {
 
     /// Fill the host mirror of the state from the GPU.
     pub(crate) fn mirror(&self, solver: &mut Solver, c: &Control) {
-        self.mirror_kinematics(solver);
+        self.mirror_kinematics(solver, c.step());
         let ne = solver.model.num_elements();
         let sig = by_element(&self.download(&self.state.sig), 6);
         let hist = self.download(&self.state.hist);
@@ -1185,6 +1231,11 @@ impl Control {
 
     fn halt(&self) -> u32 {
         self.u[cu::HALT]
+    }
+
+    /// The step count (the halves of the positions go by its parity).
+    pub(crate) fn step(&self) -> f64 {
+        self.f[cf::STEP]
     }
 
     /// Time, step, time steps and energies into the host's state.

@@ -22,7 +22,7 @@
 //   rigid (1 group/body)  force and moment of each rigid body (fixed tree), its 6-dof update
 //   nodes (per node)      force gather in a fixed order, v^(n+1/2), rigid bodies' nodes
 //                         placed, constraints and rigid walls; partials; x^(n+1) = x^n +
-//                         dt v^(n+1/2) into the other half of the positions (x_half)
+//                         dt v^(n+1/2) into the other half of the positions (halves)
 //   finish (1 group)      kinetic energy, external work; halts at output times and errors;
 //                         else ends the step (advance: t, dt_prev, step, the rigid bodies'
 //                         placements, body accelerations at t^(n+1) and t^n)
@@ -868,14 +868,19 @@ fn ek(e: u32, k: u32) -> u32 {
 // The positions are kept for two steps: x^n, which the step reads, and x^(n+1), which the
 // nodes pass writes with v^(n+1/2), in the halves of xs (3 nn values each) by the parity of
 // the step: a step that halts leaves x^n where the host reads it, and no pass of its own
-// moves the nodes.
-fn x_half(next: bool) -> u32 {
-    return ((u32(cf[STEP]) & 1u) ^ select(0u, 1u, next)) * 3u * prm.nn;
+// moves the nodes. Where each half starts is worked out once, first thing in every entry
+// point (halves), not at each read.
+var<private> x_now: u32;
+var<private> x_next: u32;
+fn halves() {
+    let p = u32(cf[STEP]) & 1u;
+    x_now = p * 3u * prm.nn;
+    x_next = (1u - p) * 3u * prm.nn;
 }
 
 fn ld(b: u32, n: u32) -> vec3<f64> {
     if (b == 0u) {
-        let o = x_half(false) + 3u * n;
+        let o = x_now + 3u * n;
         return vec3<f64>(xs[o], xs[o + 1u], xs[o + 2u]);
     }
     return vec3<f64>(vs[3u * n], vs[3u * n + 1u], vs[3u * n + 2u]);
@@ -1680,6 +1685,7 @@ fn hex_kinematics(e: u32, m: Mat, dt_prev: f64) -> HexKin {
 @compute @workgroup_size(64)
 fn elements(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
             @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let grp = wid.y * nw.x + wid.x;
     let e = 64u * grp + lid.x;
     let run = !halted();
@@ -1764,6 +1770,7 @@ fn tet_nodes(e: u32) -> array<u32, 4> {
 @compute @workgroup_size(64)
 fn np_theta(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
             @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let e = 64u * (wid.y * nw.x + wid.x) + lid.x;
     if (e >= prm.ne || halted() || (emat[e] & NP) == 0u) {
         return;
@@ -1824,6 +1831,7 @@ fn np_node(n: u32, k: u32) {
 @compute @workgroup_size(64)
 fn np_node_theta(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
                  @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let n = 64u * (wid.y * nw.x + wid.x) + lid.x;
     if (n < prm.nn && !halted()) {
         np_node(n, 1u);
@@ -1833,6 +1841,7 @@ fn np_node_theta(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
 @compute @workgroup_size(64)
 fn np_node_p(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
              @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let n = 64u * (wid.y * nw.x + wid.x) + lid.x;
     if (n < prm.nn && !halted()) {
         np_node(n, 2u);
@@ -1844,6 +1853,7 @@ fn np_node_p(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id
 @compute @workgroup_size(64)
 fn np_correct(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
               @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let e = 64u * (wid.y * nw.x + wid.x) + lid.x;
     if (e >= prm.ne || halted() || (emat[e] & NP) == 0u || npe[3u * e] == 0.0lf) {
         return;
@@ -1940,6 +1950,7 @@ fn rb_sum(l: u32, val: f64) -> f64 {
 @compute @workgroup_size(64)
 fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
          @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let b = wid.y * nw.x + wid.x;
     let l = lid.x;
     let live = !halted() && b < prm.n_rigid;
@@ -2074,10 +2085,10 @@ fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
 
 // ---------------------------------------------------------------- positions, end of a step
 
-// x^(n+1) = x^n + dt v^(n+1/2) of node n into the other half of xs (x_half).
+// x^(n+1) = x^n + dt v^(n+1/2) of node n into the other half of xs (halves).
 fn move_node(n: u32, v: vec3<f64>, dt: f64) {
-    let o = x_half(false) + 3u * n;
-    let p = x_half(true) + 3u * n;
+    let o = x_now + 3u * n;
+    let p = x_next + 3u * n;
     xs[p] = xs[o] + v[0] * dt;
     xs[p + 1u] = xs[o + 1u] + v[1] * dt;
     xs[p + 2u] = xs[o + 2u] + v[2] * dt;
@@ -2088,11 +2099,28 @@ fn move_node(n: u32, v: vec3<f64>, dt: f64) {
 @compute @workgroup_size(64)
 fn positions(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
              @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let n = 64u * (wid.y * nw.x + wid.x) + lid.x;
     if (f64(n) >= cf[SLOTS] || halted() || cf[PENDING] == 0.0lf) {
         return;
     }
     move_node(n, ld(1u, n), cf[DT]);
+}
+
+// The control block as the one-group passes (commit, control, finish) read it: loaded once
+// by the group's threads together, so that the serial end of each pass (one thread) works
+// on workgroup memory and not through a chain of round trips to device memory; each value
+// it sets is written to both (put_cf).
+var<workgroup> wcf: array<f64, 64>;
+fn stage_cf(l: u32, threads: u32) {
+    for (var k = l; k < 64u; k = k + threads) {
+        wcf[k] = cf[k];
+    }
+    workgroupBarrier();
+}
+fn put_cf(k: u32, v: f64) {
+    wcf[k] = v;
+    cf[k] = v;
 }
 
 // The end of a step (solver.rs update_positions): t^(n+1) = t^n + dt, the step counted, the
@@ -2101,9 +2129,9 @@ fn positions(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id
 // output, a restart file, the end, an error) leaves it to the next batch's commit pass, so
 // that the host reads the state at t^n.
 fn advance() {
-    cf[T] = cf[T] + cf[DT];
-    cf[DT_PREV] = cf[DT];
-    cf[STEP] = cf[STEP] + 1.0lf;
+    put_cf(T, wcf[T] + wcf[DT]);
+    put_cf(DT_PREV, wcf[DT]);
+    put_cf(STEP, wcf[STEP] + 1.0lf);
     for (var b = 0u; b < prm.n_rigid; b = b + 1u) {
         let so = RB_STATE * b;
         for (var i = 0u; i < 12u; i = i + 1u) {
@@ -2121,11 +2149,11 @@ fn advance() {
 
 // The body loads' accelerations at t and at t - dt_prev.
 fn body_loads_now() {
-    let g = body_acceleration(cf[T]);
-    let gp = body_acceleration(cf[T] - cf[DT_PREV]);
+    let g = body_acceleration(wcf[T]);
+    let gp = body_acceleration(wcf[T] - wcf[DT_PREV]);
     for (var i = 0u; i < 3u; i = i + 1u) {
-        cf[G_NOW + i] = g[i];
-        cf[G_PREV + i] = gp[i];
+        put_cf(G_NOW + i, g[i]);
+        put_cf(G_PREV + i, gp[i]);
     }
 }
 
@@ -2133,11 +2161,13 @@ fn body_loads_now() {
 // the body loads at the start of a run.
 @compute @workgroup_size(1)
 fn commit() {
+    halves();
+    stage_cf(0u, 1u);
     if (halted()) {
         return;
     }
-    if (cf[COMMIT_DUE] != 0.0lf) {
-        cf[COMMIT_DUE] = 0.0lf;
+    if (wcf[COMMIT_DUE] != 0.0lf) {
+        put_cf(COMMIT_DUE, 0.0lf);
         advance();
     } else {
         body_loads_now();
@@ -2189,6 +2219,8 @@ fn fail(kind: u32) {
 
 @compute @workgroup_size(256)
 fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
+    halves();
+    stage_cf(lid.x, 256u);
     let run = !halted();
     let l = lid.x;
     // thread l takes the element groups' partials l, l + 256, ... in that order, read four
@@ -2260,33 +2292,33 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
         fail(1u);
         return;
     }
-    cf[E_INT] = cf[E_INT] + c_ei[0];
-    cf[E_HG] = cf[E_HG] + c_eh[0];
-    cf[E_ERODED] = cf[E_ERODED] + c_ee[0];
-    cf[N_ERODED] = cf[N_ERODED] + c_en[0];
+    put_cf(E_INT, wcf[E_INT] + c_ei[0]);
+    put_cf(E_HG, wcf[E_HG] + c_eh[0]);
+    put_cf(E_ERODED, wcf[E_ERODED] + c_ee[0]);
+    put_cf(N_ERODED, wcf[N_ERODED] + c_en[0]);
     let dt_crit = c_dt[0];
-    cf[DT_CRIT] = dt_crit;
-    let step0 = cf[STEP] == 0.0lf;
-    var d = cf[TSSFAC] * dt_crit;
+    put_cf(DT_CRIT, dt_crit);
+    let step0 = wcf[STEP] == 0.0lf;
+    var d = wcf[TSSFAC] * dt_crit;
     // the cohesive springs' own step (it holds its budget: not scaled by TSSFAC)
     if (c_om[0] > 0.0lf) {
         d = min(d, sqrt(2.0lf / c_om[0]));
     }
-    cf[E_FRAC] = cf[E_FRAC] + c_w[0];
+    put_cf(E_FRAC, wcf[E_FRAC] + c_w[0]);
     // no element limits the step (the CPU's infinite dt_crit): BIG is the reduction's start
     let none = dt_crit >= BIG || !finite(dt_crit);
-    if (none && !step0 && cf[N_ERODED] > 0.0lf) {
+    if (none && !step0 && wcf[N_ERODED] > 0.0lf) {
         // every deformable element has eroded: go on with the last step
-        d = min(d, cf[DT_PREV]);
+        d = min(d, wcf[DT_PREV]);
     }
-    if (cf[DT_INIT] > 0.0lf && (step0 || none)) {
-        d = min(d, cf[DT_INIT]);
+    if (wcf[DT_INIT] > 0.0lf && (step0 || none)) {
+        d = min(d, wcf[DT_INIT]);
     }
     atomicStore(&cu[DT_ELEM], c_id[0]);
-    cf[DT] = d;
+    put_cf(DT, d);
     if (step0) {
-        cf[DT_FLOOR] = cf[DT_MIN] * d;
-    } else if (d < cf[DT_FLOOR]) {
+        put_cf(DT_FLOOR, wcf[DT_MIN] * d);
+    } else if (d < wcf[DT_FLOOR]) {
         fail(2u);
         return;
     }
@@ -2298,27 +2330,27 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
         // LCTM, after the floor (curve.rs Curve::step_cap): its value, but for past its last
         // abscissa or where it is 0
         let o = prm.dt_max_off;
-        let cap = curve_eval(o, cf[T]);
-        if (cf[T] <= par[o + u32(par[o])] && cap != 0.0lf) {
+        let cap = curve_eval(o, wcf[T]);
+        if (wcf[T] <= par[o + u32(par[o])] && cap != 0.0lf) {
             d = min(d, cap);
         }
     }
-    let remaining = cf[END_TIME] - cf[T];
-    if (remaining <= 1e-9lf * min(d, cf[END_TIME])) {
+    let remaining = wcf[END_TIME] - wcf[T];
+    if (remaining <= 1e-9lf * min(d, wcf[END_TIME])) {
         atomicStore(&cu[FINISHED], 1u);
     } else if (d > remaining) {
         d = remaining;
     }
-    cf[DT] = d;
-    let dp = cf[DT_PREV];
-    cf[DT_MID] = 0.5lf * (dp + d);
+    put_cf(DT, d);
+    let dp = wcf[DT_PREV];
+    put_cf(DT_MID, 0.5lf * (dp + d));
     var w = 0.0lf;
     if (step0) {
         w = 0.5lf;
     } else if (dp + d > 0.0lf) {
         w = dp / (dp + d);
     }
-    cf[W_HALF] = w;
+    put_cf(W_HALF, w);
 }
 
 // ---------------------------------------------------------------- interfaces: separation
@@ -2338,6 +2370,7 @@ const IF_STRIDE: u32 = 12u;
 @compute @workgroup_size(64)
 fn interfaces(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
               @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let i = 64u * (wid.y * nw.x + wid.x) + lid.x;
     // (an inverted element has no stress to check: the control pass stops the run)
     if (i >= prm.n_if || halted() || atomicLoad(&cu[INVERTED]) != 0xffffffffu) {
@@ -2421,6 +2454,7 @@ fn row_bound(s: S6) -> f64 {
 // host releases them, splits the sets and runs the rest of the step.
 @compute @workgroup_size(1)
 fn interfaces_done() {
+    halves();
     if (halted() || atomicLoad(&ifl[0]) == 0u) {
         return;
     }
@@ -2526,6 +2560,7 @@ fn coh_store(o: u32, v: vec3<f64>) {
 @compute @workgroup_size(64)
 fn cohesive(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
             @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let f = 64u * (wid.y * nw.x + wid.x) + lid.x;
     if (f >= atomicLoad(&cu[N_COH]) || halted()) {
         return;
@@ -2716,6 +2751,7 @@ fn tie_forces(n: u32, t: f64) -> vec3<f64> {
 @compute @workgroup_size(64)
 fn tied(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
         @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let k = 64u * (wid.y * nw.x + wid.x) + lid.x;
     if (k >= prm.n_ties || halted()) {
         return;
@@ -2740,6 +2776,7 @@ fn tied(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid
 @compute @workgroup_size(64)
 fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
          @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
     let n = 64u * (wid.y * nw.x + wid.x) + lid.x;
     let run = !halted();
     // the ledger's six values (kept apart from the walls', which only a deck with walls
@@ -3040,6 +3077,8 @@ var<workgroup> f_tot: array<f64, MAX_PART>;
 
 @compute @workgroup_size(256)
 fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
+    halves();
+    stage_cf(lid.x, 256u);
     let run = !halted();
     let l = lid.x;
     // each thread's sums over the partials g = l, l + 256, ... in that order, the six values of
@@ -3089,11 +3128,11 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
         fail(4u);
         return;
     }
-    cf[E_KIN] = ke;
+    put_cf(E_KIN, ke);
     var body = 0.0lf;
-    let dp = cf[DT_PREV];
+    let dp = wcf[DT_PREV];
     if (prm.n_body > 0u && dp != 0.0lf) {
-        let g = vec3<f64>(cf[G_PREV], cf[G_PREV + 1u], cf[G_PREV + 2u]) + vec3<f64>(cf[G_NOW], cf[G_NOW + 1u], cf[G_NOW + 2u]);
+        let g = vec3<f64>(wcf[G_PREV], wcf[G_PREV + 1u], wcf[G_PREV + 2u]) + vec3<f64>(wcf[G_NOW], wcf[G_NOW + 1u], wcf[G_NOW + 2u]);
         body = 0.5lf * dot(g, vec3<f64>(f_tot[1], f_tot[2], f_tot[3])) * dp;
     }
     // the work of the rigid bodies' constraints and prescribed motions, body after body
@@ -3103,30 +3142,30 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
         rb_now = rb_now + rb[RB_STATE * b + 33u];
         rb_later = rb_later + rb[RB_STATE * b + 34u];
     }
-    cf[E_EXT] = cf[E_EXT] + cf[PENDING_WORK] + f_tot[4] + rb_now + body;
-    cf[PENDING_WORK] = f_tot[5] + rb_later;
+    put_cf(E_EXT, wcf[E_EXT] + wcf[PENDING_WORK] + f_tot[4] + rb_now + body);
+    put_cf(PENDING_WORK, f_tot[5] + rb_later);
     var inv = 0.0lf;
-    if (cf[DT_MID] > 0.0lf) {
-        inv = 1.0lf / cf[DT_MID];
+    if (wcf[DT_MID] > 0.0lf) {
+        inv = 1.0lf / wcf[DT_MID];
     }
     for (var wl = 0u; wl < prm.n_walls; wl = wl + 1u) {
         for (var k = 0u; k < 4u; k = k + 1u) {
-            cf[WALL_FORCE + 4u * wl + k] = f_tot[6u + 4u * wl + k] * inv;
+            put_cf(WALL_FORCE + 4u * wl + k, f_tot[6u + 4u * wl + k] * inv);
         }
     }
-    if (cf[STEP] == 0.0lf) {
-        cf[E_INIT] = ke + cf[E_INT] + cf[E_HG] - cf[E_EXT];
+    if (wcf[STEP] == 0.0lf) {
+        put_cf(E_INIT, ke + wcf[E_INT] + wcf[E_HG] - wcf[E_EXT]);
     }
     // the positions are due at every step from here on (the next positions pass)
-    cf[PENDING] = 1.0lf;
+    put_cf(PENDING, 1.0lf);
     if (atomicLoad(&cu[FINISHED]) != 0u) {
         atomicStore(&cu[HALT], 2u);
-        cf[HALTED] = 1.0lf;
-        cf[COMMIT_DUE] = 1.0lf;
-    } else if (cf[T] >= cf[T_STOP] * (1.0lf - 1e-12lf)) {
+        put_cf(HALTED, 1.0lf);
+        put_cf(COMMIT_DUE, 1.0lf);
+    } else if (wcf[T] >= wcf[T_STOP] * (1.0lf - 1e-12lf)) {
         atomicStore(&cu[HALT], 1u);
-        cf[HALTED] = 1.0lf;
-        cf[COMMIT_DUE] = 1.0lf;
+        put_cf(HALTED, 1.0lf);
+        put_cf(COMMIT_DUE, 1.0lf);
     } else {
         advance();
     }

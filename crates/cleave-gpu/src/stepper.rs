@@ -144,7 +144,7 @@ pub struct GpuStepper {
     /// [`Self::save`], each with how it is stored.
     persistent: Vec<(wgpu::Buffer, Stored)>,
     /// Values of the positions of one step (3 per node entry); the buffer holds two steps'
-    /// (step.wgsl x_half).
+    /// (step.wgsl halves).
     x_len: usize,
     /// The pass that writes x^(n+1) from x^n and v^(n+1/2), after a restart file is taken up.
     positions: wgpu::ComputePipeline,
@@ -176,7 +176,7 @@ enum Stored {
     /// An element array of this many values per element, by component (layout.rs
     /// by_component).
     ByComponent(usize),
-    /// The positions of two steps, x^n in the half of the step's parity (step.wgsl x_half).
+    /// The positions of two steps, x^n in the half of the step's parity (step.wgsl halves).
     Positions,
 }
 
@@ -339,7 +339,7 @@ impl GpuStepper {
         // the state's positions (a tied slave node starts on its face), one entry per node or
         // per slot of the coincident sets
         let (x0, v0, mass0) = kinematics(solver);
-        // (two steps' positions: x^n and x^(n+1), step.wgsl x_half)
+        // (two steps' positions: x^n and x^(n+1), step.wgsl halves)
         let x_len = x0.len();
         let state = StateBuffers {
             x: f64s("x", &[x0.as_slice(), &x0].concat()),
@@ -848,6 +848,28 @@ impl GpuStepper {
         Ok(())
     }
 
+    /// Seconds per step of `steps` steps recorded in one submission while the state is
+    /// halted: every pass dispatched, each returning at its halt test. The floor that the
+    /// dispatches, their barriers and the one-group passes' launches set under a step's cost,
+    /// for benchmarks; the state is left as it was (and not halted).
+    pub fn idle_step_seconds(&self, steps: usize) -> f64 {
+        let q = &self.gpu.queue;
+        q.write_buffer(
+            &self.cf,
+            (cf::HALTED * 8) as u64,
+            bytemuck::bytes_of(&1.0f64),
+        );
+        // (the write lands before the batch: the queue runs them in order)
+        self.read_control(0);
+        let cmd = self.record(steps, 0);
+        let start = Instant::now();
+        q.submit([cmd]);
+        self.read_control(0);
+        let secs = start.elapsed().as_secs_f64() / steps.max(1) as f64;
+        self.clear_halt();
+        secs
+    }
+
     /// Bytes of the buffers this stepper keeps on the device (the model, the state and the
     /// scratch arrays of the passes).
     pub fn device_bytes(&self) -> u64 {
@@ -990,7 +1012,7 @@ impl GpuStepper {
         out
     }
 
-    /// The values of the positions buffer that hold x^n at step `step` (step.wgsl x_half).
+    /// The values of the positions buffer that hold x^n at step `step` (step.wgsl halves).
     pub(crate) fn x_half(&self, step: f64) -> std::ops::Range<usize> {
         let o = (step as u64 % 2) as usize * self.x_len;
         o..o + self.x_len

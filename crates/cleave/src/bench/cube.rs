@@ -76,7 +76,15 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
             );
             step0 = solver.state.step;
         }
-        super::run_quiet_gpu(&mut g, &mut solver)?
+        let timing = super::run_quiet_gpu(&mut g, &mut solver)?;
+        // the same steps with every pass returning at once: what the dispatches cost
+        let idle = g.idle_step_seconds(a.steps as usize);
+        gpu_lines.push(format!(
+            "  idle step {:.1} us ({} steps in one submission, every pass dispatched and returning at its halt test)",
+            1e6 * idle,
+            a.steps
+        ));
+        timing
     } else {
         super::run_quiet(&pool, &mut solver)?
     };

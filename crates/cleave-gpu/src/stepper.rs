@@ -1113,18 +1113,34 @@ impl GpuStepper {
     ) -> Result<(), RunError> {
         let stop_at = |obs: &dyn Checkpointing| obs.next_due().min(obs.checkpoint_due());
         self.set_stop_time(stop_at(obs));
-        let mut in_flight: Vec<(usize, Instant)> = Vec::new();
+        let end_time = solver.model.control.end_time;
+        // (staging buffer, when submitted, steps)
+        let mut in_flight: Vec<(usize, Instant, usize)> = Vec::new();
         let mut next_staging = 0;
         let mut stopping = false;
+        // the time and step size last read back, for the batches' lengths
+        let (mut t_known, mut dt_known) = (solver.state.t, solver.state.dt);
         loop {
             while in_flight.len() < 2 {
-                let cmd = self.record(self.batch, next_staging);
+                let stop = if stopping {
+                    t_known
+                } else {
+                    stop_at(obs).min(end_time)
+                };
+                let ahead: usize = in_flight.iter().map(|b| b.2).sum();
+                let steps = batch_steps(self.batch, t_known, dt_known, stop, ahead);
+                if steps == 0 {
+                    // the batch in flight reaches the halt: another would only run idle
+                    break;
+                }
+                let cmd = self.record(steps, next_staging);
                 self.gpu.queue.submit([cmd]);
-                in_flight.push((next_staging, Instant::now()));
+                in_flight.push((next_staging, Instant::now(), steps));
                 next_staging = 1 - next_staging;
             }
-            let (staging, started) = in_flight.remove(0);
+            let (staging, started, _) = in_flight.remove(0);
             let c = self.read_control(staging);
+            (t_known, dt_known) = (c.f[cf::T], c.f[cf::DT]);
             let secs = started.elapsed().as_secs_f64();
             if c.halt() == 0 {
                 if secs < 0.02 && self.batch < 4096 {
@@ -1140,7 +1156,7 @@ impl GpuStepper {
                 continue;
             }
             // the batch still in flight does nothing once halted: let it finish
-            for (s, _) in in_flight.drain(..) {
+            for (s, _, _) in in_flight.drain(..) {
                 self.read_control(s);
             }
             match c.halt() {
@@ -1192,6 +1208,28 @@ impl GpuStepper {
                 }
             }
         }
+    }
+}
+
+/// The steps of the next batch: up to `batch`, but no further than two steps past the one
+/// expected to halt at `stop` (a step halts when its start time reaches the halt time), from
+/// the time `t` and step `dt` last read back with `ahead` steps already in flight; 0 when the
+/// steps in flight reach it (a batch recorded past a halt runs idle: every dispatch a no-op,
+/// yet each costs its launch, so with frequent output most of a long batch was idle). The
+/// expected step count is a guess (the step may change): a batch that ends short of the halt
+/// is followed by another, one that passes it idles for the rest.
+fn batch_steps(batch: usize, t: f64, dt: f64, stop: f64, ahead: usize) -> usize {
+    if dt.is_nan() || dt <= 0.0 || !stop.is_finite() {
+        return batch.max(1);
+    }
+    // the halting step is the one that starts at or after `stop`: k steps from t, so k + 1
+    // steps reach it (and one more for a step that came out shorter)
+    let k = ((stop - t) / dt).ceil().clamp(0.0, 1e15) as usize;
+    let reach = k + 2;
+    if ahead == 0 {
+        reach.clamp(1, batch.max(1))
+    } else {
+        reach.saturating_sub(ahead).min(batch.max(1))
     }
 }
 
@@ -1324,5 +1362,29 @@ impl Control {
                 step,
             },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::batch_steps;
+
+    #[test]
+    fn batches_end_just_past_the_expected_halt() {
+        // dt 1, halt at t = 10 from t = 0: the step starting at 10 halts, the 11th; one spare
+        assert_eq!(batch_steps(4096, 0.0, 1.0, 10.0, 0), 12);
+        // 8 of them in flight already: 4 more
+        assert_eq!(batch_steps(4096, 0.0, 1.0, 10.0, 8), 4);
+        // the ones in flight reach it: none
+        assert_eq!(batch_steps(4096, 0.0, 1.0, 10.0, 12), 0);
+        // a halt far off: the whole batch, in flight or not
+        assert_eq!(batch_steps(64, 0.0, 1.0, 1e9, 0), 64);
+        assert_eq!(batch_steps(64, 0.0, 1.0, 1e9, 64), 64);
+        // a halt due now (a signal, or an output time passed): one step (two with the spare)
+        assert_eq!(batch_steps(64, 5.0, 1.0, 5.0, 0), 2);
+        assert_eq!(batch_steps(64, 5.0, 1.0, 3.0, 0), 2);
+        // no step known yet (the first batch) or no halt: the batch as it is
+        assert_eq!(batch_steps(4, 0.0, 0.0, 10.0, 0), 4);
+        assert_eq!(batch_steps(4, 0.0, 1.0, f64::INFINITY, 4), 4);
     }
 }

@@ -873,7 +873,8 @@ fn ek(e: u32, k: u32) -> u32 {
 var<private> x_now: u32;
 var<private> x_next: u32;
 fn halves() {
-    let p = u32(cf[STEP]) & 1u;
+    // (the parity taken in f64: exact to 2^53 steps, where a u32 would stop at 2^32)
+    let p = u32(cf[STEP] % 2.0lf);
     x_now = p * 3u * prm.nn;
     x_next = (1u - p) * 3u * prm.nn;
 }
@@ -2686,11 +2687,11 @@ fn node_force(n: u32) -> vec3<f64> {
         let c = ninc[k];
         let e = c >> 3u;
         let a = c & 7u;
-        let k = 3u * (a & 3u);
+        let j = 3u * (a & 3u);
         if (a < 4u) {
-            f = f + vec3<f64>(fe_lo[ek(e, k)], fe_lo[ek(e, k + 1u)], fe_lo[ek(e, k + 2u)]);
+            f = f + vec3<f64>(fe_lo[ek(e, j)], fe_lo[ek(e, j + 1u)], fe_lo[ek(e, j + 2u)]);
         } else {
-            f = f + vec3<f64>(fe_hi[ek(e, k)], fe_hi[ek(e, k + 1u)], fe_hi[ek(e, k + 2u)]);
+            f = f + vec3<f64>(fe_hi[ek(e, j)], fe_hi[ek(e, j + 1u)], fe_hi[ek(e, j + 2u)]);
         }
     }
     return f;

@@ -255,13 +255,13 @@ impl GpuStepper {
         let limit = gpu.limits.max_storage_buffer_binding_size;
         // the largest arrays: 12 f64 per element (hourglass forces, each half of the corner
         // forces), 8 u32 per element (connectivity, corners per node); with ELFORM 2, 104 f64
-        // per element (the Gauss points)
+        // per element (the Gauss points); per node, two steps' positions (6 f64)
         let per_elem = if model.sections.iter().any(|s| s.elform == 2) {
             832
         } else {
             96
         };
-        let largest = (per_elem * ne).max(24 * nn) as u64;
+        let largest = (per_elem * ne).max(48 * nn) as u64;
         if largest > limit {
             return Err(GpuError::TooLarge(format!(
                 "{ne} elements need arrays of {largest} bytes; {} binds at most {limit} bytes per array (splitting larger arrays is not done yet): at most {} elements on this device",
@@ -851,22 +851,32 @@ impl GpuStepper {
     /// Seconds per step of `steps` steps recorded in one submission while the state is
     /// halted: every pass dispatched, each returning at its halt test. The floor that the
     /// dispatches, their barriers and the one-group passes' launches set under a step's cost,
-    /// for benchmarks; the state is left as it was (and not halted).
+    /// for benchmarks; the state is left as it was, its halt flags too.
     pub fn idle_step_seconds(&self, steps: usize) -> f64 {
         let q = &self.gpu.queue;
+        let mut enc = self.gpu.device.create_command_encoder(&Default::default());
+        self.copy_control(&mut enc, 0);
+        q.submit([enc.finish()]);
+        let before = self.read_control(0);
+        let halted = 1.0f64;
         q.write_buffer(
             &self.cf,
             (cf::HALTED * 8) as u64,
-            bytemuck::bytes_of(&1.0f64),
+            bytemuck::bytes_of(&halted),
         );
         // (the write lands before the batch: the queue runs them in order)
-        self.read_control(0);
         let cmd = self.record(steps, 0);
         let start = Instant::now();
         q.submit([cmd]);
         self.read_control(0);
         let secs = start.elapsed().as_secs_f64() / steps.max(1) as f64;
-        self.clear_halt();
+        let was = before.f[cf::HALTED];
+        q.write_buffer(&self.cf, (cf::HALTED * 8) as u64, bytemuck::bytes_of(&was));
+        q.write_buffer(
+            &self.cu,
+            (cu::HALT * 4) as u64,
+            bytemuck::bytes_of(&before.halt()),
+        );
         secs
     }
 
@@ -1114,12 +1124,13 @@ impl GpuStepper {
         let stop_at = |obs: &dyn Checkpointing| obs.next_due().min(obs.checkpoint_due());
         self.set_stop_time(stop_at(obs));
         let end_time = solver.model.control.end_time;
-        // (staging buffer, when submitted, steps)
-        let mut in_flight: Vec<(usize, Instant, usize)> = Vec::new();
+        // (staging buffer, when submitted, steps, the step count it starts from)
+        let mut in_flight: Vec<(usize, Instant, usize, f64)> = Vec::new();
         let mut next_staging = 0;
         let mut stopping = false;
-        // the time and step size last read back, for the batches' lengths
+        // the time, step size and step count last read back, for the batches' lengths
         let (mut t_known, mut dt_known) = (solver.state.t, solver.state.dt);
+        let mut step_known = solver.state.step as f64;
         loop {
             while in_flight.len() < 2 {
                 let stop = if stopping {
@@ -1135,12 +1146,13 @@ impl GpuStepper {
                 }
                 let cmd = self.record(steps, next_staging);
                 self.gpu.queue.submit([cmd]);
-                in_flight.push((next_staging, Instant::now(), steps));
+                let start = step_known + ahead as f64;
+                in_flight.push((next_staging, Instant::now(), steps, start));
                 next_staging = 1 - next_staging;
             }
-            let (staging, started, _) = in_flight.remove(0);
+            let (staging, started, _, start) = in_flight.remove(0);
             let c = self.read_control(staging);
-            (t_known, dt_known) = (c.f[cf::T], c.f[cf::DT]);
+            (t_known, dt_known, step_known) = (c.f[cf::T], c.f[cf::DT], c.step());
             let secs = started.elapsed().as_secs_f64();
             if c.halt() == 0 {
                 if secs < 0.02 && self.batch < 4096 {
@@ -1156,7 +1168,7 @@ impl GpuStepper {
                 continue;
             }
             // the batch still in flight does nothing once halted: let it finish
-            for (s, _, _) in in_flight.drain(..) {
+            for (s, _, _, _) in in_flight.drain(..) {
                 self.read_control(s);
             }
             match c.halt() {
@@ -1169,6 +1181,11 @@ impl GpuStepper {
                 }
                 // interfaces failed: released on the host, the step run to its end
                 4 => {
+                    // a split comes when it comes: the rest of this batch and the one behind
+                    // it ran idle, so the batches shrink to about the steps between splits
+                    // (and grow again, doubling, while batches run through)
+                    let done = (c.step() - start).max(0.0) as usize;
+                    self.batch = (done + 1).next_power_of_two().clamp(4, self.batch.max(4));
                     self.split(solver, &c)?;
                     // (when interfaces fail in every step no batch runs through: ask here)
                     if !stopping && obs.stop_asked() {

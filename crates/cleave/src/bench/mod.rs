@@ -52,30 +52,43 @@ fn run_quiet(pool: &rayon::ThreadPool, solver: &mut Solver) -> Result<Timing, Fa
 }
 
 /// Run `solver` to its end time on the GPU of `stepper`, writing nothing (the state is read
-/// back only at the end).
+/// back once, at `from`, and at the end), and time the steps from the simulated time `from`
+/// on: the steps before it warm the GPU up (its clocks climb from idle, and the batches of
+/// steps per submission grow from 4 to thousands), so that the time is of the steady run.
+/// Returns the timing and the step count the timing started from.
 fn run_quiet_gpu(
     stepper: &mut cleave_gpu::GpuStepper,
     solver: &mut Solver,
-) -> Result<Timing, Failure> {
-    let steal0 = steal_seconds();
-    let start = std::time::Instant::now();
-    stepper
-        .run(solver, &mut QuietUntilEnd)
-        .map_err(run_failure)?;
-    let secs = start.elapsed().as_secs_f64();
+    from: f64,
+) -> Result<(Timing, u64), Failure> {
+    let mut warm = WarmUp { from, mark: None };
+    stepper.run(solver, &mut warm).map_err(run_failure)?;
+    let end = std::time::Instant::now();
+    let (start, step0, steal0) = warm.mark.unwrap_or((end, solver.state.step, None));
+    let secs = end.duration_since(start).as_secs_f64();
     let steal = steal_seconds().zip(steal0).map(|(b, a)| b - a);
-    Ok(Timing { secs, steal })
+    Ok((Timing { secs, steal }, step0))
 }
 
-/// An observer that writes nothing and asks for no state before the end.
-struct QuietUntilEnd;
+/// An observer that writes nothing and asks for the state once, at the time `from`, where it
+/// notes the moment, the step count and the steal time.
+struct WarmUp {
+    from: f64,
+    mark: Option<(std::time::Instant, u64, Option<f64>)>,
+}
 
-impl Observer for QuietUntilEnd {
-    fn observe(&mut self, _: &Solver) -> std::io::Result<()> {
+impl Observer for WarmUp {
+    fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
+        if self.mark.is_none() {
+            self.mark = Some((std::time::Instant::now(), s.state.step, steal_seconds()));
+        }
         Ok(())
     }
     fn next_due(&self) -> f64 {
-        f64::INFINITY
+        match self.mark {
+            None => self.from,
+            Some(_) => f64::INFINITY,
+        }
     }
 }
 

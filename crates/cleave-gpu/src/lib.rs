@@ -3,7 +3,7 @@
 //! and on Mesa's software Vulkan (lavapipe) on any CPU.
 //!
 //! The state lives on the GPU: the element pass, the time step (reduced on the GPU and used
-//! there), the nodal update and the energy ledger run as five or more dispatches a step
+//! there), the nodal update and the energy ledger run as four or more dispatches a step
 //! (`step.wgsl` lists them), and the host records many steps into one submission. It reads back
 //! a few control words per submission (time, step, whether a halt was asked for) and the state
 //! only when the output asks for it ([`cleave_core::solver::Observer::next_due`]), a step fails,

@@ -323,11 +323,15 @@ impl GpuStepper {
     /// Take up the softening faces' state from the GPU into the host's separation (their
     /// largest openings, last openings and forces; the fully open ones marked free).
     pub(crate) fn import_cohesive(&self, solver: &mut Solver) {
-        let all = self.download(&self.sep.ifs);
-        let coh = &all[self.sep.c_coh as usize..];
         let Some(sep) = solver.separation_mut() else {
             return;
         };
+        // (the rows of the softening faces the host knows, alone)
+        let ifs = &self.sep.ifs;
+        let from = 8 * u64::from(self.sep.c_coh);
+        let rows = (8 * CO_STRIDE * sep.cohesive_faces().len()) as u64;
+        let got = self.download_ranges(&[(ifs, from, rows.min(ifs.size() - from))]);
+        let coh: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
         let mut open = Vec::new();
         for (k, c) in sep.cohesive_faces_mut().iter_mut().enumerate() {
             let row = &coh[CO_STRIDE * k..CO_STRIDE * (k + 1)];
@@ -353,19 +357,34 @@ impl GpuStepper {
         // set's), with a cohesive law the stresses (the onset traction); the rest of the
         // mirror waits for the next output
         self.mirror_kinematics(solver, c.step());
+        // (one read-back: the failed interfaces' list, their failure indices, with a cohesive
+        // law the stresses)
+        let (ifl, ifs, sig) = (&self.sep.ifl, &self.sep.ifs, &self.state.sig);
+        let mut parts = vec![
+            (ifl, 0, ifl.size()),
+            (
+                ifs,
+                8 * u64::from(self.sep.if_index),
+                8 * u64::from(self.sep.n_if),
+            ),
+        ];
         if self.sep.coh_cap > 0 {
-            let sig = by_element(&self.download(&self.state.sig), 6);
+            parts.push((sig, 0, sig.size()));
+        }
+        let got = self.download_ranges(&parts);
+        if self.sep.coh_cap > 0 {
+            let sig = by_element(&bytemuck::pod_collect_to_vec::<u8, f64>(&got[2]), 6);
             for (e, s) in solver.state.stress.iter_mut().enumerate() {
                 s.copy_from_slice(&sig[6 * e..6 * e + 6]);
             }
         }
         c.apply(solver);
-        let list: Vec<u32> = bytemuck::pod_collect_to_vec(&self.download_bytes(&self.sep.ifl));
-        let ifs = self.download(&self.sep.ifs);
+        let list: Vec<u32> = bytemuck::pod_collect_to_vec(&got[0]);
+        let index_of: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
         // (a lost device reads back as NaNs: the count and numbers are then bounded, and
         // the next read of the control block reports the loss)
         let count = (list[0] as usize).min(list.len() - 1);
-        let index = |i: u32| ifs.get(self.sep.if_index as usize + i as usize).copied();
+        let index = |i: u32| index_of.get(i as usize).copied();
         let found: Vec<(f32, u32)> = list[1..=count]
             .iter()
             .map(|&i| (index(i).unwrap_or(f64::NAN) as f32, i))

@@ -1002,23 +1002,42 @@ impl GpuStepper {
 
     /// Read one buffer back as bytes (NaNs where the device is lost).
     pub(crate) fn download_bytes(&self, buf: &wgpu::Buffer) -> Vec<u8> {
-        let size = buf.size();
+        self.download_ranges(&[(buf, 0, buf.size())]).remove(0)
+    }
+
+    /// Read parts of buffers back in one submission and one wait: each part a buffer, a byte
+    /// offset and a byte count (multiples of 4); NaNs where the device is lost.
+    pub(crate) fn download_ranges(&self, parts: &[(&wgpu::Buffer, u64, u64)]) -> Vec<Vec<u8>> {
+        let size: u64 = parts.iter().map(|p| p.2).sum();
         let staging = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("state read-back"),
-            size,
+            size: size.max(4),
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let mut enc = self.gpu.device.create_command_encoder(&Default::default());
-        enc.copy_buffer_to_buffer(buf, 0, &staging, 0, size);
+        let mut at = 0;
+        for &(buf, offset, len) in parts {
+            enc.copy_buffer_to_buffer(buf, offset, &staging, at, len);
+            at += len;
+        }
         self.gpu.queue.submit([enc.finish()]);
         staging.slice(..).map_async(wgpu::MapMode::Read, |_| {});
         let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
-        let out = match staging.slice(..).get_mapped_range() {
+        let all = match staging.slice(..).get_mapped_range() {
             Ok(bytes) => bytes.to_vec(),
-            Err(_) => bytemuck::cast_slice(&vec![f64::NAN; (size / 8) as usize]).to_vec(),
+            Err(_) => bytemuck::cast_slice(&vec![f64::NAN; (size.max(4) / 8) as usize]).to_vec(),
         };
         staging.unmap();
+        let mut out = Vec::with_capacity(parts.len());
+        let mut at = 0;
+        for &(_, _, len) in parts {
+            let end = (at + len as usize).min(all.len());
+            let mut part = all[at.min(end)..end].to_vec();
+            part.resize(len as usize, 0xff);
+            out.push(part);
+            at += len as usize;
+        }
         out
     }
 
@@ -1035,9 +1054,18 @@ impl GpuStepper {
             |d: Vec<f64>| -> Vec<Vec3> { d.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect() };
         // one entry per node, or per slot of the coincident sets (as many as there are now)
         let nn = solver.positions().entries().len();
-        let mut x = vec3s(self.download(&self.state.x)[self.x_half(step)].to_vec());
-        let mut v = vec3s(self.download(&self.state.v));
-        let mut vn = vec3s(self.download(&self.state.vn));
+        // (one read-back: x^n's half of the positions, v^(n+1/2), v^n)
+        let half = self.x_half(step);
+        let (v, vn) = (&self.state.v, &self.state.vn);
+        let got = self.download_ranges(&[
+            (&self.state.x, 8 * half.start as u64, 8 * half.len() as u64),
+            (v, 0, v.size()),
+            (vn, 0, vn.size()),
+        ]);
+        let f64s = |b: &[u8]| -> Vec<f64> { bytemuck::pod_collect_to_vec(b) };
+        let mut x = vec3s(f64s(&got[0]));
+        let mut v = vec3s(f64s(&got[1]));
+        let mut vn = vec3s(f64s(&got[2]));
         x.truncate(nn);
         v.truncate(nn);
         vn.truncate(nn);

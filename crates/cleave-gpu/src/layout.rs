@@ -565,23 +565,20 @@ fn piecewise_block(pw: &PiecewiseLinear, ext_base: usize, out: &mut Vec<f64>) {
 /// e k_count + k); `k_count` values per element. A tail past the whole elements (a buffer's
 /// padding) stays as it is.
 pub(crate) fn by_component<T: Copy>(a: &[T], k_count: usize) -> Vec<T> {
-    let ne = a.len() / k_count;
-    let mut out = a.to_vec();
-    for e in 0..ne {
-        for k in 0..k_count {
-            out[k * ne + e] = a[e * k_count + k];
-        }
-    }
-    out
+    transpose(a, a.len() / k_count, k_count)
 }
 
 /// The inverse of [`by_component`]: an element array read back from the device, by element.
 pub(crate) fn by_element<T: Copy>(a: &[T], k_count: usize) -> Vec<T> {
-    let ne = a.len() / k_count;
+    transpose(a, k_count, a.len() / k_count)
+}
+
+/// The first `rows x cols` values of `a` (a matrix by rows) by columns; the rest as they are.
+fn transpose<T: Copy>(a: &[T], rows: usize, cols: usize) -> Vec<T> {
     let mut out = a.to_vec();
-    for e in 0..ne {
-        for k in 0..k_count {
-            out[e * k_count + k] = a[k * ne + e];
+    for r in 0..rows {
+        for c in 0..cols {
+            out[c * rows + r] = a[r * cols + c];
         }
     }
     out

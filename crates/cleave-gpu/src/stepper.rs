@@ -733,15 +733,27 @@ impl GpuStepper {
             out.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
             out.extend_from_slice(bytes);
         };
-        let step = self.download(&self.cf)[cf::STEP];
-        for (b, stored) in &self.persistent {
+        // every array in one read-back; the control block (the first) gives the step whose
+        // half of the positions is x^n
+        let parts: Vec<_> = (self.persistent.iter())
+            .map(|(b, _)| (b, 0, b.size()))
+            .collect();
+        let got = self.download_ranges(&parts);
+        let step = f64::from_le_bytes(
+            got[0][8 * cf::STEP..8 * cf::STEP + 8]
+                .try_into()
+                .expect("8 bytes"),
+        );
+        for ((_, stored), bytes) in self.persistent.iter().zip(&got) {
             match *stored {
-                Stored::AsIs => put(&self.download_bytes(b)),
+                Stored::AsIs => put(bytes),
                 Stored::ByComponent(k) => {
-                    put(bytemuck::cast_slice(&by_element(&self.download(b), k)));
+                    let values: Vec<f64> = bytemuck::pod_collect_to_vec(bytes);
+                    put(bytemuck::cast_slice(&by_element(&values, k)));
                 }
                 Stored::Positions => {
-                    put(bytemuck::cast_slice(&self.download(b)[self.x_half(step)]));
+                    let half = self.x_half(step);
+                    put(&bytes[8 * half.start..8 * half.end]);
                 }
             }
         }

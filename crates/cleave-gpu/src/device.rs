@@ -35,6 +35,10 @@ pub struct Gpu {
     pub limits: wgpu::Limits,
     /// Whether the device was opened with timestamp queries (`GpuStepper::profile`).
     pub timestamps: bool,
+    /// Arrays to bind in parts of at most this many bytes, whatever the device binds, by
+    /// their names in step.wgsl: for the tests of the splitting (split.rs) on devices that
+    /// bind few arrays (lavapipe: 32, of which the step uses 31). Empty by default.
+    pub force_split: Vec<(String, u64)>,
 }
 
 impl Gpu {
@@ -94,6 +98,7 @@ impl Gpu {
             info: adapter.get_info(),
             limits,
             timestamps,
+            force_split: vec![],
         })
     }
 

@@ -10,7 +10,8 @@
 //! or interfaces fail (element separation, `separation.rs`).
 //! Every sum is taken in a fixed order (forces gathered per node from the corner forces of
 //! its elements, in element order; tree reductions of fixed shape), so a run gives the same
-//! bits every time on the same device.
+//! bits every time on the same device. An array larger than the device binds is bound in parts
+//! (`split.rs`).
 //!
 //! What runs on the GPU today is the first stage of the backend (the CPU step's parts, one by
 //! one) and element separation with its cohesive laws (`separation.rs`: the sets split on the
@@ -22,6 +23,7 @@
 pub mod device;
 pub mod layout;
 mod separation;
+mod split;
 pub mod stepper;
 pub mod support;
 

@@ -166,6 +166,8 @@ pub struct GpuStepper {
     /// The groups of the per-node passes ([`group_grid`] of the entries in use), read by their
     /// indirect dispatches.
     pub(crate) node_groups: wgpu::Buffer,
+    /// The arrays bound in parts (split.rs): name and number of chunks.
+    split: Vec<(String, usize)>,
 }
 
 /// How a buffer that carries the state is stored on the device, and so turned for a restart
@@ -242,6 +244,58 @@ fn reference_jacobians(model: &cleave_core::model::Model) -> Vec<f64> {
     out
 }
 
+/// The storage arrays of `storage` (binding, buffer, read-only) that `gpu` cannot bind whole,
+/// each with its chunks (split.rs); an error where an array cannot be split (an array of
+/// atomics) or the chunks need more bindings than the device has.
+fn bind_splits(
+    gpu: &Gpu,
+    source: &str,
+    storage: &[(u32, &wgpu::Buffer, bool)],
+) -> Result<Vec<crate::split::Split>, GpuError> {
+    let limit = gpu.limits.max_storage_buffer_binding_size;
+    let align = gpu.limits.min_storage_buffer_offset_alignment as u64;
+    let decls = crate::split::declarations(source);
+    let mut next = storage.iter().map(|s| s.0).max().unwrap_or(28).max(28) + 1;
+    let mut splits = vec![];
+    for &(binding, buffer, read_only) in storage {
+        let bytes = buffer.size();
+        let decl = decls.iter().find(|d| d.binding == binding);
+        // an array's limit: the device's, or less where asked (Gpu::force_split)
+        let limit = (decl.and_then(|d| gpu.force_split.iter().find(|f| f.0 == d.name)))
+            .map_or(limit, |f| f.1.min(limit));
+        if bytes <= limit {
+            continue;
+        }
+        let Some(d) = decl else {
+            return Err(GpuError::TooLarge(format!(
+                "array {binding} of the step needs {bytes} bytes and cannot be bound in parts; {} binds at most {limit} bytes per array",
+                gpu.info.name
+            )));
+        };
+        let value = crate::split::value_bytes(&d.ty);
+        if let Some((len, mut chunks)) = crate::split::plan(bytes, value, limit, align, &mut next) {
+            chunks[0].0 = binding;
+            splits.push(crate::split::Split {
+                name: d.name.clone(),
+                ty: d.ty.clone(),
+                read_only,
+                len,
+                chunks,
+            });
+        }
+    }
+    let extra: usize = splits.iter().map(|s| s.chunks.len() - 1).sum();
+    let most = gpu.limits.max_storage_buffers_per_shader_stage as usize;
+    if storage.len() + extra > most {
+        return Err(GpuError::TooLarge(format!(
+            "the model's arrays need {} storage bindings when split to the {limit} bytes {} binds per array; it has {most}",
+            storage.len() + extra,
+            gpu.info.name
+        )));
+    }
+    Ok(splits)
+}
+
 impl GpuStepper {
     /// Upload `solver`'s model and initial state to `gpu`. Refuses a deck with a feature the
     /// GPU step lacks ([`crate::support::unsupported`]) or an array larger than the device
@@ -252,7 +306,9 @@ impl GpuStepper {
             return Err(GpuError::Unsupported(what));
         }
         let (ne, nn) = (model.num_elements(), model.num_nodes());
-        let limit = gpu.limits.max_storage_buffer_binding_size;
+        // one buffer per array, at most `max_buffer_size` bytes; an array larger than the
+        // device binds is bound in chunks (split.rs)
+        let limit = gpu.limits.max_buffer_size;
         // the largest arrays: 12 f64 per element (hourglass forces, each half of the corner
         // forces), 8 u32 per element (connectivity, corners per node); with ELFORM 2, 104 f64
         // per element (the Gauss points); per node, two steps' positions (6 f64)
@@ -264,7 +320,7 @@ impl GpuStepper {
         let largest = (per_elem * ne).max(48 * nn) as u64;
         if largest > limit {
             return Err(GpuError::TooLarge(format!(
-                "{ne} elements need arrays of {largest} bytes; {} binds at most {limit} bytes per array (splitting larger arrays is not done yet): at most {} elements on this device",
+                "{ne} elements need arrays of {largest} bytes; {} holds at most {limit} bytes in one buffer: at most {} elements on this device",
                 gpu.info.name,
                 limit / per_elem as u64
             )));
@@ -275,11 +331,11 @@ impl GpuStepper {
             solver.ties(),
             crate::separation::slots(solver),
         );
-        // the parameters (loads, ties, rigid bodies' nodes) bind as one array too
+        // the parameters (loads, ties, rigid bodies' nodes) are one array too
         let par_bytes = 8 * lay.par.len() as u64;
         if par_bytes > limit {
             return Err(GpuError::TooLarge(format!(
-                "the model's parameters (loads, ties, rigid bodies' nodes) need an array of {par_bytes} bytes; {} binds at most {limit} bytes per array",
+                "the model's parameters (loads, ties, rigid bodies' nodes) need an array of {par_bytes} bytes; {} holds at most {limit} bytes in one buffer",
                 gpu.info.name
             )));
         }
@@ -290,7 +346,7 @@ impl GpuStepper {
         let sep_bytes = (4 * (ifu.len() + co.cix.len())).max(8 * (ifs.len() + co.coh.len())) as u64;
         if sep_bytes > limit {
             return Err(GpuError::TooLarge(format!(
-                "the {n_if} interfaces of element separation (with their cohesive faces) need an array of {sep_bytes} bytes; {} binds at most {limit} bytes per array",
+                "the {n_if} interfaces of element separation (with their cohesive faces) need an array of {sep_bytes} bytes; {} holds at most {limit} bytes in one buffer",
                 gpu.info.name
             )));
         }
@@ -458,6 +514,9 @@ impl GpuStepper {
             .map(|(i, &(b, r))| (i as u32, b, r))
             .chain((sep_bindings.iter().enumerate()).map(|(k, &(b, r))| (29 + k as u32, b, r)))
             .collect();
+        let source =
+            lay.shader_constants(erodes, model.rigid_walls.len()) + include_str!("step.wgsl");
+        let splits = bind_splits(&gpu, &source, &storage)?;
         let buffer_entry = |binding: u32, ty| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -468,25 +527,39 @@ impl GpuStepper {
             },
             count: None,
         };
-        let mut layout_entries: Vec<wgpu::BindGroupLayoutEntry> = (storage.iter())
-            .map(|&(i, _, read_only)| {
-                buffer_entry(i, wgpu::BufferBindingType::Storage { read_only })
-            })
-            .collect();
-        layout_entries.push(buffer_entry(28, wgpu::BufferBindingType::Uniform));
+        let mut layout_entries = vec![buffer_entry(28, wgpu::BufferBindingType::Uniform)];
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 28,
+            resource: uniform.as_entire_binding(),
+        }];
+        for &(binding, buffer, read_only) in &storage {
+            let ty = wgpu::BufferBindingType::Storage { read_only };
+            match splits.iter().find(|s| s.chunks[0].0 == binding) {
+                None => {
+                    layout_entries.push(buffer_entry(binding, ty));
+                    entries.push(wgpu::BindGroupEntry {
+                        binding,
+                        resource: buffer.as_entire_binding(),
+                    });
+                }
+                Some(s) => {
+                    for &(b, offset, size) in &s.chunks {
+                        layout_entries.push(buffer_entry(b, ty));
+                        entries.push(wgpu::BindGroupEntry {
+                            binding: b,
+                            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                                buffer,
+                                offset,
+                                size: std::num::NonZeroU64::new(size),
+                            }),
+                        });
+                    }
+                }
+            }
+        }
         let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("step"),
             entries: &layout_entries,
-        });
-        let mut entries: Vec<wgpu::BindGroupEntry> = (storage.iter())
-            .map(|&(binding, b, _)| wgpu::BindGroupEntry {
-                binding,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        entries.push(wgpu::BindGroupEntry {
-            binding: 28,
-            resource: uniform.as_entire_binding(),
         });
         let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("step"),
@@ -495,10 +568,7 @@ impl GpuStepper {
         });
         let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("step.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(
-                (lay.shader_constants(erodes, model.rigid_walls.len()) + include_str!("step.wgsl"))
-                    .into(),
-            ),
+            source: wgpu::ShaderSource::Wgsl(crate::split::rewrite(&source, &splits).into()),
         });
         let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("step"),
@@ -620,6 +690,9 @@ impl GpuStepper {
             },
             sep,
             node_groups,
+            split: (splits.iter())
+                .map(|s| (s.name.clone(), s.chunks.len()))
+                .collect(),
         })
     }
 
@@ -629,6 +702,12 @@ impl GpuStepper {
     }
 
     /// Give the device back (for another model).
+    /// The arrays larger than the device binds, each bound in parts (split.rs): the array's
+    /// name in step.wgsl and its number of chunks; empty when every array binds whole.
+    pub fn split_arrays(&self) -> &[(String, usize)] {
+        &self.split
+    }
+
     pub fn into_gpu(self) -> Gpu {
         self.gpu
     }

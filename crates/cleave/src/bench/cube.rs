@@ -63,6 +63,15 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
             "  device memory {:.1} MB in buffers",
             g.device_bytes() as f64 / 1048576.0
         ));
+        if !g.split_arrays().is_empty() {
+            let parts: Vec<String> = (g.split_arrays().iter())
+                .map(|(name, chunks)| format!("{name} in {chunks}"))
+                .collect();
+            gpu_lines.push(format!(
+                "  arrays larger than the device binds, bound in parts: {}",
+                parts.join(", ")
+            ));
+        }
         // each pass's share, from 10 steps with a timestamp around every pass (not timed)
         if let Some(shares) = g.profile(&mut solver, PROFILED_STEPS) {
             let parts: Vec<String> = (shares.iter())

@@ -288,7 +288,7 @@ fn bind_splits(
     let most = gpu.limits.max_storage_buffers_per_shader_stage as usize;
     if storage.len() + extra > most {
         return Err(GpuError::TooLarge(format!(
-            "the model's arrays need {} storage bindings when split to the {limit} bytes {} binds per array; it has {most}",
+            "the model's arrays need {} storage bindings once those over the {limit} bytes {} binds per array are bound in parts; it has {most}",
             storage.len() + extra,
             gpu.info.name
         )));

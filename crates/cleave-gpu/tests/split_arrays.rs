@@ -182,3 +182,33 @@ fn fully_integrated_hexahedra_give_the_same_bits_split() {
     m.sections[0].elform = 2;
     same_bits_split("ELFORM 2 block", &m, &["gps"], &["gps"], 0);
 }
+
+/// A model whose arrays need more parts than the device has bindings is refused with the
+/// count (`GpuError::TooLarge`, exit 2 from `cleave run --gpu`), never bound short; on a
+/// device with bindings enough it runs.
+#[test]
+fn too_many_parts_are_refused_by_count() {
+    let Some(mut g) = gpu() else { return };
+    let m = block(Hourglass::Viscous);
+    let names = [
+        "xs", "vs", "vns", "sig", "hist", "hgf", "fe_lo", "fe_hi", "par", "conn",
+    ];
+    g.force_split = names.iter().map(|n| (n.to_string(), 256)).collect();
+    let most = g.limits.max_storage_buffers_per_shader_stage;
+    let s = solver(&split_model(&m), &m);
+    match GpuStepper::new(g, &s) {
+        Ok(st) => {
+            let parts: usize = st.split_arrays().iter().map(|p| p.1).sum();
+            eprintln!("{parts} parts bound ({most} bindings)");
+            assert_eq!(st.split_arrays().len(), names.len());
+        }
+        Err(e) => {
+            let e = e.to_string();
+            eprintln!("{e}");
+            assert!(
+                e.contains("storage bindings") && e.contains(&format!("it has {most}")),
+                "{e}"
+            );
+        }
+    }
+}

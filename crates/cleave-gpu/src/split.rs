@@ -30,77 +30,70 @@ pub(crate) type Chunk = (u32, u64, u64);
 /// How one array is bound.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Split {
-    pub name: String,
-    pub ty: String,
-    pub read_only: bool,
+    pub decl: Decl,
     /// Values per chunk.
     pub len: u64,
     /// (binding, byte offset, byte size) of each chunk; the first is the array's own binding.
     pub chunks: Vec<Chunk>,
 }
 
-/// The splittable storage arrays declared in `src`: lines
-/// `@group(0) @binding(B) var<storage, read|read_write> NAME: array<f64|u32>;` (arrays of
-/// atomics, the uniform and workgroup arrays are not).
+/// The splittable storage arrays declared in `src` ([`declared`]).
 pub(crate) fn declarations(src: &str) -> Vec<Decl> {
-    let mut out = vec![];
-    for line in src.lines() {
-        let Some(rest) = line.trim().strip_prefix("@group(0) @binding(") else {
-            continue;
-        };
-        let Some((b, rest)) = rest.split_once(')') else {
-            continue;
-        };
-        let Ok(binding) = b.parse() else { continue };
-        let rest = rest.trim();
-        let (read_only, rest) = if let Some(r) = rest.strip_prefix("var<storage, read>") {
-            (true, r)
-        } else if let Some(r) = rest.strip_prefix("var<storage, read_write>") {
-            (false, r)
-        } else {
-            continue;
-        };
-        let Some((name, ty)) = rest.split_once(':') else {
-            continue;
-        };
-        let ty = ty.trim().trim_end_matches(';').trim();
-        let ty = match ty {
-            "array<f64>" => "f64",
-            "array<u32>" => "u32",
-            _ => continue,
-        };
-        out.push(Decl {
-            binding,
-            name: name.trim().to_string(),
-            ty: ty.to_string(),
-            read_only,
-        });
-    }
-    out
+    src.lines().filter_map(declared).collect()
 }
 
-/// Bytes of one value of type `ty`.
-pub(crate) fn value_bytes(ty: &str) -> u64 {
-    if ty == "f64" {
-        8
+/// The array a line declares, when it is
+/// `@group(0) @binding(B) var<storage, read|read_write> NAME: array<f64|u32>;` (arrays of
+/// atomics, the uniform and workgroup arrays cannot be split).
+fn declared(line: &str) -> Option<Decl> {
+    let rest = line.trim().strip_prefix("@group(0) @binding(")?;
+    let (b, rest) = rest.split_once(')')?;
+    let binding = b.parse().ok()?;
+    let rest = rest.trim();
+    let (read_only, rest) = if let Some(r) = rest.strip_prefix("var<storage, read>") {
+        (true, r)
     } else {
-        4
+        (false, rest.strip_prefix("var<storage, read_write>")?)
+    };
+    let (name, ty) = rest.split_once(':')?;
+    let ty = match ty.trim().trim_end_matches(';').trim() {
+        "array<f64>" => "f64",
+        "array<u32>" => "u32",
+        _ => return None,
+    };
+    Some(Decl {
+        binding,
+        name: name.trim().to_string(),
+        ty: ty.to_string(),
+        read_only,
+    })
+}
+
+impl Decl {
+    /// Bytes of one value.
+    fn value_bytes(&self) -> u64 {
+        if self.ty == "f64" {
+            8
+        } else {
+            4
+        }
     }
 }
 
-/// The chunks of an array of `bytes` bytes of `value` -byte values, under a binding limit
-/// `limit` and an offset alignment `align`: None when it fits one binding. Chunks after the
-/// first take bindings from `*next`.
+/// The chunks of array `decl` of `bytes` bytes under a binding limit `limit` and an offset
+/// alignment `align`: None when it fits one binding. Chunks after the first take bindings
+/// from `*next`.
 pub(crate) fn plan(
+    decl: &Decl,
     bytes: u64,
-    value: u64,
     limit: u64,
     align: u64,
     next: &mut u32,
-) -> Option<(u64, Vec<Chunk>)> {
+) -> Option<Split> {
     if bytes <= limit {
         return None;
     }
+    let value = decl.value_bytes();
     // the largest chunk that binds and keeps the next chunk's offset aligned
     let step = align.max(value) / value * value;
     let chunk = (limit / step * step).max(step);
@@ -110,7 +103,7 @@ pub(crate) fn plan(
     while offset < bytes {
         let size = chunk.min(bytes - offset);
         let binding = if offset == 0 {
-            u32::MAX
+            decl.binding
         } else {
             *next += 1;
             *next - 1
@@ -118,7 +111,11 @@ pub(crate) fn plan(
         chunks.push((binding, offset, size));
         offset += size;
     }
-    Some((len, chunks))
+    Some(Split {
+        decl: decl.clone(),
+        len,
+        chunks,
+    })
 }
 
 /// `src` with every access to the arrays of `splits` through their accessors, the chunks'
@@ -127,26 +124,22 @@ pub(crate) fn rewrite(src: &str, splits: &[Split]) -> String {
     if splits.is_empty() {
         return src.to_string();
     }
-    let names: Vec<&str> = splits.iter().map(|s| s.name.as_str()).collect();
+    let names: Vec<&str> = splits.iter().map(|s| s.decl.name.as_str()).collect();
     let mut out = String::with_capacity(src.len() + 4096);
     for line in src.lines() {
         out.push_str(line);
         out.push('\n');
         // the chunks' declarations beside the array's
-        let t = line.trim();
-        if t.starts_with("@group(0) @binding(") {
-            if let Some(s) = splits
-                .iter()
-                .find(|s| t.contains(&format!("> {}: array<", s.name)))
-            {
-                let access = if s.read_only { "read" } else { "read_write" };
-                for (c, &(binding, _, _)) in s.chunks.iter().enumerate().skip(1) {
-                    out.push_str(&format!(
-                        "@group(0) @binding({binding}) var<storage, {access}> {}_{c}: array<{}>;\n",
-                        s.name, s.ty
-                    ));
-                }
-            }
+        let Some(d) = declared(line) else { continue };
+        let Some(s) = splits.iter().find(|s| s.decl.binding == d.binding) else {
+            continue;
+        };
+        let access = if d.read_only { "read" } else { "read_write" };
+        for (c, &(binding, _, _)) in s.chunks.iter().enumerate().skip(1) {
+            out.push_str(&format!(
+                "@group(0) @binding({binding}) var<storage, {access}> {}_{c}: array<{}>;\n",
+                d.name, d.ty
+            ));
         }
     }
     let mut text = accesses(&out, &names);
@@ -158,7 +151,7 @@ pub(crate) fn rewrite(src: &str, splits: &[Split]) -> String {
 
 /// The accessor functions of one split array.
 fn accessors(s: &Split) -> String {
-    let (name, ty, len) = (&s.name, &s.ty, s.len);
+    let (name, ty, len) = (&s.decl.name, &s.decl.ty, s.len);
     let chunk = |c: usize| {
         if c == 0 {
             name.clone()
@@ -184,7 +177,7 @@ fn accessors(s: &Split) -> String {
         s.chunks.len(),
         cases(&|a| format!("return {a}[j];"))
     );
-    if !s.read_only {
+    if !s.decl.read_only {
         f.push_str(&format!(
             "fn {name}_put(i: u32, val: {ty}) {{\n    let c = i / {len}u;\n    let j = i - c * {len}u;\n    switch c {{\n{}    }}\n}}\n",
             cases(&|a| format!("{a}[j] = val;"))
@@ -300,14 +293,23 @@ fn accesses(src: &str, names: &[&str]) -> String {
 mod tests {
     use super::*;
 
-    fn split(name: &str, read_only: bool, chunks: usize) -> Split {
+    fn split(name: &str, binding: u32, read_only: bool, chunks: usize) -> Split {
         Split {
-            name: name.into(),
-            ty: "f64".into(),
-            read_only,
+            decl: Decl {
+                binding,
+                name: name.into(),
+                ty: "f64".into(),
+                read_only,
+            },
             len: 32,
             chunks: (0..chunks)
-                .map(|c| (if c == 0 { 3 } else { 40 + c as u32 }, 256 * c as u64, 256))
+                .map(|c| {
+                    (
+                        if c == 0 { binding } else { 40 + c as u32 },
+                        256 * c as u64,
+                        256,
+                    )
+                })
                 .collect(),
         }
     }
@@ -321,7 +323,7 @@ mod tests {
                    \x20   sig[e] += a;\n\
                    \x20   if sig[e] == a { sig[sig_i[e]] = 1.0; }\n\
                    }\n";
-        let out = rewrite(src, &[split("sig", false, 3)]);
+        let out = rewrite(src, &[split("sig", 3, false, 3)]);
         assert!(out.contains("@group(0) @binding(41) var<storage, read_write> sig_1: array<f64>;"));
         assert!(out.contains("@group(0) @binding(42) var<storage, read_write> sig_2: array<f64>;"));
         assert!(out.contains("let a = sig_get(ek(e, 2u)) + xsig[e];"));
@@ -339,7 +341,7 @@ mod tests {
     fn a_read_only_array_gets_no_store() {
         let out = rewrite(
             "@group(0) @binding(2) var<storage, read> par: array<f64>;\nlet p = par[1u];\n",
-            &[split("par", true, 2)],
+            &[split("par", 2, true, 2)],
         );
         assert!(out.contains("var<storage, read> par_1: array<f64>;"));
         assert!(out.contains("let p = par_get(1u);"));
@@ -390,17 +392,7 @@ mod tests {
         assert!(decls.len() >= 28, "{} arrays found", decls.len());
         let mut next = 40;
         let splits: Vec<Split> = (decls.iter())
-            .map(|d| {
-                let (len, mut chunks) = plan(3 * 256, 8, 256, 256, &mut next).unwrap();
-                chunks[0].0 = d.binding;
-                Split {
-                    name: d.name.clone(),
-                    ty: d.ty.clone(),
-                    read_only: d.read_only,
-                    len,
-                    chunks,
-                }
-            })
+            .map(|d| plan(d, 3 * 256, 256, 256, &mut next).unwrap())
             .collect();
         let out = rewrite(&src, &splits);
         let module = match naga::front::wgsl::parse_str(&out) {
@@ -434,18 +426,14 @@ mod tests {
     #[test]
     fn chunks_bind_and_stay_aligned() {
         let mut next = 40;
-        assert_eq!(plan(1000, 8, 1000, 256, &mut next), None);
+        let d = split("sig", 3, false, 1).decl;
+        assert_eq!(plan(&d, 1000, 1000, 256, &mut next), None);
         // 1000 bytes of f64 under a 300-byte limit, offsets aligned to 256: chunks of 256 bytes
-        let (len, chunks) = plan(1000, 8, 300, 256, &mut next).unwrap();
+        let Split { len, chunks, .. } = plan(&d, 1000, 300, 256, &mut next).unwrap();
         assert_eq!(len, 32);
         assert_eq!(
             chunks,
-            vec![
-                (u32::MAX, 0, 256),
-                (40, 256, 256),
-                (41, 512, 256),
-                (42, 768, 232)
-            ]
+            vec![(3, 0, 256), (40, 256, 256), (41, 512, 256), (42, 768, 232)]
         );
         assert_eq!(next, 43);
         // every value in exactly one chunk

@@ -257,7 +257,7 @@ fn bind_splits(
     let decls = crate::split::declarations(source);
     let mut next = storage.iter().map(|s| s.0).max().unwrap_or(28).max(28) + 1;
     let mut splits = vec![];
-    for &(binding, buffer, read_only) in storage {
+    for &(binding, buffer, _) in storage {
         let bytes = buffer.size();
         let decl = decls.iter().find(|d| d.binding == binding);
         // an array's limit: the device's, or less where asked (Gpu::force_split)
@@ -272,17 +272,7 @@ fn bind_splits(
                 gpu.info.name
             )));
         };
-        let value = crate::split::value_bytes(&d.ty);
-        if let Some((len, mut chunks)) = crate::split::plan(bytes, value, limit, align, &mut next) {
-            chunks[0].0 = binding;
-            splits.push(crate::split::Split {
-                name: d.name.clone(),
-                ty: d.ty.clone(),
-                read_only,
-                len,
-                chunks,
-            });
-        }
+        splits.extend(crate::split::plan(d, bytes, limit, align, &mut next));
     }
     let extra: usize = splits.iter().map(|s| s.chunks.len() - 1).sum();
     let most = gpu.limits.max_storage_buffers_per_shader_stage as usize;
@@ -691,7 +681,7 @@ impl GpuStepper {
             sep,
             node_groups,
             split: (splits.iter())
-                .map(|s| (s.name.clone(), s.chunks.len()))
+                .map(|s| (s.decl.name.clone(), s.chunks.len()))
                 .collect(),
         })
     }
@@ -701,13 +691,13 @@ impl GpuStepper {
         &self.gpu
     }
 
-    /// Give the device back (for another model).
     /// The arrays larger than the device binds, each bound in parts (split.rs): the array's
     /// name in step.wgsl and its number of chunks; empty when every array binds whole.
     pub fn split_arrays(&self) -> &[(String, usize)] {
         &self.split
     }
 
+    /// Give the device back (for another model).
     pub fn into_gpu(self) -> Gpu {
         self.gpu
     }

@@ -530,6 +530,12 @@ impl<'m> Solver<'m> {
         self.contact.as_ref()
     }
 
+    /// The contact definitions, for a stepper that runs them elsewhere (the GPU's) and puts
+    /// back their resultants.
+    pub fn contact_mut(&mut self) -> Option<&mut ContactSet<'m>> {
+        self.contact.as_mut()
+    }
+
     /// True once the state at the end time has been computed and observed.
     pub fn is_finished(&self) -> bool {
         self.finished

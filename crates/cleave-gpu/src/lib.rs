@@ -14,12 +14,14 @@
 //! (`split.rs`).
 //!
 //! What runs on the GPU today is the first stage of the backend (the CPU step's parts, one by
-//! one) and element separation with its cohesive laws (`separation.rs`: the sets split on the
-//! host in the step their interface fails); [`support::unsupported`] names what a deck asks that
-//! is not there yet, and
+//! one), element separation with its cohesive laws (`separation.rs`: the sets split on the
+//! host in the step their interface fails) and automatic contact between bodies whose surfaces
+//! do not change (`contact.rs`, `contact.wgsl`); [`support::unsupported`] names what a deck asks
+//! that is not there yet, and
 //! `cleave run --gpu` refuses such a deck with that name (exit 2), never a silent fallback to
 //! the CPU.
 
+mod contact;
 pub mod device;
 pub mod layout;
 mod separation;

@@ -383,10 +383,11 @@ mod tests {
     #[test]
     fn the_step_validates_with_every_array_split() {
         use wgpu::naga;
-        let src = "const HAS_RIGID: bool = true;\nconst HAS_TET: bool = true;\n\
+        let src = crate::contact::step_prefix(true).to_string()
+            + "const HAS_RIGID: bool = true;\nconst HAS_TET: bool = true;\n\
                    const HAS_SRI: bool = true;\nconst HAS_EROSION: bool = true;\n\
                    const LAWS: u32 = 15u;\nconst WALL_VALUES: u32 = 8u;\n"
-            .to_string()
+            + include_str!("math.wgsl")
             + include_str!("step.wgsl");
         let decls = declarations(&src);
         assert!(decls.len() >= 28, "{} arrays found", decls.len());

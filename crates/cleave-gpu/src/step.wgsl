@@ -17,6 +17,8 @@
 //                         (1 thread) halts the step if one failed (HALT 4: the host splits
 //                         the sets and runs the rest of the step)
 //   cohesive (per softening face, with MODELs 3 and 4)  tractions, forces, work, springs
+//   contact.wgsl's eight passes (with *CONTACT_AUTOMATIC_...; a bind group of their own)
+//                         each node's contact force at t^n into `fcon`, the contact energy
 //   control (1 group)     smallest time step (and the cohesive springs') and energy sums
 //                         (fixed tree); dt^(n+1/2)
 //   rigid (1 group/body)  force and moment of each rigid body (fixed tree), its 6-dof update
@@ -39,7 +41,8 @@
 // The host puts the model's features before this text as constants (layout.rs
 // shader_constants: HAS_RIGID, HAS_TET, HAS_SRI, HAS_EROSION, LAWS, WALL_VALUES); the paths a model does not
 // use are constant-false branches that the driver drops, so their registers do not weigh on
-// the kernels of the others.
+// the kernels of the others. Before them: `contact_force(n)`, which reads the contact's `fcon`
+// (binding 32) or, without contact, is zero (contact.rs step_prefix); then math.wgsl.
 
 struct Params {
     ne: u32,
@@ -145,6 +148,8 @@ const PENDING: u32 = 23u;
 // 1 when the step that halted is still to be ended (its time advanced): see advance()
 const COMMIT_DUE: u32 = 24u;
 const WALL_FORCE: u32 = 32u; // 4 per wall: normal force, force x y z
+const E_CONTACT: u32 = 64u; // the contact energy (contact.wgsl c_energy)
+const DT_CONTACT: u32 = 65u; // the contact springs' stable step (BIG without contact)
 // cu: control integers
 const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error, 4 interfaces failed
 const ERROR: u32 = 1u;     // 1 inverted element, 2 time step below the floor, 3 bad time step, 4 non-finite
@@ -168,14 +173,9 @@ const TET_EL: u32 = 0x80000000u;
 const NODE_STRIDE: u32 = 10u;
 // Values per rigid wall in par (layout.rs).
 const WALL_STRIDE: u32 = 20u;
-const BIG: f64 = 1.7976931348623157e308lf;
 
 fn halted() -> bool {
     return cf[HALTED] != 0.0lf;
-}
-
-fn finite(x: f64) -> bool {
-    return abs(x) <= BIG;
 }
 
 // ---------------------------------------------------------------- curves (cleave-core curve.rs)
@@ -328,108 +328,6 @@ fn cbrt64(x: f64) -> f64 {
     return y - (y * y * y - x) / (3.0lf * y * y);
 }
 
-
-// ---------------------------------------------------------------- f64 exp, ln, pow
-// Vulkan has no 64-bit exp, log or pow (GLSL.std.450 takes 16- and 32-bit floats only), so
-// they are written out here, to a few units in the last place (the CPU uses libm: the two
-// agree to round-off, well inside the tests' 1e-10).
-
-const LN2_HI: f64 = 6.93147180369123816490e-01lf;
-const LN2_LO: f64 = 1.90821492927058770002e-10lf;
-
-// 2^k, exactly: the binary powers of 2 (or 1/2) multiplied up (powers of two multiply
-// without rounding).
-fn pow2(k: i32) -> f64 {
-    var b = 2.0lf;
-    if (k < 0) {
-        b = 0.5lf;
-    }
-    var n = abs(k);
-    var r = 1.0lf;
-    while (n > 0) {
-        if ((n & 1) != 0) {
-            r = r * b;
-        }
-        b = b * b;
-        n = n >> 1u;
-    }
-    return r;
-}
-
-// e^x: x = k ln 2 + r, |r| <= ln 2 / 2, e^r by its Taylor series to r^17/17! (< 2e-19
-// relative), times 2^k.
-fn exp64(x: f64) -> f64 {
-    if (x > 709.0lf) {
-        return BIG * 2.0lf;
-    }
-    if (x < -745.0lf) {
-        return 0.0lf;
-    }
-    let k = round(x * 1.4426950408889634lf);
-    let r = (x - k * LN2_HI) - k * LN2_LO;
-    var term = 1.0lf;
-    var sum = 1.0lf;
-    for (var i = 1; i <= 17; i = i + 1) {
-        term = term * r / f64(i);
-        sum = sum + term;
-    }
-    return sum * pow2(i32(k));
-}
-
-// ln x for x > 0: x = m 2^e with m in [1/sqrt 2, sqrt 2) (e first guessed in f32, then
-// made exact), ln m = 2 atanh(s), s = (m-1)/(m+1), |s| < 0.172, by its series to s^29
-// (< 1e-22); ln 0 = -inf, ln of a negative number NaN.
-fn ln64(x: f64) -> f64 {
-    if (x <= 0.0lf) {
-        if (x == 0.0lf) {
-            return -BIG * 2.0lf;
-        }
-        return (x - x) / (x - x);
-    }
-    if (x > BIG) {
-        return x;
-    }
-    var y = x;
-    var e = 0;
-    while (y > 1e30lf) {
-        y = y * 7.888609052210118e-31lf;
-        e = e + 100;
-    }
-    while (y < 1e-30lf) {
-        y = y * 1.2676506002282294e30lf;
-        e = e - 100;
-    }
-    let k = i32(floor(log2(f32(y))));
-    var m = y * pow2(-k);
-    e = e + k;
-    while (m >= 2.0lf) {
-        m = m * 0.5lf;
-        e = e + 1;
-    }
-    while (m < 1.0lf) {
-        m = m * 2.0lf;
-        e = e - 1;
-    }
-    if (m > 1.4142135623730951lf) {
-        m = m * 0.5lf;
-        e = e + 1;
-    }
-    let t = (m - 1.0lf) / (m + 1.0lf);
-    let t2 = t * t;
-    var sum = 0.0lf;
-    for (var i = 29; i >= 1; i = i - 2) {
-        sum = sum * t2 + 1.0lf / f64(i);
-    }
-    return f64(e) * LN2_HI + (f64(e) * LN2_LO + 2.0lf * t * sum);
-}
-
-// x^y for x > 0 (0 for x = 0 and y > 0).
-fn pow64(x: f64, y: f64) -> f64 {
-    if (x == 0.0lf) {
-        return 0.0lf;
-    }
-    return exp64(y * ln64(x));
-}
 
 // ---------------------------------------------------------------- the hexahedron (hex8.rs)
 
@@ -1969,7 +1867,7 @@ fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
         let t = cf[T];
         for (var k = l; k < count; k = k + 64u) {
             let n = rbi[list + k];
-            let f = node_force(n) + node_loads(n, t);
+            let f = node_force(n) + node_loads(n, t) + contact_force(n);
             fs = fs + f;
             ms = ms + cross(ld(0u, n) - x_cm, f);
         }
@@ -2301,6 +2199,10 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
     put_cf(DT_CRIT, dt_crit);
     let step0 = wcf[STEP] == 0.0lf;
     var d = wcf[TSSFAC] * dt_crit;
+    // the contact springs' step (a constant: the CPU's, of the initial surfaces)
+    if (cf[DT_CONTACT] < dt_crit) {
+        d = wcf[TSSFAC] * cf[DT_CONTACT];
+    }
     // the cohesive springs' own step (it holds its budget: not scaled by TSSFAC)
     if (c_om[0] > 0.0lf) {
         d = min(d, sqrt(2.0lf / c_om[0]));
@@ -2742,7 +2644,7 @@ fn tie_forces(n: u32, t: f64) -> vec3<f64> {
             continue;
         }
         let sl = u32(par[o + 1u]);
-        f = f + (node_force(sl) + node_loads(sl, t)) * par[o + 2u];
+        f = f + (node_force(sl) + node_loads(sl, t) + contact_force(sl)) * par[o + 2u];
     }
     return f;
 }
@@ -2788,7 +2690,7 @@ fn nodes(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
         let m = mass[n];
         let t = cf[T];
         let fl = node_loads(n, t);
-        var f = node_force(n) + fl + coh_force(n);
+        var f = node_force(n) + fl + coh_force(n) + contact_force(n);
         if (prm.n_ties > 0u) {
             f = f + tie_forces(n, t);
         }

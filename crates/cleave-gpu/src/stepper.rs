@@ -17,6 +17,7 @@ use cleave_core::math::Vec3;
 use cleave_core::solver::{Observer, RunError, Solver};
 use wgpu::util::DeviceExt;
 
+use crate::contact::ContactGpu;
 use crate::device::{Gpu, GpuError};
 use crate::layout::{by_component, by_element, Layout, RB_STATE};
 use crate::separation::{kinematics, SepBuffers};
@@ -44,6 +45,8 @@ struct Pass {
     name: &'static str,
     pipeline: wgpu::ComputePipeline,
     groups: Groups,
+    /// A pass of contact.wgsl, with the contact's bind group.
+    contact: bool,
 }
 
 /// Control floats (`cf` in step.wgsl).
@@ -70,7 +73,9 @@ pub(crate) mod cf {
     pub const E_ERODED: usize = 29;
     pub const E_FRAC: usize = 31;
     pub const WALL_FORCE: usize = 32;
-    pub const LEN: usize = 64;
+    pub const E_CONTACT: usize = 64;
+    pub const DT_CONTACT: usize = 65;
+    pub const LEN: usize = 66;
 }
 
 /// Control integers (`cu` in step.wgsl).
@@ -168,6 +173,8 @@ pub struct GpuStepper {
     pub(crate) node_groups: wgpu::Buffer,
     /// The arrays bound in parts (split.rs): name and number of chunks.
     split: Vec<(String, usize)>,
+    /// Automatic contact (contact.rs), when the deck has some.
+    contact: Option<ContactGpu>,
 }
 
 /// How a buffer that carries the state is stored on the device, and so turned for a restart
@@ -202,7 +209,23 @@ fn control_block(solver: &Solver) -> [f64; cf::LEN] {
     f[cf::DT_INIT] = c.dt_init;
     f[cf::DT_MIN] = c.dt_min;
     f[cf::END_TIME] = c.end_time;
+    f[cf::E_CONTACT] = solver.state.energy.contact;
+    let dt_contact = solver.contact_time_step();
+    f[cf::DT_CONTACT] = if dt_contact.is_finite() {
+        dt_contact
+    } else {
+        f64::MAX
+    };
     f
+}
+
+/// The step's shader text: the contact forces' reader (contact.rs step_prefix), the model's
+/// constants (layout.rs shader_constants), the shared math, then step.wgsl.
+pub(crate) fn step_source(lay: &Layout, erodes: bool, walls: usize, contact: bool) -> String {
+    crate::contact::step_prefix(contact).to_string()
+        + &lay.shader_constants(erodes, walls)
+        + include_str!("math.wgsl")
+        + include_str!("step.wgsl")
 }
 
 /// The rigid bodies' states as the GPU keeps them (`layout::RB_STATE` values each).
@@ -396,6 +419,7 @@ impl GpuStepper {
             hg: zeros("hourglass forces", 12 * ne),
             bq: zeros("bulk viscosity", ne),
         };
+        let contact = ContactGpu::new(&gpu, solver, &cf_buf, &state.x, &state.v)?;
         let par = f64s("parameters", &lay.par);
         let conn = u32s("connectivity", &by_component(&lay.conn, 8));
         let emat = u32s("element materials", &lay.emat);
@@ -499,13 +523,14 @@ impl GpuStepper {
             (&eref, true),
         ];
         // the storage arrays (the separation's after the uniform parameters, binding 28)
+        // (and the contact forces after them, binding 32)
         let sep_bindings = [(&sep.ifu, true), (&sep.ifs, false), (&sep.ifl, false)];
         let storage: Vec<(u32, &wgpu::Buffer, bool)> = (bindings.iter().enumerate())
             .map(|(i, &(b, r))| (i as u32, b, r))
             .chain((sep_bindings.iter().enumerate()).map(|(k, &(b, r))| (29 + k as u32, b, r)))
+            .chain(contact.iter().map(|c| (32, &c.fcon, true)))
             .collect();
-        let source =
-            lay.shader_constants(erodes, model.rigid_walls.len()) + include_str!("step.wgsl");
+        let source = step_source(&lay, erodes, model.rigid_walls.len(), contact.is_some());
         let splits = bind_splits(&gpu, &source, &storage)?;
         let buffer_entry = |binding: u32, ty| wgpu::BindGroupLayoutEntry {
             binding,
@@ -597,6 +622,7 @@ impl GpuStepper {
                 passes.push(("cohesive", 0));
             }
         }
+        let contact_at = passes.len();
         passes.push(("control", 1));
         if lay.n_rigid > 0 {
             passes.push(("rigid", lay.n_rigid as usize));
@@ -607,7 +633,7 @@ impl GpuStepper {
         }
         passes.push(("finish", 1));
         // the per-node passes of the central-difference update run over the entries in use
-        let pipelines: Vec<Pass> = (passes.iter())
+        let mut pipelines: Vec<Pass> = (passes.iter())
             .map(|&(name, g)| Pass {
                 name,
                 pipeline: pipeline(name),
@@ -616,12 +642,26 @@ impl GpuStepper {
                     "cohesive" => Groups::Cohesive,
                     _ => Groups::Fixed(g),
                 },
+                contact: false,
             })
             .collect();
+        // the contact's passes after the forces of the elements (and the interfaces'), before
+        // the time step and the nodes, which add its forces
+        if let Some(c) = &contact {
+            let cp = (c.passes.iter()).map(|(name, p, g)| Pass {
+                name,
+                pipeline: p.clone(),
+                groups: Groups::Fixed(*g),
+                contact: true,
+            });
+            pipelines.splice(contact_at..contact_at, cp);
+        }
         let commit = pipeline("commit");
         let positions = pipeline("positions");
-        let device_bytes =
-            storage.iter().map(|(_, b, _)| b.size()).sum::<u64>() + uniform.size() + 2 * CTL_BYTES;
+        let device_bytes = storage.iter().map(|(_, b, _)| b.size()).sum::<u64>()
+            + uniform.size()
+            + 2 * CTL_BYTES
+            + contact.as_ref().map_or(0, |c| c.bytes - c.fcon.size());
         let staging = || {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("control read-back"),
@@ -651,6 +691,10 @@ impl GpuStepper {
         ];
         if erodes {
             persistent.push((ero.clone(), Stored::AsIs));
+        }
+        if let Some(c) = &contact {
+            persistent.push((c.hits.clone(), Stored::AsIs));
+            persistent.push((c.fprev.clone(), Stored::AsIs));
         }
         Ok(Self {
             pipelines,
@@ -683,6 +727,7 @@ impl GpuStepper {
             split: (splits.iter())
                 .map(|s| (s.decl.name.clone(), s.chunks.len()))
                 .collect(),
+            contact,
         })
     }
 
@@ -719,9 +764,7 @@ impl GpuStepper {
             pass.set_pipeline(&self.commit);
             pass.dispatch_workgroups(1, 1, 1);
             for _ in 0..steps {
-                for p in &self.pipelines {
-                    self.dispatch(&mut pass, p);
-                }
+                self.dispatch_all(&mut pass, &self.pipelines);
             }
         }
         self.copy_control(&mut enc, staging);
@@ -743,9 +786,7 @@ impl GpuStepper {
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_bind_group(0, &self.bind_group, &[]);
-            for p in &self.pipelines[k + 1..] {
-                self.dispatch(&mut pass, p);
-            }
+            self.dispatch_all(&mut pass, &self.pipelines[k + 1..]);
         }
         self.gpu.queue.submit([enc.finish()]);
     }
@@ -765,6 +806,30 @@ impl GpuStepper {
             (cf::HALTED * 8) as u64,
             bytemuck::bytes_of(&0.0f64),
         );
+    }
+
+    /// The bind group of pass `p`: the step's, or the contact's for its passes.
+    fn bind_group_of(&self, p: &Pass) -> &wgpu::BindGroup {
+        match &self.contact {
+            Some(c) if p.contact => &c.bind_group,
+            _ => &self.bind_group,
+        }
+    }
+
+    /// Dispatch `passes` in order, in a compute pass whose bind group is the step's; each
+    /// group of contact passes binds the contact's, and the step's is bound again after it.
+    fn dispatch_all(&self, pass: &mut wgpu::ComputePass<'_>, passes: &[Pass]) {
+        let mut contact = false;
+        for p in passes {
+            if p.contact != contact {
+                pass.set_bind_group(0, self.bind_group_of(p), &[]);
+                contact = p.contact;
+            }
+            self.dispatch(pass, p);
+        }
+        if contact {
+            pass.set_bind_group(0, &self.bind_group, &[]);
+        }
     }
 
     /// Dispatch pass `p`.
@@ -1022,7 +1087,7 @@ impl GpuStepper {
                         end_of_pass_write_index: Some(q + 1),
                     }),
                 });
-                pass.set_bind_group(0, &self.bind_group, &[]);
+                pass.set_bind_group(0, self.bind_group_of(p), &[]);
                 self.dispatch(&mut pass, p);
             }
         }
@@ -1209,6 +1274,15 @@ impl GpuStepper {
                 r.omega = v3(o + 18);
                 r.prev_x_cm = v3(o + 36);
                 r.prev_rot = m3(o + 39);
+            }
+        }
+        if let Some(ct) = &self.contact {
+            let hits = self.download(&ct.hits);
+            let ids = solver
+                .contact()
+                .map(|cs| cs.forces().iter().map(|f| f.id).collect::<Vec<_>>());
+            if let (Some(ids), Some(cs)) = (ids, solver.contact_mut()) {
+                cs.set_forces(&ct.resultants(&hits, ids.into_iter()));
             }
         }
         c.apply(solver);
@@ -1438,6 +1512,7 @@ impl Control {
         st.energy.hourglass = f[cf::E_HG];
         st.energy.eroded = f[cf::E_ERODED];
         st.energy.fracture = f[cf::E_FRAC];
+        st.energy.contact = f[cf::E_CONTACT];
         st.energy.external_work = f[cf::E_EXT];
         st.initial_energy = f[cf::E_INIT];
         for (w, wf) in solver.wall_forces.iter_mut().enumerate() {

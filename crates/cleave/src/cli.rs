@@ -148,9 +148,9 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
     /// Cube: run the step on a GPU (as `cleave run --gpu`), with `--separation` its element
-    /// separation too. The ball, paper-tables and fragmentation benchmarks need contact between
-    /// fragments, which the GPU step does not run yet: with --gpu they are refused (exit 2),
-    /// not run on the CPU.
+    /// separation too; ball: with `--no-separation` (its contact with the plate). The breaking
+    /// ball, paper-tables and fragmentation benchmarks need contact between fragments, which
+    /// the GPU step does not run yet: with --gpu they are refused (exit 2), not run on the CPU.
     #[arg(long)]
     pub gpu: bool,
     /// Cube: put every element in a separation group (MODEL 1, a strength nothing reaches), so

@@ -497,9 +497,12 @@ fn check_lists_files_keywords_and_the_shapes_of_each_part() {
         text.contains("1 hexahedron (one-point hexahedron)"),
         "{text}"
     );
-    // whether --gpu takes it: the disc's fragments meet the platens by contact
+    // whether --gpu takes it: the disc's fragments meet the platens by contact, whose
+    // surfaces its cracks change
     assert!(
-        text.contains("gpu         --gpu does not run contact (*CONTACT_...)"),
+        text.contains(
+            "gpu         --gpu does not run automatic contact (*CONTACT_...) together with element separation"
+        ),
         "{text}"
     );
     // the Taylor bar runs on the GPU

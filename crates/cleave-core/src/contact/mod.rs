@@ -248,6 +248,7 @@ pub mod schedule;
 pub mod search;
 pub mod surface;
 mod touching;
+mod view;
 
 use crate::element::hex8;
 use std::collections::hash_map::Entry;

@@ -1,0 +1,714 @@
+// Automatic contact on the GPU: cleave-core contact/ (mod.rs NodeCheck, penalty.rs,
+// engagement.rs, friction.rs), operation for operation, with a broad phase of its own. The
+// Rust doc comments there carry the formulas and their sources.
+//
+// Each pass of a definition checks its node side's nodes (the *pass-nodes*, numbered over all
+// passes in the order the CPU scatters their forces) against the faces of its face side. Every
+// step, with no motion bound and no schedule:
+//   c_count (per face)       each face's search sphere, centre c (the corners' mean) and
+//                            radius E r + depth, in the cells of a hashed grid it overlaps
+//                            (their count); a face over more than SPAN cells a side goes to
+//                            a list every node reads (`big`)
+//   c_scan (1 group)         the cells' offsets (an exclusive sum)
+//   c_fill (per face)        the faces into their cells
+//   c_detect (per pass-node) the node against every face of its cell: the nearest contact
+//                            (least penetration, of equal ones the lowest face), its
+//                            engagement, normal and friction force; counted per face
+//   c_hscan (1 group)        each face's offset in the list of the nodes that hit it
+//   c_hfill (per pass-node)  that list
+//   c_gather (per node of a surface)  the node's contact force: its own hits and the reactions
+//                            on the faces it holds, added in the order of the pass-nodes that
+//                            make them (the CPU's scatter order), whatever the order the lists
+//                            were filled in; the work of the last step's and this step's
+//                            forces over the step (partials per group)
+//   c_energy (1 group)       the contact energy, -1/2 dt sum (f^(n-1) + f^n).v^(n-1/2)
+// A node in the face's sphere shares a cell with it (the face is in every cell its sphere's
+// box touches), so no contact the CPU's search finds is missed; the order faces come in does
+// not change which one wins. The forces are written per model node to `fcon`, which the step
+// (step.wgsl node_force's callers) adds to the other forces.
+//
+// The host puts before this text: the sizes (C_NN nodes, C_NF faces, C_NP pass-nodes, C_NG
+// surface nodes, C_M cells, C_CAP cell entries), the offsets of the tables in `ci` and `cfl`,
+// and the offsets of the grid's and hit lists' parts (contact.rs).
+
+@group(0) @binding(0) var<storage, read_write> cf: array<f64>;
+@group(0) @binding(1) var<storage, read> xs: array<f64>;
+@group(0) @binding(2) var<storage, read> vs: array<f64>;
+@group(0) @binding(3) var<storage, read> ci: array<u32>;
+@group(0) @binding(4) var<storage, read> cfl: array<f64>;
+@group(0) @binding(5) var<storage, read_write> hits: array<f64>;
+@group(0) @binding(6) var<storage, read_write> fcon: array<f64>;
+@group(0) @binding(7) var<storage, read_write> fprev: array<f64>;
+@group(0) @binding(8) var<storage, read_write> grid: array<atomic<u32>>;
+@group(0) @binding(9) var<storage, read_write> cpart: array<f64>;
+
+const DT_PREV: u32 = 1u;
+const STEP: u32 = 3u;
+const HALTED: u32 = 22u;
+const E_CONTACT: u32 = 64u;
+const NONE: u32 = 0xffffffffu;
+
+// contact/penalty.rs INSIDE_TOL, WEIGHT_SUM, MAX_ITER, NEWTON_TOL; mod.rs GAP_TOL, FACING
+const INSIDE_TOL: f64 = 0.02lf;
+const WEIGHT_SUM: f64 = 1.08lf;
+const MAX_ITER: u32 = 12u;
+const NEWTON_TOL: f64 = 1e-11lf;
+const GAP_TOL: f64 = 1e-9lf;
+const FACING: f64 = 0.2lf;
+// the most cells a face's sphere spans along an axis before it goes to the `big` list
+const SPAN: f64 = 3.0lf;
+
+// A hit, HIT values per pass-node: the face (-1: none), the weights w_a of its corners at the
+// contact point, the force on the node f, the engaged penetration and offset (engagement.rs),
+// |f_n|, and the tangential force f_t (friction.rs; kept for the next step).
+const HIT: u32 = 14u;
+
+fn halted() -> bool {
+    return cf[HALTED] != 0.0lf;
+}
+
+fn finite3(v: vec3<f64>) -> bool {
+    return finite(v.x) && finite(v.y) && finite(v.z);
+}
+
+var<private> x_now: u32;
+fn halves() {
+    x_now = u32(cf[STEP] % 2.0lf) * 3u * C_NN;
+}
+
+fn pos(n: u32) -> vec3<f64> {
+    let o = x_now + 3u * n;
+    return vec3<f64>(xs[o], xs[o + 1u], xs[o + 2u]);
+}
+
+fn vel(n: u32) -> vec3<f64> {
+    return vec3<f64>(vs[3u * n], vs[3u * n + 1u], vs[3u * n + 2u]);
+}
+
+fn face_node(f: u32, a: u32) -> u32 {
+    return ci[CI_FACE + 4u * f + a];
+}
+
+fn corners(f: u32) -> array<vec3<f64>, 4> {
+    return array<vec3<f64>, 4>(pos(face_node(f, 0u)), pos(face_node(f, 1u)), pos(face_node(f, 2u)), pos(face_node(f, 3u)));
+}
+
+// x(xi, eta) = a0 + a1 xi + a2 eta + a3 xi eta (penalty.rs coefficients), component by
+// component in the CPU's order.
+fn coeff(p: array<vec3<f64>, 4>, s0: f64, s1: f64, s2: f64, s3: f64) -> vec3<f64> {
+    return vec3<f64>(
+        0.25lf * (s0 * p[0].x + s1 * p[1].x + s2 * p[2].x + s3 * p[3].x),
+        0.25lf * (s0 * p[0].y + s1 * p[1].y + s2 * p[2].y + s3 * p[3].y),
+        0.25lf * (s0 * p[0].z + s1 * p[1].z + s2 * p[2].z + s3 * p[3].z));
+}
+
+// ---------------------------------------------------------------- the broad phase
+
+// The search sphere of face f: centre (the corners' mean, penalty.rs FaceBounds c), radius
+// E r + depth (FaceBounds::may_touch), r the largest centre-corner distance (w: r).
+fn sphere(f: u32) -> vec4<f64> {
+    var p = corners(f);
+    let c = coeff(p, 1.0lf, 1.0lf, 1.0lf, 1.0lf);
+    var r2 = 0.0lf;
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        let d = p[a] - c;
+        r2 = max(r2, dot(d, d));
+    }
+    return vec4<f64>(c, sqrt(r2));
+}
+
+// The cell of point q, each index clamped to +-1e9 (a node or face far away shares the edge
+// cells with others: more tests, never fewer).
+fn cell_of(q: vec3<f64>) -> vec3<f64> {
+    let h = cfl[CF_H];
+    return clamp(floor(q / h), vec3<f64>(-1e9lf), vec3<f64>(1e9lf));
+}
+
+fn hash(c: vec3<f64>) -> u32 {
+    let u = bitcast<vec3<u32>>(vec3<i32>(c));
+    return ((u.x * 73856093u) ^ (u.y * 19349663u) ^ (u.z * 83492791u)) & (C_M - 1u);
+}
+
+// The cells face f's sphere box spans: lo, hi (inclusive); lo.x > hi.x when the face has no
+// finite position; hi - lo beyond SPAN: the face goes to the `big` list.
+struct Span {
+    lo: vec3<f64>,
+    hi: vec3<f64>,
+}
+
+fn span_of(f: u32) -> Span {
+    let s = sphere(f);
+    let c = s.xyz;
+    // (1 + 1e-9) and 1e-300: the box holds every point the exact sphere holds
+    let r = (WEIGHT_SUM * s.w + cfl[CF_DEPTH + f]) * (1.0lf + 1e-9lf) + 1e-300lf;
+    if (!finite3(c) || !finite(r)) {
+        return Span(vec3<f64>(1.0lf), vec3<f64>(0.0lf));
+    }
+    return Span(cell_of(c - vec3<f64>(r)), cell_of(c + vec3<f64>(r)));
+}
+
+fn is_big(s: Span) -> bool {
+    let d = s.hi - s.lo;
+    return d.x >= SPAN || d.y >= SPAN || d.z >= SPAN;
+}
+
+fn pass_index(w: vec3<u32>, nw: vec3<u32>, l: u32) -> u32 {
+    return 64u * (w.y * nw.x + w.x) + l;
+}
+
+// Face f into the cells its sphere's box spans: counted (`fill` false) or written into the
+// cells' entries (true; a face over SPAN cells a side into the `big` list instead).
+fn put_face(f: u32, fill: bool) {
+    let s = span_of(f);
+    if (s.lo.x > s.hi.x) {
+        return;
+    }
+    if (is_big(s)) {
+        if (fill) {
+            let k = atomicAdd(&grid[G_BIGN], 1u);
+            atomicStore(&grid[G_BIG + k], f);
+        }
+        return;
+    }
+    for (var i = s.lo.x; i <= s.hi.x; i = i + 1.0lf) {
+        for (var j = s.lo.y; j <= s.hi.y; j = j + 1.0lf) {
+            for (var k = s.lo.z; k <= s.hi.z; k = k + 1.0lf) {
+                let b = hash(vec3<f64>(i, j, k));
+                if (fill) {
+                    let at = atomicLoad(&grid[G_OFF + b]) + atomicAdd(&grid[G_FILL + b], 1u);
+                    atomicStore(&grid[G_ENT + at], f);
+                } else {
+                    atomicAdd(&grid[G_COUNT + b], 1u);
+                }
+            }
+        }
+    }
+}
+
+@compute @workgroup_size(64)
+fn c_count(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+           @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
+    let f = pass_index(wid, nw, lid.x);
+    if (f < C_NF && !halted()) {
+        put_face(f, false);
+    }
+}
+
+@compute @workgroup_size(64)
+fn c_fill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+          @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
+    let f = pass_index(wid, nw, lid.x);
+    if (f < C_NF && !halted()) {
+        put_face(f, true);
+    }
+}
+
+// Exclusive sums of the `len` counts at `count` in `grid` into `off` (len + 1 values), the
+// counts and the fill cursors at `fill` set back to zero for the next step; by one group of
+// 256 threads, each a run of counts.
+var<workgroup> s_sum: array<u32, 256>;
+fn scan(count: u32, off: u32, fill: u32, len: u32, l: u32, run: bool) {
+    let per = (len + 255u) / 256u;
+    let a = min(l * per, len);
+    let b = min(a + per, len);
+    var sum = 0u;
+    for (var i = a; i < b; i = i + 1u) {
+        sum = sum + atomicLoad(&grid[count + i]);
+    }
+    s_sum[l] = sum;
+    workgroupBarrier();
+    // inclusive sums of the runs (Hillis-Steele)
+    for (var d = 1u; d < 256u; d = d << 1u) {
+        var add = 0u;
+        if (l >= d) {
+            add = s_sum[l - d];
+        }
+        workgroupBarrier();
+        s_sum[l] = s_sum[l] + add;
+        workgroupBarrier();
+    }
+    if (!run) {
+        return;
+    }
+    var at = s_sum[l] - sum;
+    for (var i = a; i < b; i = i + 1u) {
+        atomicStore(&grid[off + i], at);
+        at = at + atomicLoad(&grid[count + i]);
+        atomicStore(&grid[count + i], 0u);
+        atomicStore(&grid[fill + i], 0u);
+    }
+    if (l == 255u) {
+        atomicStore(&grid[off + len], s_sum[255]);
+    }
+}
+
+@compute @workgroup_size(256)
+fn c_scan(@builtin(local_invocation_id) lid: vec3<u32>) {
+    let run = !halted();
+    scan(G_COUNT, G_OFF, G_FILL, C_M, lid.x, run);
+    if (lid.x == 0u && run) {
+        atomicStore(&grid[G_BIGN], 0u);
+    }
+}
+
+@compute @workgroup_size(256)
+fn c_hscan(@builtin(local_invocation_id) lid: vec3<u32>) {
+    scan(H_COUNT, H_OFF, H_FILL, C_NF, lid.x, !halted());
+}
+
+// ---------------------------------------------------------------- node to face (penalty.rs)
+
+struct Proj {
+    ok: bool,
+    w: vec4<f64>,
+    point: vec3<f64>,
+    n: vec3<f64>,
+    gap: f64,
+}
+
+fn no_proj() -> Proj {
+    return Proj(false, vec4<f64>(0.0lf), vec3<f64>(0.0lf), vec3<f64>(0.0lf), 0.0lf);
+}
+
+// det is NaN or at most 1e-12 j11 j22 (penalty.rs newton `singular`)
+fn singular(det: f64, j11: f64, j22: f64) -> bool {
+    return !(det > 1e-12lf * j11 * j22);
+}
+
+// Node s on the bilinear face p (penalty.rs project): Newton on the closest-point conditions
+// from the centre; the triangles when it does not converge.
+fn project(p: array<vec3<f64>, 4>, s: vec3<f64>) -> Proj {
+    let a0 = coeff(p, 1.0lf, 1.0lf, 1.0lf, 1.0lf);
+    let a1 = coeff(p, -1.0lf, 1.0lf, 1.0lf, -1.0lf);
+    let a2 = coeff(p, -1.0lf, -1.0lf, 1.0lf, 1.0lf);
+    let a3 = coeff(p, 1.0lf, -1.0lf, 1.0lf, -1.0lf);
+    var xi = 0.0lf;
+    var eta = 0.0lf;
+    // 0 converged, 1 outside, 2 failed
+    var state = 2u;
+    for (var it = 0u; it < MAX_ITER; it = it + 1u) {
+        let x_xi = a1 + a3 * eta;
+        let x_eta = a2 + a3 * xi;
+        let r = ((a0 + a1 * xi) + (a2 * eta + a3 * (xi * eta))) - s;
+        let f1 = dot(r, x_xi);
+        let f2 = dot(r, x_eta);
+        let j11 = dot(x_xi, x_xi);
+        let j22 = dot(x_eta, x_eta);
+        var j12 = dot(x_xi, x_eta) + dot(r, a3);
+        var det = j11 * j22 - j12 * j12;
+        if (singular(det, j11, j22)) {
+            j12 = dot(x_xi, x_eta);
+            det = j11 * j22 - j12 * j12;
+            if (singular(det, j11, j22)) {
+                break;
+            }
+        }
+        let dxi = (j22 * f1 - j12 * f2) / det;
+        let deta = (j11 * f2 - j12 * f1) / det;
+        xi = xi - dxi;
+        eta = eta - deta;
+        if (abs(dxi) + abs(deta) < NEWTON_TOL) {
+            state = 0u;
+            break;
+        }
+        if (abs(xi) > 4.0lf || abs(eta) > 4.0lf) {
+            state = 1u;
+            break;
+        }
+    }
+    if (state == 1u) {
+        return no_proj();
+    }
+    if (state == 2u) {
+        return project_triangles(p, s);
+    }
+    let lim = 1.0lf + INSIDE_TOL;
+    if (abs(xi) > lim || abs(eta) > lim) {
+        return no_proj();
+    }
+    let x_xi = a1 + a3 * eta;
+    let x_eta = a2 + a3 * xi;
+    let c = cross(x_xi, x_eta);
+    let len = sqrt(dot(c, c));
+    if (!(len > 0.0lf)) {
+        return no_proj();
+    }
+    let n = c * (1.0lf / len);
+    let w = vec4<f64>(
+        0.25lf * (1.0lf - xi) * (1.0lf - eta),
+        0.25lf * (1.0lf + xi) * (1.0lf - eta),
+        0.25lf * (1.0lf + xi) * (1.0lf + eta),
+        0.25lf * (1.0lf - xi) * (1.0lf + eta));
+    let point = (a0 + a1 * xi) + (a2 * eta + a3 * (xi * eta));
+    return Proj(true, w, point, n, dot(s - point, n));
+}
+
+// The face as 4 triangles (x_a, x_a+1, centroid) (penalty.rs project_triangles).
+fn project_triangles(p_in: array<vec3<f64>, 4>, s: vec3<f64>) -> Proj {
+    var p = p_in;
+    let c = ((p[0] + p[1]) + (p[2] + p[3])) * 0.25lf;
+    var best = no_proj();
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        let b = (a + 1u) % 4u;
+        let x0 = p[a];
+        let x1 = p[b];
+        let nn = cross(x1 - x0, c - x0);
+        let area2 = sqrt(dot(nn, nn));
+        if (!(area2 > 0.0lf)) {
+            continue;
+        }
+        let n = nn * (1.0lf / area2);
+        let g = dot(s - x0, n);
+        let q = s - n * g;
+        let l0 = dot(cross(x1 - q, c - q), n) / area2;
+        let l1 = dot(cross(c - q, x0 - q), n) / area2;
+        let lc = 1.0lf - l0 - l1;
+        if (l0 < -INSIDE_TOL || l1 < -INSIDE_TOL || lc < -INSIDE_TOL) {
+            continue;
+        }
+        if (best.ok && abs(best.gap) <= abs(g)) {
+            continue;
+        }
+        var w = vec4<f64>(0.25lf * lc);
+        w[a] = w[a] + l0;
+        w[b] = w[b] + l1;
+        var point = vec3<f64>(0.0lf);
+        for (var k = 0u; k < 4u; k = k + 1u) {
+            point = point + p[k] * w[k];
+        }
+        best = Proj(true, w, point, n, dot(s - point, n));
+    }
+    return best;
+}
+
+// ---------------------------------------------------------------- detection
+
+// The unit normal of pass-node j's surface: the sum of the diagonal cross products of its
+// faces on the node side (mod.rs NodeFrame::of; zero when the sum is).
+fn node_normal(j: u32) -> vec3<f64> {
+    var n = vec3<f64>(0.0lf);
+    for (var k = ci[CI_NFPTR + j]; k < ci[CI_NFPTR + j + 1u]; k = k + 1u) {
+        let p = corners(ci[k]);
+        n = n + cross(p[2] - p[0], p[3] - p[1]);
+    }
+    let l = sqrt(dot(n, n));
+    if (l > 0.0lf) {
+        return n * (1.0lf / l);
+    }
+    return n;
+}
+
+// The spring of the node of pass-node j against a face of stiffness k_face (PENOPT 1: the
+// smaller of the two; 2: the face's; surface.rs pair_stiffness).
+fn pair_k(k_face: f64, j: u32) -> f64 {
+    if (cfl[CF_PEN] == 1.0lf) {
+        return min(k_face, cfl[CF_KN + j]);
+    }
+    return k_face;
+}
+
+fn hit_v(o: u32) -> vec3<f64> {
+    return vec3<f64>(hits[o], hits[o + 1u], hits[o + 2u]);
+}
+
+// Pass-node j, its node n at s, against face f of the pass's face side `side`: the nearer
+// contact of it and (best_f, best) (mod.rs NodeCheck::test, after the bounds that only save
+// work: a face whose sphere holds no contact is skipped here too).
+var<private> best_f: u32;
+var<private> best: Proj;
+var<private> frame_done: bool;
+var<private> frame_n: vec3<f64>;
+fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
+    if (ci[CI_FSIDE + f] != side) {
+        return;
+    }
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        if (face_node(f, a) == n) {
+            return;
+        }
+    }
+    var p = corners(f);
+    let c = coeff(p, 1.0lf, 1.0lf, 1.0lf, 1.0lf);
+    var r2 = 0.0lf;
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        let d = p[a] - c;
+        r2 = max(r2, dot(d, d));
+    }
+    let r = sqrt(r2);
+    let depth = cfl[CF_DEPTH + f];
+    let ds = s - c;
+    let reach = (WEIGHT_SUM * r + depth) * (1.0lf + 1e-9lf);
+    if (dot(ds, ds) > reach * reach) {
+        return;
+    }
+    let gap_min = GAP_TOL * r;
+    let g2 = gap_min * gap_min;
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        let e = s - p[a];
+        if (!(dot(e, e) > g2)) {
+            return;
+        }
+    }
+    let pr = project(p, s);
+    if (!pr.ok || !(pr.gap < -gap_min && pr.gap > -depth)) {
+        return;
+    }
+    if (!frame_done) {
+        frame_n = node_normal(j);
+        frame_done = true;
+    }
+    if (dot(frame_n, pr.n) > -FACING) {
+        return;
+    }
+    if (best_f == NONE || pr.gap > best.gap || (pr.gap == best.gap && f < best_f)) {
+        best_f = f;
+        best = pr;
+    }
+}
+
+@compute @workgroup_size(64)
+fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+            @builtin(num_workgroups) nw: vec3<u32>) {
+    halves();
+    let j = pass_index(wid, nw, lid.x);
+    if (j >= C_NP || halted()) {
+        return;
+    }
+    let n = ci[CI_PN + 2u * j];
+    let q = ci[CI_PN + 2u * j + 1u];
+    let side = ci[CI_PASS + 2u * q];
+    let def = ci[CI_PASS + 2u * q + 1u];
+    let s = pos(n);
+    best_f = NONE;
+    frame_done = false;
+    if (finite3(s)) {
+        let b = hash(cell_of(s));
+        let end = atomicLoad(&grid[G_OFF + b + 1u]);
+        for (var k = atomicLoad(&grid[G_OFF + b]); k < end; k = k + 1u) {
+            test_face(j, n, s, atomicLoad(&grid[G_ENT + k]), side);
+        }
+        let big = atomicLoad(&grid[G_BIGN]);
+        for (var k = 0u; k < big; k = k + 1u) {
+            test_face(j, n, s, atomicLoad(&grid[G_BIG + k]), side);
+        }
+    }
+    let o = HIT * j;
+    let prev_face = hits[o];
+    if (best_f == NONE) {
+        // out of contact: the hit and the tangential force start again from zero
+        for (var k = 0u; k < HIT; k = k + 1u) {
+            hits[o + k] = 0.0lf;
+        }
+        hits[o] = -1.0lf;
+        return;
+    }
+    let fi = best_f;
+    let pr = best;
+    let dt_prev = cf[DT_PREV];
+    let v = vel(n);
+    var v_face = vec3<f64>(0.0lf);
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        v_face = v_face + vel(face_node(fi, a)) * pr.w[a];
+    }
+    let v_rel = v - v_face;
+    // the first step has no motion to explain a penetration (engagement.rs): in full
+    var approach = BIG;
+    if (dt_prev > 0.0lf) {
+        approach = max(-dot(v_rel, pr.n), 0.0lf) * dt_prev;
+    }
+    let k = pair_k(cfl[CF_K + fi], j);
+    let gap = pr.gap;
+    // engagement.rs engage
+    var engaged = 0.0lf;
+    if (prev_face < 0.0lf) {
+        engaged = max(gap, -approach);
+    } else if (u32(prev_face) == fi) {
+        engaged = gap - max(hits[o + 9u], gap);
+    } else {
+        let k_prev = pair_k(cfl[CF_K + u32(prev_face)], j);
+        var carried = 0.0lf;
+        if (k > 0.0lf) {
+            carried = hits[o + 8u] * sqrt(k_prev / k);
+        }
+        engaged = max(gap, carried - approach);
+    }
+    engaged = min(engaged, 0.0lf);
+    let offset = gap - engaged;
+    // penalty.rs normal_force
+    var f_n = vec3<f64>(0.0lf);
+    if (engaged < 0.0lf) {
+        f_n = pr.n * (-k * engaged);
+    }
+    let fn_mag = -k * engaged;
+    var f_t = vec3<f64>(0.0lf);
+    let fr = CF_DEF + 4u * def;
+    if (cfl[fr + 3u] == 0.0lf && fn_mag > 0.0lf) {
+        // friction.rs: mu = FD + (FS - FD) exp(-DC |v_t|), the elastic trial force capped
+        let v_t = v_rel - pr.n * dot(v_rel, pr.n);
+        let speed = sqrt(dot(v_t, v_t));
+        let mu = cfl[fr + 1u] + (cfl[fr] - cfl[fr + 1u]) * exp64(-cfl[fr + 2u] * speed);
+        let f_max = mu * fn_mag;
+        let ft_prev = hit_v(o + 11u);
+        let mag = sqrt(dot(ft_prev, ft_prev));
+        var pp = ft_prev - pr.n * dot(ft_prev, pr.n);
+        let pm = sqrt(dot(pp, pp));
+        if (pm > 0.0lf) {
+            pp = pp * (mag / pm);
+        } else {
+            pp = vec3<f64>(0.0lf);
+        }
+        let trial = pp - (v_t * dt_prev) * k;
+        let t = sqrt(dot(trial, trial));
+        if (t > f_max) {
+            var sc = 0.0lf;
+            if (t > 0.0lf) {
+                sc = f_max / t;
+            }
+            f_t = trial * sc;
+        } else {
+            f_t = trial;
+        }
+    }
+    let f = f_n + f_t;
+    hits[o] = f64(fi);
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        hits[o + 1u + a] = pr.w[a];
+    }
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        hits[o + 5u + i] = f[i];
+        hits[o + 11u + i] = f_t[i];
+    }
+    hits[o + 8u] = engaged;
+    hits[o + 9u] = offset;
+    hits[o + 10u] = fn_mag;
+    if (fn_mag != 0.0lf) {
+        atomicAdd(&grid[H_COUNT + fi], 1u);
+    }
+}
+
+// The nodes that push on each face, listed by face (in any order: the gather orders them).
+@compute @workgroup_size(64)
+fn c_hfill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+           @builtin(num_workgroups) nw: vec3<u32>) {
+    let j = pass_index(wid, nw, lid.x);
+    if (j >= C_NP || halted()) {
+        return;
+    }
+    let o = HIT * j;
+    if (hits[o] < 0.0lf || hits[o + 10u] == 0.0lf) {
+        return;
+    }
+    let f = u32(hits[o]);
+    let at = atomicLoad(&grid[H_OFF + f]) + atomicAdd(&grid[H_FILL + f], 1u);
+    atomicStore(&grid[H_LIST + at], j);
+}
+
+// ---------------------------------------------------------------- gather and energy
+
+var<workgroup> g_s: array<f64, 256>;
+
+// Surface node g's contact force: the forces of the pass-nodes that act on it (its own hits,
+// and the reactions -w_a f of those that hit a face it is corner a of), added in the order of
+// the pass-nodes (the CPU's scatter order: mod.rs Contact::compute), each pass-node's own
+// force before its reactions; a pass-node with no force adds nothing.
+@compute @workgroup_size(64)
+fn c_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+            @builtin(num_workgroups) nw: vec3<u32>) {
+    let g = pass_index(wid, nw, lid.x);
+    let l = lid.x;
+    var work = 0.0lf;
+    if (g < C_NG && !halted()) {
+        let n = ci[CI_GN + g];
+        let own = vec2<u32>(ci[CI_GOPTR + g], ci[CI_GOPTR + g + 1u]);
+        let fe = vec2<u32>(ci[CI_GFPTR + g], ci[CI_GFPTR + g + 1u]);
+        var f = vec3<f64>(0.0lf);
+        var cur = 0u;
+        loop {
+            // the next pass-node, in order, that acts on the node
+            var next = NONE;
+            for (var k = own.x; k < own.y; k = k + 1u) {
+                let j = ci[k];
+                if (j >= cur && j < next && hits[HIT * j + 10u] != 0.0lf) {
+                    next = j;
+                }
+            }
+            for (var k = fe.x; k < fe.y; k = k + 1u) {
+                let face = ci[k] >> 2u;
+                let end = atomicLoad(&grid[H_OFF + face + 1u]);
+                for (var t = atomicLoad(&grid[H_OFF + face]); t < end; t = t + 1u) {
+                    let j = atomicLoad(&grid[H_LIST + t]);
+                    if (j >= cur && j < next) {
+                        next = j;
+                    }
+                }
+            }
+            if (next == NONE) {
+                break;
+            }
+            let o = HIT * next;
+            let fj = hit_v(o + 5u);
+            for (var k = own.x; k < own.y; k = k + 1u) {
+                if (ci[k] == next) {
+                    f = f + fj;
+                }
+            }
+            let hf = u32(hits[o]);
+            for (var k = fe.x; k < fe.y; k = k + 1u) {
+                let e = ci[k];
+                if ((e >> 2u) == hf) {
+                    f = f + fj * (-hits[o + 1u + (e & 3u)]);
+                }
+            }
+            cur = next + 1u;
+        }
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            fcon[3u * n + i] = f[i];
+        }
+        // the work over the last step of the last step's force and this step's
+        let v = vel(n);
+        let fp = vec3<f64>(fprev[3u * g], fprev[3u * g + 1u], fprev[3u * g + 2u]);
+        work = dot(fp, v) + dot(f, v);
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            fprev[3u * g + i] = f[i];
+        }
+    }
+    // the group's sum, by a tree of fixed shape
+    g_s[l] = work;
+    workgroupBarrier();
+    for (var s = 32u; s > 0u; s = s >> 1u) {
+        if (l < s) {
+            g_s[l] = g_s[l] + g_s[l + s];
+        }
+        workgroupBarrier();
+    }
+    if (l == 0u) {
+        cpart[wid.y * nw.x + wid.x] = g_s[0];
+    }
+}
+
+// The contact energy of the step: dE = -1/2 dt^(n-1/2) sum (f^(n-1) + f^n).v^(n-1/2)
+// (mod.rs, Energy), the groups' partials added l, l + 256, ... by each thread, then by a tree.
+@compute @workgroup_size(256)
+fn c_energy(@builtin(local_invocation_id) lid: vec3<u32>) {
+    let l = lid.x;
+    let run = !halted();
+    var acc = 0.0lf;
+    if (run) {
+        for (var k = l; k < C_GG; k = k + 256u) {
+            acc = acc + cpart[k];
+        }
+    }
+    g_s[l] = acc;
+    workgroupBarrier();
+    for (var s = 128u; s > 0u; s = s >> 1u) {
+        if (l < s) {
+            g_s[l] = g_s[l] + g_s[l + s];
+        }
+        workgroupBarrier();
+    }
+    if (l == 0u && run) {
+        cf[E_CONTACT] = cf[E_CONTACT] - 0.5lf * cf[DT_PREV] * g_s[0];
+    }
+}

@@ -16,6 +16,7 @@
 use cleave_core::contact::{ContactForce, ContactSet};
 use cleave_core::model::PenaltyRule;
 use cleave_core::solver::Solver;
+use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
 use crate::device::{Gpu, GpuError};
@@ -23,30 +24,68 @@ use crate::device::{Gpu, GpuError};
 /// Values per pass-node in the hits array (contact.wgsl HIT).
 pub(crate) const HIT: usize = 14;
 
-/// Largest cells a face's sphere spans along an axis before it goes to the list every node
-/// reads (contact.wgsl SPAN), so at most `CELLS` cells a face.
+/// The most cells a face takes in the grid: one whose sphere's box spans more than 3 along an
+/// axis goes to the list every node reads instead (contact.wgsl SPAN).
 const CELLS: usize = 27;
+
+/// The sizes and offsets contact.wgsl reads from the head of `ci` (its `params()`), in order.
+const PARAMS: [&str; 31] = [
+    "C_NN", "C_NF", "C_NP", "C_NG", "C_GG", "C_M", "CI_FACE", "CI_FSIDE", "CI_PN", "CI_PASS",
+    "CI_NFPTR", "CI_GN", "CI_GOPTR", "CI_GFPTR", "CF_K", "CF_DEPTH", "CF_KN", "CF_DEF", "CF_PEN",
+    "CF_H", "G_COUNT", "G_OFF", "G_FILL", "G_BIGN", "H_COUNT", "H_OFF", "H_FILL", "G_ENT", "G_BIG",
+    "H_LIST", "G_SPAN",
+];
 
 /// The tables of contact.wgsl, built on the host from the solver's definitions.
 #[derive(Debug, Default)]
 pub(crate) struct Tables {
-    /// `u32` tables (`ci`) and `f64` tables (`cfl`), with the offsets of their parts.
+    /// `u32` tables (`ci`, the [`PARAMS`] first) and `f64` tables (`cfl`).
     pub ci: Vec<u32>,
     pub cfl: Vec<f64>,
-    /// The shader's constants: name, value.
-    pub consts: Vec<(&'static str, u64)>,
     pub faces: usize,
     pub pass_nodes: usize,
     pub surface_nodes: usize,
     /// Each pass-node's definition and sign in its definition's resultant (1 for a slave
     /// node's pass, -1 for a master node's: the force on the slave side).
     pub pn_def: Vec<(usize, f64)>,
+    /// What each pass-node and face is, to carry the pairs over when the tables are made
+    /// again: (pass, node); (definition, side, element, local face).
+    pub pn_key: Vec<(u32, u32)>,
+    pub face_key: Vec<(u32, u32, u32, u8)>,
+    /// The surface nodes, ascending (each one's last contact force is kept, in this order).
+    pub surface: Vec<u32>,
     /// u32 values of the grid and hit lists.
     pub grid_len: usize,
 }
 
-/// The tables of the solver's contact definitions; `None` without contact.
-pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
+impl Tables {
+    /// The value of parameter `name` ([`PARAMS`]).
+    pub fn param(&self, name: &str) -> usize {
+        let k = PARAMS.iter().position(|&p| p == name).expect("a parameter");
+        self.ci[k] as usize
+    }
+
+    /// The groups of 64 threads each pass runs, in [`PASSES`] order.
+    fn groups(&self) -> [usize; 9] {
+        let per = |n: usize| n.div_ceil(crate::stepper::GROUP);
+        let (f, p, g) = (
+            per(self.faces),
+            per(self.pass_nodes),
+            per(self.surface_nodes),
+        );
+        [f, 1, f, p, 1, p, f, g, 1]
+    }
+}
+
+/// The passes of contact.wgsl, in the order they run.
+const PASSES: [&str; 9] = [
+    "c_count", "c_scan", "c_fill", "c_detect", "c_hscan", "c_hfill", "c_hsort", "c_gather",
+    "c_energy",
+];
+
+/// The tables of the solver's contact definitions as they are now, with the grid's cell size
+/// `h` (from [`cell_size`] when `None`); `None` without contact.
+pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
     let cs: &ContactSet = solver.contact()?;
     if cs.is_empty() {
         return None;
@@ -57,12 +96,14 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     let mut face_nodes: Vec<u32> = vec![];
     let (mut face_tag, mut fk, mut fdepth) = (vec![], vec![], vec![]);
     let mut side_start: Vec<Vec<(u32, u32)>> = vec![]; // (first face, tag) per def, side
+    let mut face_key = vec![];
     let mut tag = 0u32;
-    for c in cs.contacts() {
+    for (d, c) in cs.contacts().iter().enumerate() {
         let mut sides = vec![];
         for side in 0..c.num_sides() {
             sides.push((face_tag.len() as u32, tag));
             for f in c.faces(side) {
+                face_key.push((d as u32, side as u32, f.elem, f.face));
                 face_nodes.extend_from_slice(&f.nodes);
                 face_tag.push(tag);
                 fk.push(f.k);
@@ -76,17 +117,21 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     // the pass-nodes: definitions, passes, each node side's nodes in scatter order
     let (mut pn, mut pass_tab, mut kn, mut pn_def) = (vec![], vec![], vec![], vec![]);
     let mut frame: Vec<Vec<u32>> = vec![];
+    let mut pn_key = vec![];
     for (d, c) in cs.contacts().iter().enumerate() {
         for (p, (ns, fs)) in c.pass_sides().into_iter().enumerate() {
             let q = pass_tab.len() as u32 / 2;
             pass_tab.extend([side_start[d][fs].1, d as u32]);
             let sign = if p == 0 { 1.0 } else { -1.0 };
             for n in c.nodes_in_scatter_order(ns) {
-                pn.extend([n, q]);
+                // the faces that make its normal: none when all of them eroded (buried)
+                let first = side_start[d][ns].0;
+                let faces: Vec<u32> = (c.faces_of_node(ns, n).iter()).map(|f| first + f).collect();
+                pn.extend([n, q, faces.is_empty() as u32]);
+                frame.push(faces);
                 kn.push(cs.node_stiffness(n));
                 pn_def.push((d, sign));
-                let first = side_start[d][ns].0;
-                frame.push(c.faces_of_node(ns, n).iter().map(|f| first + f).collect());
+                pn_key.push((q, n));
             }
         }
     }
@@ -95,7 +140,7 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     let mut own: Vec<Vec<u32>> = vec![vec![]; nn];
     let mut corner: Vec<Vec<u32>> = vec![vec![]; nn];
     for j in 0..np {
-        own[pn[2 * j] as usize].push(j as u32);
+        own[pn[3 * j] as usize].push(j as u32);
     }
     for (k, &n) in face_nodes.iter().enumerate() {
         corner[n as usize].push(k as u32); // 4 f + a
@@ -104,9 +149,10 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
         .filter(|&n| !own[n as usize].is_empty() || !corner[n as usize].is_empty())
         .collect();
     let ng = surface.len();
-    // ci: faces' nodes and tags, pass-nodes, passes, then three lists with their pointers
-    // (absolute indices into ci)
-    let mut ci = face_nodes;
+    // ci: the parameters, faces' nodes and tags, pass-nodes, passes, then three lists with
+    // their pointers (absolute indices into ci)
+    let mut ci = vec![0; PARAMS.len()];
+    ci.extend_from_slice(&face_nodes);
     ci.extend_from_slice(&face_tag);
     let ci_pn = ci.len();
     ci.extend_from_slice(&pn);
@@ -151,7 +197,8 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
         PenaltyRule::Smaller => 1.0,
         PenaltyRule::Face => 2.0,
     });
-    cfl.push(cell_size(solver, &ci[..4 * nf], &cfl[nf..2 * nf]));
+    let h = h.unwrap_or_else(|| cell_size(solver, &face_nodes, &cfl[nf..2 * nf]));
+    cfl.push(h);
     // the grid: counts, offsets, cursors of the cells; of the hit lists per face; the cells'
     // entries, the big faces, the hit lists
     let m = (2 * nf).max(1024).next_power_of_two();
@@ -164,16 +211,17 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     let g_ent = h_fill + nf;
     let g_big = g_ent + CELLS * nf;
     let h_list = g_big + nf;
-    let grid_len = h_list + np;
-    let consts = vec![
+    let g_span = h_list + np;
+    let grid_len = g_span + 6 * nf;
+    let values = [
         ("C_NN", nn as u64),
         ("C_NF", nf as u64),
         ("C_NP", np as u64),
         ("C_NG", ng as u64),
         ("C_GG", ng.div_ceil(64) as u64),
         ("C_M", m as u64),
-        ("CI_FACE", 0),
-        ("CI_FSIDE", 4 * nf as u64),
+        ("CI_FACE", PARAMS.len() as u64),
+        ("CI_FSIDE", (PARAMS.len() + 4 * nf) as u64),
         ("CI_PN", ci_pn as u64),
         ("CI_PASS", ci_pass as u64),
         ("CI_NFPTR", ci_nfptr as u64),
@@ -196,15 +244,23 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
         ("G_ENT", g_ent as u64),
         ("G_BIG", g_big as u64),
         ("H_LIST", h_list as u64),
+        ("G_SPAN", g_span as u64),
     ];
+    for (name, v) in values {
+        let k = PARAMS.iter().position(|&p| p == name).expect("a parameter");
+        // (a table past u32 is past any binding: refused by ContactGpu::upload)
+        ci[k] = u32::try_from(v).unwrap_or(u32::MAX);
+    }
     Some(Tables {
         ci,
         cfl,
-        consts,
         faces: nf,
         pass_nodes: np,
         surface_nodes: ng,
         pn_def,
+        pn_key,
+        face_key,
+        surface,
         grid_len,
     })
 }
@@ -239,15 +295,23 @@ fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64]) -> f64 {
 
 /// The contact passes of the step, their buffers and their bind group.
 pub(crate) struct ContactGpu {
-    pub passes: Vec<(&'static str, wgpu::ComputePipeline, usize)>,
+    /// The passes ([`PASSES`]) and the groups each runs over the present tables.
+    pub passes: Vec<(&'static str, wgpu::ComputePipeline)>,
+    pub groups: [usize; 9],
+    layout: wgpu::BindGroupLayout,
     pub bind_group: wgpu::BindGroup,
+    /// The step's arrays it reads: control block, positions, velocities.
+    cf: wgpu::Buffer,
+    x: wgpu::Buffer,
+    v: wgpu::Buffer,
     /// Each node's contact force of the step (3 per model node), read by the step's shader.
     pub fcon: wgpu::Buffer,
     /// What carries over to the next step: the hits (HIT values per pass-node) and the last
     /// step's contact force of each surface node (3 each).
     pub hits: wgpu::Buffer,
     pub fprev: wgpu::Buffer,
-    pub bytes: u64,
+    /// The tables, their buffers and the grid's.
+    bufs: Vec<wgpu::Buffer>,
     tables: Tables,
 }
 
@@ -263,6 +327,103 @@ pub(crate) fn step_prefix(with: bool) -> &'static str {
     }
 }
 
+const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
+    .union(wgpu::BufferUsages::COPY_SRC)
+    .union(wgpu::BufferUsages::COPY_DST);
+
+fn zeros(gpu: &Gpu, label: &str, bytes: usize) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(8) as u64,
+        usage: STORAGE,
+        mapped_at_creation: false,
+    })
+}
+
+fn init(gpu: &Gpu, label: &str, contents: &[u8]) -> wgpu::Buffer {
+    gpu.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents,
+            usage: STORAGE,
+        })
+}
+
+/// Refuses (TooLarge) tables `t` with an array larger than the device binds (the contact
+/// binds every array whole), or positions `x` larger.
+fn check_sizes(gpu: &Gpu, t: &Tables, x: &wgpu::Buffer) -> Result<(), GpuError> {
+    let limit = gpu.limits.max_storage_buffer_binding_size;
+    let sizes = [
+        ("its tables", (4 * t.ci.len()).max(8 * t.cfl.len()) as u64),
+        ("its search grid", 4 * t.grid_len as u64),
+        ("its contact pairs", (8 * HIT * t.pass_nodes) as u64),
+        ("the positions", x.size()),
+    ];
+    match sizes.iter().find(|(_, b)| *b > limit) {
+        Some((what, bytes)) => Err(GpuError::TooLarge(format!(
+            "contact on the GPU binds each array whole, and {what} need {bytes} bytes; {} binds at most {limit} bytes per array",
+            gpu.info.name
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The pairs of tables `t` with no contact yet (face -1), and zero last forces.
+fn fresh(t: &Tables) -> (Vec<f64>, Vec<f64>) {
+    let mut h = vec![0.0f64; HIT * t.pass_nodes.max(1)];
+    h.iter_mut().step_by(HIT).for_each(|f| *f = -1.0);
+    (h, vec![0.0f64; 3 * t.surface_nodes.max(1)])
+}
+
+/// The buffers of a set of tables and their bind group.
+struct Buffers {
+    bind_group: wgpu::BindGroup,
+    hits: wgpu::Buffer,
+    fprev: wgpu::Buffer,
+    bufs: Vec<wgpu::Buffer>,
+}
+
+impl Buffers {
+    /// Tables `t` with pairs `h` and last forces `fp` on the device, bound with the step's
+    /// control block, positions and velocities `step` and the contact forces `fcon`.
+    fn new(
+        gpu: &Gpu,
+        layout: &wgpu::BindGroupLayout,
+        step: [&wgpu::Buffer; 3],
+        fcon: &wgpu::Buffer,
+        t: &Tables,
+        h: &[f64],
+        fp: &[f64],
+    ) -> Self {
+        let ci = init(gpu, "contact tables", bytemuck::cast_slice(&t.ci));
+        let cfl = init(gpu, "contact values", bytemuck::cast_slice(&t.cfl));
+        let hits = init(gpu, "contact pairs", bytemuck::cast_slice(h));
+        let fprev = init(gpu, "contact forces, last step", bytemuck::cast_slice(fp));
+        let grid = zeros(gpu, "contact grid", 4 * t.grid_len);
+        let cpart = zeros(gpu, "contact work partials", 8 * t.groups()[7]);
+        let bound = [
+            step[0], step[1], step[2], &ci, &cfl, &hits, fcon, &fprev, &grid, &cpart,
+        ];
+        let entries: Vec<_> = (bound.iter().enumerate())
+            .map(|(b, buf)| wgpu::BindGroupEntry {
+                binding: b as u32,
+                resource: buf.as_entire_binding(),
+            })
+            .collect();
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("contact"),
+            layout,
+            entries: &entries,
+        });
+        Self {
+            bind_group,
+            hits,
+            fprev,
+            bufs: vec![ci, cfl, grid, cpart],
+        }
+    }
+}
+
 impl ContactGpu {
     /// The contact of `solver` on `gpu`, reading the step's control block `cf`, positions `x`
     /// and velocities `v`; `None` without contact. Refuses (TooLarge) an array larger than the
@@ -274,66 +435,15 @@ impl ContactGpu {
         x: &wgpu::Buffer,
         v: &wgpu::Buffer,
     ) -> Result<Option<Self>, GpuError> {
-        let Some(t) = tables(solver) else {
+        let Some(t) = tables(solver, None) else {
             return Ok(None);
         };
         let dev = &gpu.device;
-        let limit = gpu.limits.max_storage_buffer_binding_size;
-        let nn = solver.model.num_nodes();
-        let sizes = [
-            ("its tables", (4 * t.ci.len()).max(8 * t.cfl.len()) as u64),
-            ("its search grid", 4 * t.grid_len as u64),
-            ("its contact pairs", (8 * HIT * t.pass_nodes) as u64),
-            ("the positions", x.size()),
+        let read_only = [
+            false, true, true, true, true, false, false, false, false, false,
         ];
-        if let Some((what, bytes)) = sizes.iter().find(|(_, b)| *b > limit) {
-            return Err(GpuError::TooLarge(format!(
-                "contact on the GPU binds each array whole, and {what} need {bytes} bytes; {} binds at most {limit} bytes per array",
-                gpu.info.name
-            )));
-        }
-        let storage = wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_SRC
-            | wgpu::BufferUsages::COPY_DST;
-        let init = |label: &str, contents: &[u8]| {
-            dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage: storage,
-            })
-        };
-        let zeros = |label: &str, bytes: usize| {
-            dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes.max(8) as u64,
-                usage: storage,
-                mapped_at_creation: false,
-            })
-        };
-        let ci = init("contact tables", bytemuck::cast_slice(&t.ci));
-        let cfl = init("contact values", bytemuck::cast_slice(&t.cfl));
-        let mut h = vec![0.0f64; HIT * t.pass_nodes.max(1)];
-        h.iter_mut().step_by(HIT).for_each(|f| *f = -1.0);
-        let hits = init("contact pairs", bytemuck::cast_slice(&h));
-        let fcon = zeros("contact forces", 24 * nn);
-        let fprev = zeros("contact forces, last step", 24 * t.surface_nodes);
-        let grid = zeros("contact grid", 4 * t.grid_len);
-        let gg = t.surface_nodes.div_ceil(64);
-        let cpart = zeros("contact work partials", 8 * gg);
-        let bufs: [(&wgpu::Buffer, bool); 10] = [
-            (cf, false),
-            (x, true),
-            (v, true),
-            (&ci, true),
-            (&cfl, true),
-            (&hits, false),
-            (&fcon, false),
-            (&fprev, false),
-            (&grid, false),
-            (&cpart, false),
-        ];
-        let layout_entries: Vec<_> = (bufs.iter().enumerate())
-            .map(|(b, &(_, read_only))| wgpu::BindGroupLayoutEntry {
+        let layout_entries: Vec<_> = (read_only.iter().enumerate())
+            .map(|(b, &read_only)| wgpu::BindGroupLayoutEntry {
                 binding: b as u32,
                 visibility: wgpu::ShaderStages::COMPUTE,
                 ty: wgpu::BindingType::Buffer {
@@ -344,43 +454,21 @@ impl ContactGpu {
                 count: None,
             })
             .collect();
-        let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("contact"),
             entries: &layout_entries,
         });
-        let entries: Vec<_> = (bufs.iter().enumerate())
-            .map(|(b, (buf, _))| wgpu::BindGroupEntry {
-                binding: b as u32,
-                resource: buf.as_entire_binding(),
-            })
-            .collect();
-        let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("contact"),
-            layout: &bgl,
-            entries: &entries,
-        });
-        let source = shader_source(&t);
+        let source = shader_source();
         let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("contact.wgsl"),
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
         let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("contact"),
-            bind_group_layouts: &[Some(&bgl)],
+            bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let per = |n: usize| n.div_ceil(crate::stepper::GROUP);
-        let passes = [
-            ("c_count", per(t.faces)),
-            ("c_scan", 1),
-            ("c_fill", per(t.faces)),
-            ("c_detect", per(t.pass_nodes)),
-            ("c_hscan", 1),
-            ("c_hfill", per(t.pass_nodes)),
-            ("c_gather", gg),
-            ("c_energy", 1),
-        ]
-        .map(|(name, groups)| {
+        let passes = PASSES.map(|name| {
             let p = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(name),
                 layout: Some(&pl),
@@ -389,21 +477,96 @@ impl ContactGpu {
                 compilation_options: Default::default(),
                 cache: None,
             });
-            (name, p, groups)
+            (name, p)
         });
-        let bytes = [&ci, &cfl, &hits, &fcon, &fprev, &grid, &cpart]
-            .iter()
-            .map(|b| b.size())
-            .sum();
+        let fcon = zeros(gpu, "contact forces", 24 * solver.model.num_nodes());
+        check_sizes(gpu, &t, x)?;
+        let (h, fp) = fresh(&t);
+        let d = Buffers::new(gpu, &layout, [cf, x, v], &fcon, &t, &h, &fp);
         Ok(Some(Self {
             passes: passes.into(),
-            bind_group,
+            groups: t.groups(),
+            bind_group: d.bind_group,
+            layout,
+            cf: cf.clone(),
+            x: x.clone(),
+            v: v.clone(),
+            hits: d.hits,
+            fprev: d.fprev,
             fcon,
-            hits,
-            fprev,
-            bytes,
+            bufs: d.bufs,
             tables: t,
         }))
+    }
+
+    /// Put tables `t` on the device (new buffers, a new bind group; the pipelines stay), the
+    /// pairs and last forces `carry` (the hits and each surface node's force of the tables
+    /// before, as read back) carried over to the new numbering: a pair keeps its pass-node
+    /// and face, a surface node its force; new ones start from none.
+    pub fn upload(
+        &mut self,
+        gpu: &Gpu,
+        t: Tables,
+        carry: Option<(&[f64], &[f64])>,
+    ) -> Result<(), GpuError> {
+        check_sizes(gpu, &t, &self.x)?;
+        let (mut h, mut fp) = fresh(&t);
+        if let Some((hits, fprev)) = carry {
+            self.carry(&t, hits, fprev, &mut h, &mut fp);
+        }
+        let d = Buffers::new(
+            gpu,
+            &self.layout,
+            [&self.cf, &self.x, &self.v],
+            &self.fcon,
+            &t,
+            &h,
+            &fp,
+        );
+        (self.bind_group, self.hits, self.fprev, self.bufs) =
+            (d.bind_group, d.hits, d.fprev, d.bufs);
+        self.groups = t.groups();
+        self.tables = t;
+        Ok(())
+    }
+
+    /// The pairs and forces of the present tables (`hits`, `fprev` as read back) into the
+    /// numbering of `t` (`h`, `fp`, filled with none and zeros).
+    fn carry(&self, t: &Tables, hits: &[f64], fprev: &[f64], h: &mut [f64], fp: &mut [f64]) {
+        let old = &self.tables;
+        let face_at: HashMap<_, u32> = (t.face_key.iter().enumerate())
+            .map(|(f, &k)| (k, f as u32))
+            .collect();
+        let pn_at: HashMap<_, usize> = (t.pn_key.iter().enumerate())
+            .map(|(j, &k)| (k, j))
+            .collect();
+        for (j, key) in old.pn_key.iter().enumerate() {
+            let (Some(&jn), Some(o)) = (pn_at.get(key), hits.get(HIT * j..HIT * (j + 1))) else {
+                continue;
+            };
+            let dst = &mut h[HIT * jn..HIT * (jn + 1)];
+            dst.copy_from_slice(o);
+            if o[0] >= 0.0 {
+                // the face by what it is (none when it left the surface)
+                let face = old.face_key.get(o[0] as usize).and_then(|k| face_at.get(k));
+                dst[0] = face.map_or(-1.0, |&f| f64::from(f));
+            }
+        }
+        let at: HashMap<u32, usize> = (t.surface.iter().enumerate())
+            .map(|(g, &n)| (n, g))
+            .collect();
+        for (g, n) in old.surface.iter().enumerate() {
+            if let (Some(&gn), Some(f)) = (at.get(n), fprev.get(3 * g..3 * g + 3)) {
+                fp[3 * gn..3 * gn + 3].copy_from_slice(f);
+            }
+        }
+    }
+
+    /// The bytes of the contact's buffers on the device.
+    pub fn bytes(&self) -> u64 {
+        (self.bufs.iter().chain([&self.hits, &self.fprev]))
+            .map(|b| b.size())
+            .sum()
     }
 
     /// Each definition's resultants from the hits read back (mod.rs ContactForce: the force
@@ -416,7 +579,9 @@ impl ContactGpu {
             })
             .collect();
         for (j, &(d, sign)) in self.tables.pn_def.iter().enumerate() {
-            let h = &hits[HIT * j..HIT * (j + 1)];
+            let Some(h) = hits.get(HIT * j..HIT * (j + 1)) else {
+                break;
+            };
             if h[0] < 0.0 || h[10] == 0.0 {
                 continue;
             }
@@ -429,14 +594,25 @@ impl ContactGpu {
         }
         out
     }
+
+    /// The grid's cell size (kept when the tables are made again).
+    pub fn cell(&self) -> f64 {
+        self.tables.cfl[self.tables.param("CF_H")]
+    }
 }
 
-/// contact.wgsl with its constants and the shared math before it.
-pub(crate) fn shader_source(t: &Tables) -> String {
+/// contact.wgsl with the declaration and loading of its parameters ([`PARAMS`]) and the shared
+/// math before it.
+pub(crate) fn shader_source() -> String {
     let mut s = String::new();
-    for (name, v) in &t.consts {
-        s += &format!("const {name}: u32 = {v}u;\n");
+    for name in PARAMS {
+        s += &format!("var<private> {name}: u32;\n");
     }
+    s += "fn params() {\n";
+    for (k, name) in PARAMS.iter().enumerate() {
+        s += &format!("    {name} = ci[{k}u];\n");
+    }
+    s += "}\n";
     s + include_str!("math.wgsl") + include_str!("contact.wgsl")
 }
 
@@ -470,10 +646,10 @@ mod tests {
         });
         let mut s = Solver::new(&m).unwrap();
         s.attach_contact(ContactSet::new(&m, None).unwrap());
-        let t = tables(&s).unwrap();
+        let t = tables(&s, None).unwrap();
         // 24 exterior faces, the 26 nodes on the surface (all but the centre), one pass
         assert_eq!((t.faces, t.pass_nodes, t.surface_nodes), (24, 26, 26));
-        let c = |name: &str| t.consts.iter().find(|(n, _)| *n == name).unwrap().1 as usize;
+        let c = |name: &str| t.param(name);
         // each surface node: one own entry, and a corner of its faces (a corner of the block
         // of 3, the middle of an edge of 4, the centre of a side of 4): 96 over the 26
         let (goptr, gfptr, ng) = (c("CI_GOPTR"), c("CI_GFPTR"), t.surface_nodes);
@@ -492,7 +668,7 @@ mod tests {
         let h = t.cfl[c("CF_H")];
         let want = 2.0 * (1.08 * 2f64.sqrt() / 4.0 + 0.4 * 0.125 / 0.25);
         assert!((h - want).abs() < 1e-12, "{h} {want}");
-        let src = shader_source(&t);
+        let src = shader_source();
         let module = match naga::front::wgsl::parse_str(&src) {
             Ok(m) => m,
             Err(e) => panic!("{}", e.emit_to_string(&src)),

@@ -6,9 +6,10 @@
 // passes in the order the CPU scatters their forces) against the faces of its face side. Every
 // step, with no motion bound and no schedule:
 //   c_count (per face)       each face's search sphere, centre c (the corners' mean) and
-//                            radius E r + depth, in the cells of a hashed grid it overlaps
-//                            (their count); a face over more than SPAN cells a side goes to
-//                            a list every node reads (`big`)
+//                            radius E r + depth, in the cells of a hashed grid its box
+//                            overlaps (their count; the span kept for c_fill); a face whose
+//                            box spans more than SPAN cells a side goes to a list every node
+//                            reads (`big`)
 //   c_scan (1 group)         the cells' offsets (an exclusive sum)
 //   c_fill (per face)        the faces into their cells
 //   c_detect (per pass-node) the node against every face of its cell: the nearest contact
@@ -16,20 +17,23 @@
 //                            engagement, normal and friction force; counted per face
 //   c_hscan (1 group)        each face's offset in the list of the nodes that hit it
 //   c_hfill (per pass-node)  that list
+//   c_hsort (per face)       each face's list in pass-node order
 //   c_gather (per node of a surface)  the node's contact force: its own hits and the reactions
 //                            on the faces it holds, added in the order of the pass-nodes that
-//                            make them (the CPU's scatter order), whatever the order the lists
-//                            were filled in; the work of the last step's and this step's
-//                            forces over the step (partials per group)
+//                            make them (the CPU's scatter order: the lists merged); the work
+//                            of the last step's and this step's forces over the step
+//                            (partials per group)
 //   c_energy (1 group)       the contact energy, -1/2 dt sum (f^(n-1) + f^n).v^(n-1/2)
 // A node in the face's sphere shares a cell with it (the face is in every cell its sphere's
 // box touches), so no contact the CPU's search finds is missed; the order faces come in does
 // not change which one wins. The forces are written per model node to `fcon`, which the step
 // (step.wgsl node_force's callers) adds to the other forces.
 //
-// The host puts before this text: the sizes (C_NN nodes, C_NF faces, C_NP pass-nodes, C_NG
-// surface nodes, C_M cells, C_CAP cell entries), the offsets of the tables in `ci` and `cfl`,
-// and the offsets of the grid's and hit lists' parts (contact.rs).
+// The sizes (C_NN nodes, C_NF faces, C_NP pass-nodes, C_NG surface nodes, C_M cells), the
+// offsets of the tables in `ci` and `cfl` and of the grid's and hit lists' parts are the first
+// values of `ci`, read into private variables by `params()` first thing in every entry point
+// (the host declares them before this text, contact.rs PARAMS): the tables are rebuilt when
+// the surfaces change (elements erode) without compiling the shader again.
 
 @group(0) @binding(0) var<storage, read_write> cf: array<f64>;
 @group(0) @binding(1) var<storage, read> xs: array<f64>;
@@ -55,7 +59,8 @@ const MAX_ITER: u32 = 12u;
 const NEWTON_TOL: f64 = 1e-11lf;
 const GAP_TOL: f64 = 1e-9lf;
 const FACING: f64 = 0.2lf;
-// the most cells a face's sphere spans along an axis before it goes to the `big` list
+// a face whose sphere's box spans more than SPAN cells along an axis (hi - lo >= SPAN) goes
+// to the `big` list: at most SPAN^3 = 27 cells a face in the grid (contact.rs CELLS)
 const SPAN: f64 = 3.0lf;
 
 // A hit, HIT values per pass-node: the face (-1: none), the weights w_a of its corners at the
@@ -156,10 +161,9 @@ fn pass_index(w: vec3<u32>, nw: vec3<u32>, l: u32) -> u32 {
     return 64u * (w.y * nw.x + w.x) + l;
 }
 
-// Face f into the cells its sphere's box spans: counted (`fill` false) or written into the
-// cells' entries (true; a face over SPAN cells a side into the `big` list instead).
-fn put_face(f: u32, fill: bool) {
-    let s = span_of(f);
+// Face f into the cells of span `s`: counted (`fill` false) or written into the cells'
+// entries (true; a face over SPAN cells a side into the `big` list instead).
+fn put_face(f: u32, s: Span, fill: bool) {
     if (s.lo.x > s.hi.x) {
         return;
     }
@@ -185,23 +189,48 @@ fn put_face(f: u32, fill: bool) {
     }
 }
 
+// Each face's span as the count found it, kept for the fill (6 values a face: the cells' lo
+// and hi, as i32), so that the two passes put a face in the same cells whatever the compiler
+// makes of the arithmetic in each.
+fn keep_span(f: u32, s: Span) {
+    let lo = bitcast<vec3<u32>>(vec3<i32>(s.lo));
+    let hi = bitcast<vec3<u32>>(vec3<i32>(s.hi));
+    let o = G_SPAN + 6u * f;
+    atomicStore(&grid[o], lo.x);
+    atomicStore(&grid[o + 1u], lo.y);
+    atomicStore(&grid[o + 2u], lo.z);
+    atomicStore(&grid[o + 3u], hi.x);
+    atomicStore(&grid[o + 4u], hi.y);
+    atomicStore(&grid[o + 5u], hi.z);
+}
+
+fn kept_span(f: u32) -> Span {
+    let o = G_SPAN + 6u * f;
+    let lo = vec3<u32>(atomicLoad(&grid[o]), atomicLoad(&grid[o + 1u]), atomicLoad(&grid[o + 2u]));
+    let hi = vec3<u32>(atomicLoad(&grid[o + 3u]), atomicLoad(&grid[o + 4u]), atomicLoad(&grid[o + 5u]));
+    return Span(vec3<f64>(bitcast<vec3<i32>>(lo)), vec3<f64>(bitcast<vec3<i32>>(hi)));
+}
+
 @compute @workgroup_size(64)
 fn c_count(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
            @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
     halves();
     let f = pass_index(wid, nw, lid.x);
     if (f < C_NF && !halted()) {
-        put_face(f, false);
+        let s = span_of(f);
+        keep_span(f, s);
+        put_face(f, s, false);
     }
 }
 
 @compute @workgroup_size(64)
 fn c_fill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
           @builtin(num_workgroups) nw: vec3<u32>) {
-    halves();
+    params();
     let f = pass_index(wid, nw, lid.x);
     if (f < C_NF && !halted()) {
-        put_face(f, true);
+        put_face(f, kept_span(f), true);
     }
 }
 
@@ -246,6 +275,7 @@ fn scan(count: u32, off: u32, fill: u32, len: u32, l: u32, run: bool) {
 
 @compute @workgroup_size(256)
 fn c_scan(@builtin(local_invocation_id) lid: vec3<u32>) {
+    params();
     let run = !halted();
     scan(G_COUNT, G_OFF, G_FILL, C_M, lid.x, run);
     if (lid.x == 0u && run) {
@@ -255,6 +285,7 @@ fn c_scan(@builtin(local_invocation_id) lid: vec3<u32>) {
 
 @compute @workgroup_size(256)
 fn c_hscan(@builtin(local_invocation_id) lid: vec3<u32>) {
+    params();
     scan(H_COUNT, H_OFF, H_FILL, C_NF, lid.x, !halted());
 }
 
@@ -471,19 +502,22 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
 @compute @workgroup_size(64)
 fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
             @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
     halves();
     let j = pass_index(wid, nw, lid.x);
     if (j >= C_NP || halted()) {
         return;
     }
-    let n = ci[CI_PN + 2u * j];
-    let q = ci[CI_PN + 2u * j + 1u];
+    let n = ci[CI_PN + 3u * j];
+    let q = ci[CI_PN + 3u * j + 1u];
+    // a node all of whose faces eroded is buried: not checked (mod.rs Side::buried)
+    let buried = ci[CI_PN + 3u * j + 2u] != 0u;
     let side = ci[CI_PASS + 2u * q];
     let def = ci[CI_PASS + 2u * q + 1u];
     let s = pos(n);
     best_f = NONE;
     frame_done = false;
-    if (finite3(s)) {
+    if (finite3(s) && !buried) {
         let b = hash(cell_of(s));
         let end = atomicLoad(&grid[G_OFF + b + 1u]);
         for (var k = atomicLoad(&grid[G_OFF + b]); k < end; k = k + 1u) {
@@ -592,6 +626,7 @@ fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
 @compute @workgroup_size(64)
 fn c_hfill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
            @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
     let j = pass_index(wid, nw, lid.x);
     if (j >= C_NP || halted()) {
         return;
@@ -607,66 +642,177 @@ fn c_hfill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
 
 // ---------------------------------------------------------------- gather and energy
 
+// Each face's list of the nodes that push on it, in pass-node order (a heap sort in place, by
+// one thread a face): the gather merges the lists of a node's faces.
+fn list_at(k: u32) -> u32 {
+    return atomicLoad(&grid[H_LIST + k]);
+}
+fn sift(base: u32, start: u32, n: u32) {
+    var r = start;
+    loop {
+        let c = 2u * r + 1u;
+        if (c >= n) {
+            break;
+        }
+        var m = c;
+        if (c + 1u < n && list_at(base + c + 1u) > list_at(base + c)) {
+            m = c + 1u;
+        }
+        let vr = list_at(base + r);
+        let vm = list_at(base + m);
+        if (vm <= vr) {
+            break;
+        }
+        atomicStore(&grid[H_LIST + base + r], vm);
+        atomicStore(&grid[H_LIST + base + m], vr);
+        r = m;
+    }
+}
+
+@compute @workgroup_size(64)
+fn c_hsort(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+           @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
+    let f = pass_index(wid, nw, lid.x);
+    if (f >= C_NF || halted()) {
+        return;
+    }
+    let base = atomicLoad(&grid[H_OFF + f]);
+    let n = atomicLoad(&grid[H_OFF + f + 1u]) - base;
+    if (n < 2u) {
+        return;
+    }
+    for (var s = n / 2u; s > 0u; s = s - 1u) {
+        sift(base, s - 1u, n);
+    }
+    for (var e = n - 1u; e > 0u; e = e - 1u) {
+        let top = list_at(base);
+        atomicStore(&grid[H_LIST + base], list_at(base + e));
+        atomicStore(&grid[H_LIST + base + e], top);
+        sift(base, 0u, e);
+    }
+}
+
 var<workgroup> g_s: array<f64, 256>;
+
+// The most faces a node's gather merges with a cursor each; a node of more goes the slow way
+// (every list scanned for each pass-node acting on it).
+const MAX_LISTS: u32 = 16u;
 
 // Surface node g's contact force: the forces of the pass-nodes that act on it (its own hits,
 // and the reactions -w_a f of those that hit a face it is corner a of), added in the order of
 // the pass-nodes (the CPU's scatter order: mod.rs Contact::compute), each pass-node's own
-// force before its reactions; a pass-node with no force adds nothing.
+// force before its reactions, a face's corners in order; a pass-node with no force adds
+// nothing. Its own entries and its faces' lists are each in pass-node order: merged.
+fn gather(g: u32) -> vec3<f64> {
+    let own = vec2<u32>(ci[CI_GOPTR + g], ci[CI_GOPTR + g + 1u]);
+    let fe = vec2<u32>(ci[CI_GFPTR + g], ci[CI_GFPTR + g + 1u]);
+    let nl = fe.y - fe.x;
+    if (nl > MAX_LISTS) {
+        return gather_slow(own, fe);
+    }
+    var at: array<u32, MAX_LISTS>;
+    var end: array<u32, MAX_LISTS>;
+    for (var i = 0u; i < nl; i = i + 1u) {
+        let face = ci[fe.x + i] >> 2u;
+        at[i] = atomicLoad(&grid[H_OFF + face]);
+        end[i] = atomicLoad(&grid[H_OFF + face + 1u]);
+    }
+    var ko = own.x;
+    var f = vec3<f64>(0.0lf);
+    loop {
+        // (the node's own pass-nodes without a force add nothing)
+        while (ko < own.y && hits[HIT * ci[ko] + 10u] == 0.0lf) {
+            ko = ko + 1u;
+        }
+        var next = NONE;
+        if (ko < own.y) {
+            next = ci[ko];
+        }
+        for (var i = 0u; i < nl; i = i + 1u) {
+            if (at[i] < end[i]) {
+                next = min(next, list_at(at[i]));
+            }
+        }
+        if (next == NONE) {
+            break;
+        }
+        let o = HIT * next;
+        let fj = hit_v(o + 5u);
+        if (ko < own.y && ci[ko] == next) {
+            f = f + fj;
+            ko = ko + 1u;
+        }
+        for (var i = 0u; i < nl; i = i + 1u) {
+            if (at[i] < end[i] && list_at(at[i]) == next) {
+                f = f + fj * (-hits[o + 1u + (ci[fe.x + i] & 3u)]);
+                at[i] = at[i] + 1u;
+            }
+        }
+    }
+    return f;
+}
+
+// `gather` for a node of more than MAX_LISTS faces: the next pass-node found by scanning
+// every list each time.
+fn gather_slow(own: vec2<u32>, fe: vec2<u32>) -> vec3<f64> {
+    var f = vec3<f64>(0.0lf);
+    var cur = 0u;
+    loop {
+        var next = NONE;
+        for (var k = own.x; k < own.y; k = k + 1u) {
+            let j = ci[k];
+            if (j >= cur && j < next && hits[HIT * j + 10u] != 0.0lf) {
+                next = j;
+            }
+        }
+        for (var k = fe.x; k < fe.y; k = k + 1u) {
+            let face = ci[k] >> 2u;
+            let end = atomicLoad(&grid[H_OFF + face + 1u]);
+            for (var t = atomicLoad(&grid[H_OFF + face]); t < end; t = t + 1u) {
+                let j = list_at(t);
+                if (j >= cur && j < next) {
+                    next = j;
+                }
+            }
+        }
+        if (next == NONE) {
+            break;
+        }
+        let o = HIT * next;
+        let fj = hit_v(o + 5u);
+        for (var k = own.x; k < own.y; k = k + 1u) {
+            if (ci[k] == next) {
+                f = f + fj;
+            }
+        }
+        let hf = u32(hits[o]);
+        for (var k = fe.x; k < fe.y; k = k + 1u) {
+            let e = ci[k];
+            if ((e >> 2u) == hf) {
+                f = f + fj * (-hits[o + 1u + (e & 3u)]);
+            }
+        }
+        cur = next + 1u;
+    }
+    return f;
+}
+
+// Each surface node's contact force into `fcon`, and the work over the last step of the last
+// step's force and this step's (partials per group).
 @compute @workgroup_size(64)
 fn c_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
             @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
     let g = pass_index(wid, nw, lid.x);
     let l = lid.x;
     var work = 0.0lf;
     if (g < C_NG && !halted()) {
         let n = ci[CI_GN + g];
-        let own = vec2<u32>(ci[CI_GOPTR + g], ci[CI_GOPTR + g + 1u]);
-        let fe = vec2<u32>(ci[CI_GFPTR + g], ci[CI_GFPTR + g + 1u]);
-        var f = vec3<f64>(0.0lf);
-        var cur = 0u;
-        loop {
-            // the next pass-node, in order, that acts on the node
-            var next = NONE;
-            for (var k = own.x; k < own.y; k = k + 1u) {
-                let j = ci[k];
-                if (j >= cur && j < next && hits[HIT * j + 10u] != 0.0lf) {
-                    next = j;
-                }
-            }
-            for (var k = fe.x; k < fe.y; k = k + 1u) {
-                let face = ci[k] >> 2u;
-                let end = atomicLoad(&grid[H_OFF + face + 1u]);
-                for (var t = atomicLoad(&grid[H_OFF + face]); t < end; t = t + 1u) {
-                    let j = atomicLoad(&grid[H_LIST + t]);
-                    if (j >= cur && j < next) {
-                        next = j;
-                    }
-                }
-            }
-            if (next == NONE) {
-                break;
-            }
-            let o = HIT * next;
-            let fj = hit_v(o + 5u);
-            for (var k = own.x; k < own.y; k = k + 1u) {
-                if (ci[k] == next) {
-                    f = f + fj;
-                }
-            }
-            let hf = u32(hits[o]);
-            for (var k = fe.x; k < fe.y; k = k + 1u) {
-                let e = ci[k];
-                if ((e >> 2u) == hf) {
-                    f = f + fj * (-hits[o + 1u + (e & 3u)]);
-                }
-            }
-            cur = next + 1u;
-        }
+        let f = gather(g);
         for (var i = 0u; i < 3u; i = i + 1u) {
             fcon[3u * n + i] = f[i];
         }
-        // the work over the last step of the last step's force and this step's
         let v = vel(n);
         let fp = vec3<f64>(fprev[3u * g], fprev[3u * g + 1u], fprev[3u * g + 2u]);
         work = dot(fp, v) + dot(f, v);
@@ -683,8 +829,9 @@ fn c_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
         }
         workgroupBarrier();
     }
-    if (l == 0u) {
-        cpart[wid.y * nw.x + wid.x] = g_s[0];
+    let group = wid.y * nw.x + wid.x;
+    if (l == 0u && group < C_GG) {
+        cpart[group] = g_s[0];
     }
 }
 
@@ -692,6 +839,7 @@ fn c_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
 // (mod.rs, Energy), the groups' partials added l, l + 256, ... by each thread, then by a tree.
 @compute @workgroup_size(256)
 fn c_energy(@builtin(local_invocation_id) lid: vec3<u32>) {
+    params();
     let l = lid.x;
     let run = !halted();
     var acc = 0.0lf;

@@ -17,7 +17,9 @@
 //                         (1 thread) halts the step if one failed (HALT 4: the host splits
 //                         the sets and runs the rest of the step)
 //   cohesive (per softening face, with MODELs 3 and 4)  tractions, forces, work, springs
-//   contact.wgsl's eight passes (with *CONTACT_AUTOMATIC_...; a bind group of their own)
+//   erosion_done (1 thread, with contact and erosion)  halts the step if elements eroded
+//                         (HALT 5: the host changes the contact surfaces, runs the rest)
+//   contact.wgsl's nine passes (with *CONTACT_AUTOMATIC_...; a bind group of their own)
 //                         each node's contact force at t^n into `fcon`, the contact energy
 //   control (1 group)     smallest time step (and the cohesive springs') and energy sums
 //                         (fixed tree); dt^(n+1/2)
@@ -151,14 +153,15 @@ const WALL_FORCE: u32 = 32u; // 4 per wall: normal force, force x y z
 const E_CONTACT: u32 = 64u; // the contact energy (contact.wgsl c_energy)
 const DT_CONTACT: u32 = 65u; // the contact springs' stable step (BIG without contact)
 // cu: control integers
-const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error, 4 interfaces failed
+const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error, 4 interfaces failed, 5 elements eroded (with contact)
 const ERROR: u32 = 1u;     // 1 inverted element, 2 time step below the floor, 3 bad time step, 4 non-finite
 const INVERTED: u32 = 2u;  // lowest inverted element (atomic min)
 const NONFINITE: u32 = 3u; // lowest node with a non-finite velocity (atomic min)
 const DT_ELEM: u32 = 4u;
 const FINISHED: u32 = 6u;
 const N_COH: u32 = 5u;     // softening faces in `coh`
-const N_CSLOT: u32 = 7u;   // the slots their points join (the list in `cix`)
+const N_CSLOT: u32 = 7u;
+const ERODED_NOW: u32 = 8u; // 1 when an element eroded in this step (erosion_done)   // the slots their points join (the list in `cix`)
 
 const MAT_STRIDE: u32 = 14u;
 const RB_PAR: u32 = 23u;
@@ -976,6 +979,7 @@ fn erode(e: u32, m: Mat, work: f64) -> f64 {
         return -1.0lf;
     }
     ero[4u * e] = 1.0lf;
+    atomicStore(&cu[ERODED_NOW], 1u);
     for (var i = 0u; i < 6u; i = i + 1u) {
         sig[ek(e, i)] = 0.0lf;
     }
@@ -2362,6 +2366,20 @@ fn interfaces_done() {
         return;
     }
     atomicStore(&cu[HALT], 4u);
+    cf[HALTED] = 1.0lf;
+}
+
+// With contact, after the elements: a step in which elements eroded halts here (HALT 5),
+// before the contact; the host drops their faces from the surfaces and adds the faces they
+// covered (contact.rs), then runs the rest of the step, as the CPU erodes them before its
+// contact (solver/erosion.rs erode_elements).
+@compute @workgroup_size(1)
+fn erosion_done() {
+    if (halted() || atomicLoad(&cu[ERODED_NOW]) == 0u) {
+        return;
+    }
+    atomicStore(&cu[ERODED_NOW], 0u);
+    atomicStore(&cu[HALT], 5u);
     cf[HALTED] = 1.0lf;
 }
 

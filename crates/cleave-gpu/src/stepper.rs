@@ -38,6 +38,8 @@ enum Groups {
     Nodes,
     /// One thread per softening face (`cu[N_COH]`, the `coh_groups` buffer).
     Cohesive,
+    /// Contact pass k (contact.rs PASSES): its groups over the contact's present tables.
+    Contact(usize),
 }
 
 /// One pass of the step: its entry point, pipeline and groups.
@@ -88,7 +90,8 @@ pub(crate) mod cu {
     pub const N_COH: usize = 5;
     pub const FINISHED: usize = 6;
     pub const N_CSLOT: usize = 7;
-    pub const LEN: usize = 8;
+    // 8: ERODED_NOW (step.wgsl erosion_done)
+    pub const LEN: usize = 9;
 }
 
 const CTL_BYTES: u64 = (cf::LEN * 8 + cu::LEN * 4) as u64;
@@ -622,6 +625,9 @@ impl GpuStepper {
                 passes.push(("cohesive", 0));
             }
         }
+        if erodes && contact.is_some() {
+            passes.push(("erosion_done", 1));
+        }
         let contact_at = passes.len();
         passes.push(("control", 1));
         if lay.n_rigid > 0 {
@@ -648,20 +654,18 @@ impl GpuStepper {
         // the contact's passes after the forces of the elements (and the interfaces'), before
         // the time step and the nodes, which add its forces
         if let Some(c) = &contact {
-            let cp = (c.passes.iter()).map(|(name, p, g)| Pass {
+            let cp = (c.passes.iter().enumerate()).map(|(k, (name, p))| Pass {
                 name,
                 pipeline: p.clone(),
-                groups: Groups::Fixed(*g),
+                groups: Groups::Contact(k),
                 contact: true,
             });
             pipelines.splice(contact_at..contact_at, cp);
         }
         let commit = pipeline("commit");
         let positions = pipeline("positions");
-        let device_bytes = storage.iter().map(|(_, b, _)| b.size()).sum::<u64>()
-            + uniform.size()
-            + 2 * CTL_BYTES
-            + contact.as_ref().map_or(0, |c| c.bytes - c.fcon.size());
+        let device_bytes =
+            storage.iter().map(|(_, b, _)| b.size()).sum::<u64>() + uniform.size() + 2 * CTL_BYTES;
         let staging = || {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("control read-back"),
@@ -691,10 +695,6 @@ impl GpuStepper {
         ];
         if erodes {
             persistent.push((ero.clone(), Stored::AsIs));
-        }
-        if let Some(c) = &contact {
-            persistent.push((c.hits.clone(), Stored::AsIs));
-            persistent.push((c.fprev.clone(), Stored::AsIs));
         }
         Ok(Self {
             pipelines,
@@ -842,6 +842,11 @@ impl GpuStepper {
             }
             Groups::Nodes => pass.dispatch_workgroups_indirect(&self.node_groups, 0),
             Groups::Cohesive => pass.dispatch_workgroups_indirect(&self.sep.coh_groups, 0),
+            Groups::Contact(k) => {
+                let g = self.contact.as_ref().map_or(0, |c| c.groups[k]);
+                let [x, y, z] = group_grid(g);
+                pass.dispatch_workgroups(x, y, z);
+            }
         }
     }
 
@@ -891,18 +896,59 @@ impl GpuStepper {
                 }
             }
         }
-        if self.sep.n_if > 0 {
+        if self.sep.n_if > 0 || self.contact_erodes() {
             put(&solver.save_state());
         }
+        if let Some(c) = &self.contact {
+            // the pairs and last forces (their tables made again from the solver's state)
+            let got =
+                self.download_ranges(&[(&c.hits, 0, c.hits.size()), (&c.fprev, 0, c.fprev.size())]);
+            put(&got[0]);
+            put(&got[1]);
+        }
         out
+    }
+
+    /// Elements eroded in the step halted (HALT 5): the host's contact drops their faces and
+    /// takes the faces they covered ([`Solver::erode_contact`]), the contact's tables are made
+    /// again with the pairs carried over, and the rest of the step runs.
+    fn erode_contact(&mut self, solver: &mut Solver) -> Result<(), RunError> {
+        let (Some(ero), Some(c)) = (&self.ero, &self.contact) else {
+            return Ok(());
+        };
+        let got = self.download_ranges(&[
+            (ero, 0, ero.size()),
+            (&c.hits, 0, c.hits.size()),
+            (&c.fprev, 0, c.fprev.size()),
+        ]);
+        let ero: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
+        let newly: Vec<u32> = (0..solver.model.num_elements())
+            .filter(|&e| ero[4 * e] != 0.0 && !solver.state.eroded[e])
+            .map(|e| e as u32)
+            .collect();
+        solver.erode_contact(&newly);
+        let c = self.contact.as_mut().expect("contact");
+        let t = crate::contact::tables(solver, Some(c.cell())).expect("contact");
+        let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
+        let fprev: Vec<f64> = bytemuck::pod_collect_to_vec(&got[2]);
+        c.upload(&self.gpu, t, Some((&hits, &fprev)))
+            .map_err(|e| RunError::Output(std::io::Error::other(e.to_string())))?;
+        self.clear_halt();
+        self.finish_step_after("erosion_done");
+        Ok(())
+    }
+
+    /// Contact on surfaces that elements erode from: the host changes them (HALT 5).
+    fn contact_erodes(&self) -> bool {
+        self.contact.is_some() && self.ero.is_some()
     }
 
     /// Take up a state of [`Self::save`] made by a stepper of the same model, and fill the
     /// solver's mirror from it; the error says what does not match.
     pub fn load(&mut self, solver: &mut Solver, bytes: &[u8]) -> Result<(), String> {
         let mut rest = bytes;
-        let mut parts = Vec::with_capacity(self.persistent.len());
-        for (b, stored) in &self.persistent {
+        let mut parts: Vec<Vec<u8>> = Vec::with_capacity(self.persistent.len());
+        for (k, (b, stored)) in self.persistent.iter().enumerate() {
             let (len, tail) = rest
                 .split_at_checked(8)
                 .ok_or("the GPU state is cut short")?;
@@ -911,7 +957,10 @@ impl GpuStepper {
                 Stored::Positions => 8 * self.x_len as u64,
                 _ => b.size(),
             };
-            if len != size {
+            // (the control block of an earlier cleave is shorter: its missing values are zero,
+            // the contact's energy and step, an erosion flag)
+            let earlier = k < 2 && len < size;
+            if len != size && !earlier {
                 return Err(format!(
                     "the GPU state holds an array of {len} bytes where this model has {size}"
                 ));
@@ -919,32 +968,59 @@ impl GpuStepper {
             let (data, tail) = tail
                 .split_at_checked(len as usize)
                 .ok_or("the GPU state is cut short")?;
+            let mut data = data.to_vec();
+            data.resize(size as usize, 0);
             parts.push(data);
             rest = tail;
         }
         // (the control block is the first array, its size checked above)
-        let cf_saved = parts[0];
+        let cf_saved = &parts[0];
         let saved =
             |k: usize| f64::from_le_bytes(cf_saved[8 * k..8 * k + 8].try_into().expect("8 bytes"));
         let step = saved(cf::STEP);
-        if self.sep.n_if > 0 {
-            // the host's interfaces and sets, then the model's arrays for them
+        // the next array of the file, with its length
+        let next = |rest: &mut &[u8], what: &str| -> Result<Vec<u8>, String> {
             let (len, tail) = rest
                 .split_at_checked(8)
-                .ok_or("the GPU state has no separation state")?;
+                .ok_or_else(|| format!("the GPU state has no {what}"))?;
             let len = u64::from_le_bytes(len.try_into().expect("8 bytes")) as usize;
             let (data, tail) = tail
                 .split_at_checked(len)
                 .ok_or("the GPU state is cut short")?;
-            solver.restore_state(data)?;
-            self.upload_sets(solver, step);
-            rest = tail;
+            *rest = tail;
+            Ok(data.to_vec())
+        };
+        if self.sep.n_if > 0 || self.contact_erodes() {
+            // the host's interfaces and sets (then the model's arrays for them), its contact
+            // surfaces as elements eroded from them
+            solver.restore_state(&next(&mut rest, "separation or contact state")?)?;
+            if self.sep.n_if > 0 {
+                self.upload_sets(solver, step);
+            }
+        }
+        if let Some(c) = &mut self.contact {
+            if self.ero.is_some() {
+                let t = crate::contact::tables(solver, Some(c.cell()))
+                    .ok_or("the GPU state's model has no contact")?;
+                c.upload(&self.gpu, t, None).map_err(|e| e.to_string())?;
+            }
+            for (buf, what) in [(&c.hits, "contact pairs"), (&c.fprev, "contact forces")] {
+                let data = next(&mut rest, what)?;
+                if data.len() as u64 != buf.size() {
+                    return Err(format!(
+                        "the GPU state holds {} bytes of {what} where this model has {}",
+                        data.len(),
+                        buf.size()
+                    ));
+                }
+                self.gpu.queue.write_buffer(buf, 0, &data);
+            }
         }
         if !rest.is_empty() {
             return Err("the GPU state holds more arrays than this model".into());
         }
         let q = &self.gpu.queue;
-        for ((b, stored), data) in self.persistent.iter().zip(parts) {
+        for ((b, stored), data) in self.persistent.iter().zip(&parts) {
             match *stored {
                 Stored::AsIs => q.write_buffer(b, 0, data),
                 Stored::ByComponent(k) => {
@@ -959,7 +1035,14 @@ impl GpuStepper {
         // the deck's controls are this run's (a continued run may be given another end time)
         let deck = control_block(solver);
         // (and the entries in use: a file of an earlier cleave has none)
-        for k in [cf::TSSFAC, cf::DT_INIT, cf::DT_MIN, cf::END_TIME, cf::SLOTS] {
+        for k in [
+            cf::TSSFAC,
+            cf::DT_INIT,
+            cf::DT_MIN,
+            cf::END_TIME,
+            cf::SLOTS,
+            cf::DT_CONTACT,
+        ] {
             q.write_buffer(&self.cf, (k * 8) as u64, bytemuck::bytes_of(&deck[k]));
         }
         // it was saved halted: running again from here, the step it halted at to be ended
@@ -1029,7 +1112,7 @@ impl GpuStepper {
     /// Bytes of the buffers this stepper keeps on the device (the model, the state and the
     /// scratch arrays of the passes).
     pub fn device_bytes(&self) -> u64 {
-        self.device_bytes
+        self.device_bytes + self.contact.as_ref().map_or(0, ContactGpu::bytes)
     }
 
     /// Take `steps` steps with each pass in a compute pass of its own, timed by the device's
@@ -1371,6 +1454,17 @@ impl GpuStepper {
                     self.batch = (done + 1).next_power_of_two().clamp(4, self.batch.max(4));
                     self.split(solver, &c)?;
                     // (when interfaces fail in every step no batch runs through: ask here)
+                    if !stopping && obs.stop_asked() {
+                        stopping = true;
+                        self.set_stop_time(0.0);
+                    }
+                }
+                // elements eroded (with contact): the surfaces changed on the host, the step
+                // run to its end
+                5 => {
+                    let done = (c.step() - start).max(0.0) as usize;
+                    self.batch = (done + 1).next_power_of_two().clamp(4, self.batch.max(4));
+                    self.erode_contact(solver)?;
                     if !stopping && obs.stop_asked() {
                         stopping = true;
                         self.set_stop_time(0.0);

@@ -10,8 +10,9 @@
 //! motion; not with a given inertia), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM),
 //! `*LOAD_BODY`, `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and
 //! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 rigid walls (`*RIGIDWALL_PLANAR`, `_FINITE`, `*RIGIDWALL_GEOMETRIC_...` fixed or moving), tied contact
-//! (`*CONTACT_TIED_...`), automatic contact (`*CONTACT_AUTOMATIC_...`, with friction; not
-//! with element separation or erosion, whose faces join the surfaces: `crate::contact`), element erosion
+//! (`*CONTACT_TIED_...`), automatic contact (`*CONTACT_AUTOMATIC_...`, `*CONTACT_ERODING_...`,
+//! with friction; not with element separation, whose crack faces join the surfaces:
+//! `crate::contact`), element erosion
 //! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), element separation
 //! with every MODEL (not with rigid bodies, erosion or tied contact: `crate::separation`), the
 //! energy ledger, and every output (states and histories are read back at their times).
@@ -32,9 +33,6 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
             return Some(
                 "automatic contact (*CONTACT_...) together with element separation".into(),
             );
-        }
-        if !model.erosion.is_empty() {
-            return Some("automatic contact (*CONTACT_...) together with element erosion".into());
         }
     }
     if !model.separations.is_empty() {

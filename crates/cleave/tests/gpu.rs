@@ -165,18 +165,18 @@ fn gpu_refuses_what_it_lacks_by_name() {
     let d = tmp("gpu-refuses");
     let text = BASE.replace(
         "*END",
-        "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n0,0,0\n*MAT_ADD_EROSION\n1,,5.0e9\n*END",
+        "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n0,0,0\n*MAT_ADD_SEPARATION\n1, 1, 1.0e30\n*END",
     );
     let deck = write_deck(&d, &text);
-    // the CPU runs the deck; the GPU names what it lacks (contact whose surfaces erosion
-    // changes), whether or not a GPU is present
+    // the CPU runs the deck; the GPU names what it lacks (contact whose surfaces the cracks
+    // change), whether or not a GPU is present
     assert_eq!(run(&deck, &d.join("cpu"), false).status.code(), Some(0));
     let out = run(&deck, &d.join("gpu"), true);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(
         err.contains(
-            "--gpu does not run automatic contact (*CONTACT_...) together with element erosion"
+            "--gpu does not run automatic contact (*CONTACT_...) together with element separation"
         ),
         "{err}"
     );

@@ -162,17 +162,32 @@ impl Solver<'_> {
             st.hg[k] = [0.0; 12];
             st.bulk_q[k] = 0.0;
         }
-        if let Some(c) = &mut self.contact {
-            let mut exposed: Vec<FaceId> = Vec::new();
-            for &e in &failed {
-                for &(n, f) in &er.neighbours[e as usize] {
-                    if n != u32::MAX && !st.eroded[n as usize] {
-                        exposed.push((n, f));
-                    }
+        self.erode_contact(&failed);
+    }
+
+    /// The contact after elements `failed` eroded (marked eroded here if they are not yet):
+    /// their faces stop pushing and the faces of the live neighbours they covered join the
+    /// surfaces ([`ContactSet::erode`]). The CPU step calls it as elements erode; a stepper
+    /// that erodes elsewhere (the GPU's) calls it with the ones that eroded there.
+    ///
+    /// [`ContactSet::erode`]: crate::contact::ContactSet::erode
+    pub fn erode_contact(&mut self, failed: &[u32]) {
+        let (Some(er), Some(c)) = (&self.erosion, &mut self.contact) else {
+            return;
+        };
+        let st = &mut self.state;
+        for &e in failed {
+            st.eroded[e as usize] = true;
+        }
+        let mut exposed: Vec<FaceId> = Vec::new();
+        for &e in failed {
+            for &(n, f) in &er.neighbours[e as usize] {
+                if n != u32::MAX && !st.eroded[n as usize] {
+                    exposed.push((n, f));
                 }
             }
-            c.erode(&st.eroded, &exposed);
         }
+        c.erode(&st.eroded, &exposed);
     }
 
     /// Elements eroded so far.

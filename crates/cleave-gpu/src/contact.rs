@@ -401,8 +401,9 @@ impl Buffers {
         let fprev = init(gpu, "contact forces, last step", bytemuck::cast_slice(fp));
         let grid = zeros(gpu, "contact grid", 4 * t.grid_len);
         let cpart = zeros(gpu, "contact work partials", 8 * t.groups()[7]);
+        let fsph = zeros(gpu, "contact face spheres", 32 * t.faces);
         let bound = [
-            step[0], step[1], step[2], &ci, &cfl, &hits, fcon, &fprev, &grid, &cpart,
+            step[0], step[1], step[2], &ci, &cfl, &hits, fcon, &fprev, &grid, &cpart, &fsph,
         ];
         let entries: Vec<_> = (bound.iter().enumerate())
             .map(|(b, buf)| wgpu::BindGroupEntry {
@@ -419,7 +420,7 @@ impl Buffers {
             bind_group,
             hits,
             fprev,
-            bufs: vec![ci, cfl, grid, cpart],
+            bufs: vec![ci, cfl, grid, cpart, fsph],
         }
     }
 }
@@ -440,7 +441,7 @@ impl ContactGpu {
         };
         let dev = &gpu.device;
         let read_only = [
-            false, true, true, true, true, false, false, false, false, false,
+            false, true, true, true, true, false, false, false, false, false, false,
         ];
         let layout_entries: Vec<_> = (read_only.iter().enumerate())
             .map(|(b, &read_only)| wgpu::BindGroupLayoutEntry {

@@ -45,6 +45,8 @@
 @group(0) @binding(7) var<storage, read_write> fprev: array<f64>;
 @group(0) @binding(8) var<storage, read_write> grid: array<atomic<u32>>;
 @group(0) @binding(9) var<storage, read_write> cpart: array<f64>;
+// each face's sphere of this step (c_count): centre, r (4 values a face)
+@group(0) @binding(10) var<storage, read_write> fsph: array<f64>;
 
 const DT_PREV: u32 = 1u;
 const STEP: u32 = 3u;
@@ -141,8 +143,7 @@ struct Span {
     hi: vec3<f64>,
 }
 
-fn span_of(f: u32) -> Span {
-    let s = sphere(f);
+fn span_of(f: u32, s: vec4<f64>) -> Span {
     let c = s.xyz;
     // (1 + 1e-9) and 1e-300: the box holds every point the exact sphere holds
     let r = (WEIGHT_SUM * s.w + cfl[CF_DEPTH + f]) * (1.0lf + 1e-9lf) + 1e-300lf;
@@ -218,7 +219,11 @@ fn c_count(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
     halves();
     let f = pass_index(wid, nw, lid.x);
     if (f < C_NF && !halted()) {
-        let s = span_of(f);
+        let sp = sphere(f);
+        for (var k = 0u; k < 4u; k = k + 1u) {
+            fsph[4u * f + k] = sp[k];
+        }
+        let s = span_of(f, sp);
         keep_span(f, s);
         put_face(f, s, false);
     }
@@ -460,20 +465,16 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
             return;
         }
     }
-    var p = corners(f);
-    let c = coeff(p, 1.0lf, 1.0lf, 1.0lf, 1.0lf);
-    var r2 = 0.0lf;
-    for (var a = 0u; a < 4u; a = a + 1u) {
-        let d = p[a] - c;
-        r2 = max(r2, dot(d, d));
-    }
-    let r = sqrt(r2);
+    // the face's sphere, as c_count found it, before its corners are read
+    let c = vec3<f64>(fsph[4u * f], fsph[4u * f + 1u], fsph[4u * f + 2u]);
+    let r = fsph[4u * f + 3u];
     let depth = cfl[CF_DEPTH + f];
     let ds = s - c;
     let reach = (WEIGHT_SUM * r + depth) * (1.0lf + 1e-9lf);
     if (dot(ds, ds) > reach * reach) {
         return;
     }
+    var p = corners(f);
     let gap_min = GAP_TOL * r;
     let g2 = gap_min * gap_min;
     for (var a = 0u; a < 4u; a = a + 1u) {

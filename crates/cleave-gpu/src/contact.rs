@@ -10,8 +10,10 @@
 //! adds each node's contact force in the CPU's order. The stable time step of the springs is
 //! the CPU's ([`Solver::contact_time_step`]), a constant.
 //!
-//! Surfaces that change are not taken (faces of failed interfaces or eroded elements joining
-//! them): `support::unsupported` refuses contact with element separation or erosion.
+//! Surfaces that erosion changes are made again on the host in the steps elements erode
+//! (`GpuStepper::erode_contact`, [`ContactGpu::upload`] with each pair carried over); the
+//! faces of failed interfaces are not taken: `support::unsupported` refuses contact with
+//! element separation.
 
 use cleave_core::contact::{ContactForce, ContactSet};
 use cleave_core::model::PenaltyRule;
@@ -546,11 +548,16 @@ impl ContactGpu {
                 continue;
             };
             let dst = &mut h[HIT * jn..HIT * (jn + 1)];
-            dst.copy_from_slice(o);
-            if o[0] >= 0.0 {
-                // the face by what it is (none when it left the surface)
-                let face = old.face_key.get(o[0] as usize).and_then(|k| face_at.get(k));
-                dst[0] = face.map_or(-1.0, |&f| f64::from(f));
+            if o[0] < 0.0 {
+                // out of contact: its friction force may carry (zero unless kept)
+                dst.copy_from_slice(o);
+                continue;
+            }
+            // the face by what it is; a pair whose face left the surface starts again from
+            // none, as a new pair does
+            if let Some(&f) = old.face_key.get(o[0] as usize).and_then(|k| face_at.get(k)) {
+                dst.copy_from_slice(o);
+                dst[0] = f64::from(f);
             }
         }
         let at: HashMap<u32, usize> = (t.surface.iter().enumerate())

@@ -160,8 +160,8 @@ const NONFINITE: u32 = 3u; // lowest node with a non-finite velocity (atomic min
 const DT_ELEM: u32 = 4u;
 const FINISHED: u32 = 6u;
 const N_COH: u32 = 5u;     // softening faces in `coh`
-const N_CSLOT: u32 = 7u;
-const ERODED_NOW: u32 = 8u; // 1 when an element eroded in this step (erosion_done)   // the slots their points join (the list in `cix`)
+const N_CSLOT: u32 = 7u;   // the slots their points join (the list in `cix`)
+const ERODED_NOW: u32 = 8u; // 1 when an element eroded in this step (erosion_done)
 
 const MAT_STRIDE: u32 = 14u;
 const RB_PAR: u32 = 23u;

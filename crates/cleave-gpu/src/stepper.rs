@@ -863,9 +863,12 @@ impl GpuStepper {
     /// erosion), each as its length (u64, little-endian) and its bytes. Taken at a halt (an
     /// output or restart time), it is what [`Self::load`] takes up to go on bit for bit.
     ///
-    /// With element separation one more part follows: the host solver's state
-    /// ([`Solver::save_state`]), which holds the interfaces and the coincident sets as they
-    /// have split (the solver's mirror must be of this halt).
+    /// With element separation, or contact on surfaces that erosion changes, one more part
+    /// follows: the host solver's state ([`Solver::save_state`]), which holds the interfaces
+    /// and the coincident sets as they have split, and the contact surfaces as elements eroded
+    /// from them (the solver's mirror must be of this halt). With contact, the last two parts
+    /// are its pairs and each surface node's last contact force (`contact.rs`), whose tables
+    /// [`Self::load`] makes again from that state.
     pub fn save(&self, solver: &Solver) -> Vec<u8> {
         let mut out = Vec::new();
         let mut put = |bytes: &[u8]| {
@@ -927,12 +930,17 @@ impl GpuStepper {
             .map(|e| e as u32)
             .collect();
         solver.erode_contact(&newly);
-        let c = self.contact.as_mut().expect("contact");
-        let t = crate::contact::tables(solver, Some(c.cell())).expect("contact");
+        let failed = |e: String| RunError::Output(std::io::Error::other(e));
+        let c = self
+            .contact
+            .as_mut()
+            .ok_or_else(|| failed("no contact".into()))?;
+        let t = crate::contact::tables(solver, Some(c.cell()))
+            .ok_or_else(|| failed("the solver's contact is gone".into()))?;
         let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
         let fprev: Vec<f64> = bytemuck::pod_collect_to_vec(&got[2]);
         c.upload(&self.gpu, t, Some((&hits, &fprev)))
-            .map_err(|e| RunError::Output(std::io::Error::other(e.to_string())))?;
+            .map_err(|e| failed(e.to_string()))?;
         self.clear_halt();
         self.finish_step_after("erosion_done");
         Ok(())
@@ -957,9 +965,9 @@ impl GpuStepper {
                 Stored::Positions => 8 * self.x_len as u64,
                 _ => b.size(),
             };
-            // (the control block of an earlier cleave is shorter: its missing values are zero,
-            // the contact's energy and step, an erosion flag)
-            let earlier = k < 2 && len < size;
+            // (the control block of an earlier cleave is shorter, 64 floats and 8 integers: its
+            // missing values are zero, the contact's energy and step, an erosion flag)
+            let earlier = (k == 0 && len == 8 * 64) || (k == 1 && len == 4 * 8);
             if len != size && !earlier {
                 return Err(format!(
                     "the GPU state holds an array of {len} bytes where this model has {size}"

@@ -998,22 +998,37 @@ impl GpuStepper {
             *rest = tail;
             Ok(data.to_vec())
         };
-        if self.sep.n_if > 0 || self.contact_erodes() {
-            // the host's interfaces and sets (then the model's arrays for them), its contact
-            // surfaces as elements eroded from them
-            solver.restore_state(&next(&mut rest, "separation or contact state")?)?;
+        // the host's interfaces and sets, its contact surfaces as elements eroded from them;
+        // the contact's pairs and last forces: every part read before anything is changed
+        let host = (self.sep.n_if > 0 || self.contact_erodes())
+            .then(|| next(&mut rest, "separation or contact state"))
+            .transpose()?;
+        let pairs = match self.contact {
+            Some(_) => Some([
+                next(&mut rest, "contact pairs")?,
+                next(&mut rest, "contact forces")?,
+            ]),
+            None => None,
+        };
+        if !rest.is_empty() {
+            return Err("the GPU state holds more arrays than this model".into());
+        }
+        if let Some(h) = host {
+            solver.restore_state(&h)?;
             if self.sep.n_if > 0 {
                 self.upload_sets(solver, step);
             }
         }
-        if let Some(c) = &mut self.contact {
+        if let (Some(c), Some(pairs)) = (&mut self.contact, pairs) {
             if self.ero.is_some() {
                 let t = crate::contact::tables(solver, Some(c.cell()))
                     .ok_or("the GPU state's model has no contact")?;
                 c.upload(&self.gpu, t, None).map_err(|e| e.to_string())?;
             }
-            for (buf, what) in [(&c.hits, "contact pairs"), (&c.fprev, "contact forces")] {
-                let data = next(&mut rest, what)?;
+            for (data, (buf, what)) in pairs
+                .iter()
+                .zip([(&c.hits, "contact pairs"), (&c.fprev, "contact forces")])
+            {
                 if data.len() as u64 != buf.size() {
                     return Err(format!(
                         "the GPU state holds {} bytes of {what} where this model has {}",
@@ -1021,11 +1036,8 @@ impl GpuStepper {
                         buf.size()
                     ));
                 }
-                self.gpu.queue.write_buffer(buf, 0, &data);
+                self.gpu.queue.write_buffer(buf, 0, data);
             }
-        }
-        if !rest.is_empty() {
-            return Err("the GPU state holds more arrays than this model".into());
         }
         let q = &self.gpu.queue;
         for ((b, stored), data) in self.persistent.iter().zip(&parts) {

@@ -696,30 +696,33 @@ fn c_hsort(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
 
 var<workgroup> g_s: array<f64, 256>;
 
-// The most faces a node's gather merges with a cursor each; a node of more goes the slow way
-// (every list scanned for each pass-node acting on it).
-const MAX_LISTS: u32 = 16u;
+// The first place in the sorted list [a, b) of `grid` at H_LIST whose pass-node is not below v
+// (b when none).
+fn lower_bound(a: u32, b: u32, v: u32) -> u32 {
+    var lo = a;
+    var hi = b;
+    while (lo < hi) {
+        let m = lo + (hi - lo) / 2u;
+        if (list_at(m) < v) {
+            lo = m + 1u;
+        } else {
+            hi = m;
+        }
+    }
+    return lo;
+}
 
 // Surface node g's contact force: the forces of the pass-nodes that act on it (its own hits,
 // and the reactions -w_a f of those that hit a face it is corner a of), added in the order of
 // the pass-nodes (the CPU's scatter order: mod.rs Contact::compute), each pass-node's own
 // force before its reactions, a face's corners in order; a pass-node with no force adds
-// nothing. Its own entries and its faces' lists are each in pass-node order: merged.
+// nothing. Its own entries and its faces' lists are each in pass-node order: merged, each
+// list's place found again by a binary search (no cursor array, however many faces).
 fn gather(g: u32) -> vec3<f64> {
     let own = vec2<u32>(ci[CI_GOPTR + g], ci[CI_GOPTR + g + 1u]);
     let fe = vec2<u32>(ci[CI_GFPTR + g], ci[CI_GFPTR + g + 1u]);
-    let nl = fe.y - fe.x;
-    if (nl > MAX_LISTS) {
-        return gather_slow(own, fe);
-    }
-    var at: array<u32, MAX_LISTS>;
-    var end: array<u32, MAX_LISTS>;
-    for (var i = 0u; i < nl; i = i + 1u) {
-        let face = ci[fe.x + i] >> 2u;
-        at[i] = atomicLoad(&grid[H_OFF + face]);
-        end[i] = atomicLoad(&grid[H_OFF + face + 1u]);
-    }
     var ko = own.x;
+    var cur = 0u;
     var f = vec3<f64>(0.0lf);
     loop {
         // (the node's own pass-nodes without a force add nothing)
@@ -730,9 +733,12 @@ fn gather(g: u32) -> vec3<f64> {
         if (ko < own.y) {
             next = ci[ko];
         }
-        for (var i = 0u; i < nl; i = i + 1u) {
-            if (at[i] < end[i]) {
-                next = min(next, list_at(at[i]));
+        for (var k = fe.x; k < fe.y; k = k + 1u) {
+            let face = ci[k] >> 2u;
+            let end = atomicLoad(&grid[H_OFF + face + 1u]);
+            let t = lower_bound(atomicLoad(&grid[H_OFF + face]), end, cur);
+            if (t < end) {
+                next = min(next, list_at(t));
             }
         }
         if (next == NONE) {
@@ -744,54 +750,12 @@ fn gather(g: u32) -> vec3<f64> {
             f = f + fj;
             ko = ko + 1u;
         }
-        for (var i = 0u; i < nl; i = i + 1u) {
-            if (at[i] < end[i] && list_at(at[i]) == next) {
-                f = f + fj * (-hits[o + 1u + (ci[fe.x + i] & 3u)]);
-                at[i] = at[i] + 1u;
-            }
-        }
-    }
-    return f;
-}
-
-// `gather` for a node of more than MAX_LISTS faces: the next pass-node found by scanning
-// every list each time.
-fn gather_slow(own: vec2<u32>, fe: vec2<u32>) -> vec3<f64> {
-    var f = vec3<f64>(0.0lf);
-    var cur = 0u;
-    loop {
-        var next = NONE;
-        for (var k = own.x; k < own.y; k = k + 1u) {
-            let j = ci[k];
-            if (j >= cur && j < next && hits[HIT * j + 10u] != 0.0lf) {
-                next = j;
-            }
-        }
         for (var k = fe.x; k < fe.y; k = k + 1u) {
             let face = ci[k] >> 2u;
             let end = atomicLoad(&grid[H_OFF + face + 1u]);
-            for (var t = atomicLoad(&grid[H_OFF + face]); t < end; t = t + 1u) {
-                let j = list_at(t);
-                if (j >= cur && j < next) {
-                    next = j;
-                }
-            }
-        }
-        if (next == NONE) {
-            break;
-        }
-        let o = HIT * next;
-        let fj = hit_v(o + 5u);
-        for (var k = own.x; k < own.y; k = k + 1u) {
-            if (ci[k] == next) {
-                f = f + fj;
-            }
-        }
-        let hf = u32(hits[o]);
-        for (var k = fe.x; k < fe.y; k = k + 1u) {
-            let e = ci[k];
-            if ((e >> 2u) == hf) {
-                f = f + fj * (-hits[o + 1u + (e & 3u)]);
+            let t = lower_bound(atomicLoad(&grid[H_OFF + face]), end, next);
+            if (t < end && list_at(t) == next) {
+                f = f + fj * (-hits[o + 1u + (ci[k] & 3u)]);
             }
         }
         cur = next + 1u;

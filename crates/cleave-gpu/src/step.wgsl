@@ -150,7 +150,7 @@ const PENDING: u32 = 23u;
 // 1 when the step that halted is still to be ended (its time advanced): see advance()
 const COMMIT_DUE: u32 = 24u;
 const WALL_FORCE: u32 = 32u; // 4 per wall: normal force, force x y z
-const E_CONTACT: u32 = 64u; // the contact energy (contact.wgsl c_energy)
+// (64: the contact energy, contact.wgsl c_energy)
 const DT_CONTACT: u32 = 65u; // the contact springs' stable step (BIG without contact)
 // cu: control integers
 const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error, 4 interfaces failed, 5 elements eroded (with contact)

@@ -1115,32 +1115,13 @@ impl<'m> Solver<'m> {
     /// shares the contact force of any member). Their work over the last step goes to the
     /// contact energy. Before the rigid bodies gather their nodes' forces.
     fn add_contact_forces(&mut self) {
+        self.activate_cracks();
         let Some(contact) = &mut self.contact else {
             return;
         };
         let mut tie: &[u32] = &[];
         let mut slots: &[u32] = &[];
         if let Some(sep) = &self.separation {
-            if !sep.released().is_empty() {
-                self.new_cracks.clear();
-                for &i in sep.released() {
-                    let face = &sep.faces()[i];
-                    self.new_cracks.push(Crack {
-                        faces: [
-                            (face.elems[0], face.faces[0]),
-                            (face.elems[1], face.faces[1]),
-                        ],
-                        nodes: [
-                            std::array::from_fn(|k| face.nodes[k]),
-                            std::array::from_fn(|k| face.nodes[4 + k]),
-                        ],
-                    });
-                }
-                if self.per_slot {
-                    contact.sets_split(sep.sets().born());
-                }
-                contact.activate_cracks(&self.new_cracks);
-            }
             tie = sep.sets().node_sets();
             slots = sep.sets().slots();
         }
@@ -1149,6 +1130,37 @@ impl<'m> Solver<'m> {
         let (x, v) = (NodeValues::new(&s.x, kin), NodeValues::new(&s.v, kin));
         let step = contact.compute_with_slots(x, v, s.dt_prev, tie, slots, &mut self.f);
         self.state.energy.contact += step.energy;
+    }
+
+    /// The faces of the interfaces released in this step join the contact surfaces, and the
+    /// cracks close ([`ContactSet::activate_cracks`]); the sets split get their watch
+    /// ([`ContactSet::sets_split`]). Before the step's contact (the CPU's, or another
+    /// stepper's after [`Self::release_interfaces`]).
+    pub fn activate_cracks(&mut self) {
+        let (Some(contact), Some(sep)) = (&mut self.contact, &self.separation) else {
+            return;
+        };
+        if sep.released().is_empty() {
+            return;
+        }
+        self.new_cracks.clear();
+        for &i in sep.released() {
+            let face = &sep.faces()[i];
+            self.new_cracks.push(Crack {
+                faces: [
+                    (face.elems[0], face.faces[0]),
+                    (face.elems[1], face.faces[1]),
+                ],
+                nodes: [
+                    std::array::from_fn(|k| face.nodes[k]),
+                    std::array::from_fn(|k| face.nodes[4 + k]),
+                ],
+            });
+        }
+        if self.per_slot {
+            contact.sets_split(sep.sets().born());
+        }
+        contact.activate_cracks(&self.new_cracks);
     }
 
     /// The force on node i, assembled: with separation, its share `m_i sum f / sum m` of its

@@ -11,10 +11,16 @@
 //! the CPU's ([`Solver::contact_time_step`]), a constant.
 //!
 //! Surfaces that erosion changes are made again on the host in the steps elements erode
-//! (`GpuStepper::erode_contact`, [`ContactGpu::upload`] with each pair carried over); the
-//! faces of failed interfaces are not taken: `support::unsupported` refuses contact with
-//! element separation.
+//! (`GpuStepper::erode_contact`, [`ContactGpu::upload`] with each pair carried over). With
+//! element separation, the faces of the interfaces that fail join the surfaces and their cracks
+//! close on the host in the halt of their step (`separation.rs` split), and the tables are made
+//! again; the contact reads the nodes at their coincident sets' slots, checks each set's lead
+//! only (with its set's normal, carrying its set's pair when the lead changes), leaves out the
+//! faces that hold a copy chained to the node, and steps the closed cracks (contact.wgsl
+//! c_close); a step in which one is released halts (HALT 6) for the host to let it go
+//! (`GpuStepper::release_cracks`).
 
+use cleave_core::contact::view::CLOSURE_STATE;
 use cleave_core::contact::{ContactForce, ContactSet};
 use cleave_core::model::PenaltyRule;
 use cleave_core::solver::Solver;
@@ -31,12 +37,20 @@ pub(crate) const HIT: usize = 14;
 const CELLS: usize = 27;
 
 /// The sizes and offsets contact.wgsl reads from the head of `ci` (its `params()`), in order.
-const PARAMS: [&str; 31] = [
-    "C_NN", "C_NF", "C_NP", "C_NG", "C_GG", "C_M", "CI_FACE", "CI_FSIDE", "CI_PN", "CI_PASS",
-    "CI_NFPTR", "CI_GN", "CI_GOPTR", "CI_GFPTR", "CF_K", "CF_DEPTH", "CF_KN", "CF_DEF", "CF_PEN",
-    "CF_H", "G_COUNT", "G_OFF", "G_FILL", "G_BIGN", "H_COUNT", "H_OFF", "H_FILL", "G_ENT", "G_BIG",
-    "H_LIST", "G_SPAN",
+const PARAMS: [&str; 38] = [
+    "C_NN", "C_NF", "C_NP", "C_NG", "C_GG", "C_M", "C_NC", "CI_FACE", "CI_FSIDE", "CI_FLAB",
+    "CI_PN", "CI_PASS", "CI_NFPTR", "CI_GN", "CI_GOPTR", "CI_GFPTR", "CI_GCPTR", "CI_CLO",
+    "CI_FCLO", "CF_K", "CF_DEPTH", "CF_KN", "CF_DEF", "CF_PEN", "CF_H", "CF_CK", "G_COUNT",
+    "G_OFF", "G_FILL", "G_BIGN", "H_COUNT", "H_OFF", "H_FILL", "G_ENT", "G_BIG", "H_LIST",
+    "G_SPAN", "G_REL",
 ];
+
+/// Values per closed crack in the `clo` array: its state between steps (cleave-core
+/// contact/view.rs CLOSURE_STATE), then 1 in the step it is released.
+pub(crate) const CLO: usize = CLOSURE_STATE + 1;
+
+/// No face, closed crack or pass-node (contact.wgsl NONE).
+const NONE: u32 = u32::MAX;
 
 /// The tables of contact.wgsl, built on the host from the solver's definitions.
 #[derive(Debug, Default)]
@@ -51,11 +65,20 @@ pub(crate) struct Tables {
     /// node's pass, -1 for a master node's: the force on the slave side).
     pub pn_def: Vec<(usize, f64)>,
     /// What each pass-node and face is, to carry the pairs over when the tables are made
-    /// again: (pass, node); (definition, side, element, local face).
+    /// again: (pass, lead node); (definition, side, element, local face).
     pub pn_key: Vec<(u32, u32)>,
     pub face_key: Vec<(u32, u32, u32, u8)>,
-    /// The surface nodes, ascending (each one's last contact force is kept, in this order).
+    /// Each pass-node's coincident set on its side, along the member chain (its lead first).
+    pub members: Vec<Vec<u32>>,
+    /// The lead of each node of a pass's node side, by (pass, node).
+    pub lead_of: HashMap<(u32, u32), u32>,
+    /// The entries of the surface nodes (slots of the coincident sets, or nodes), ascending:
+    /// each one's last contact force is kept, in this order.
     pub surface: Vec<u32>,
+    /// The closed cracks of every definition in order, with their definition, and their states
+    /// ([`CLO`] values each, the release flag zero).
+    pub closures: Vec<usize>,
+    pub clo: Vec<f64>,
     /// u32 values of the grid and hit lists.
     pub grid_len: usize,
 }
@@ -68,25 +91,40 @@ impl Tables {
     }
 
     /// The groups of 64 threads each pass runs, in [`PASSES`] order.
-    fn groups(&self) -> [usize; 9] {
+    fn groups(&self) -> [usize; 11] {
         let per = |n: usize| n.div_ceil(crate::stepper::GROUP);
-        let (f, p, g) = (
+        let (f, p, g, c) = (
             per(self.faces),
             per(self.pass_nodes),
             per(self.surface_nodes),
+            per(self.closures.len()),
         );
-        [f, 1, f, p, 1, p, f, g, 1]
+        [c, 1, f, 1, f, p, 1, p, f, g, 1]
     }
 }
 
 /// The passes of contact.wgsl, in the order they run.
-const PASSES: [&str; 9] = [
-    "c_count", "c_scan", "c_fill", "c_detect", "c_hscan", "c_hfill", "c_hsort", "c_gather",
+pub(crate) const PASSES: [&str; 11] = [
+    "c_close",
+    "c_close_done",
+    "c_count",
+    "c_scan",
+    "c_fill",
+    "c_detect",
+    "c_hscan",
+    "c_hfill",
+    "c_hsort",
+    "c_gather",
     "c_energy",
 ];
 
 /// The tables of the solver's contact definitions as they are now, with the grid's cell size
-/// `h` (from [`cell_size`] when `None`); `None` without contact.
+/// `h` (from [`cell_size`] when `None`); `None` without contact. With element separation the
+/// nodes are read at their coincident sets' slots (where the GPU keeps their positions and
+/// gathers their forces), only each set's lead is checked (with its set's normal), and a node
+/// is not checked against a face that holds a node of its chain
+/// ([`cleave_core::contact::Contact::chain_label`]); the host's contact must be settled
+/// ([`ContactSet::settle`]).
 pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
     let cs: &ContactSet = solver.contact()?;
     if cs.is_empty() {
@@ -94,8 +132,11 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
     }
     let model = solver.model;
     let nn = model.num_nodes();
+    // where each node's position and force are: its coincident set's slot, or itself
+    let slots = solver.separation().map(|s| s.sets().slots());
+    let entry = |n: u32| slots.map_or(n, |s| s[n as usize]);
     // faces of every side of every definition, numbered in that order; each side a tag
-    let mut face_nodes: Vec<u32> = vec![];
+    let (mut face_nodes, mut face_entries, mut face_labels) = (vec![], vec![], vec![]);
     let (mut face_tag, mut fk, mut fdepth) = (vec![], vec![], vec![]);
     let mut side_start: Vec<Vec<(u32, u32)>> = vec![]; // (first face, tag) per def, side
     let mut face_key = vec![];
@@ -107,6 +148,8 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
             for f in c.faces(side) {
                 face_key.push((d as u32, side as u32, f.elem, f.face));
                 face_nodes.extend_from_slice(&f.nodes);
+                face_entries.extend(f.nodes.map(entry));
+                face_labels.extend(f.nodes.map(|n| c.chain_label(n)));
                 face_tag.push(tag);
                 fk.push(f.k);
                 fdepth.push(f.depth);
@@ -116,46 +159,94 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
         side_start.push(sides);
     }
     let nf = face_tag.len();
-    // the pass-nodes: definitions, passes, each node side's nodes in scatter order
+    // the closed cracks: each one's nodes' entries and definition; the closure each face lies
+    // on (of its own definition)
+    let (mut clo_tab, mut clo, mut ck, mut closures) = (vec![], vec![], vec![], vec![]);
+    let mut fclo = vec![NONE; nf];
+    for (d, c) in cs.contacts().iter().enumerate() {
+        let closed = c.closed_cracks();
+        let at: HashMap<(u32, u8), u32> = closed
+            .iter()
+            .enumerate()
+            .flat_map(|(k, cc)| cc.faces.map(|f| (f, (closures.len() + k) as u32)))
+            .collect();
+        for (side, &(first, _)) in side_start[d].iter().enumerate() {
+            for (f, face) in c.faces(side).iter().enumerate() {
+                if let Some(&k) = at.get(&(face.elem, face.face)) {
+                    fclo[first as usize + f] = k;
+                }
+            }
+        }
+        for cc in closed {
+            clo_tab.extend(cc.a.map(entry));
+            clo_tab.extend(cc.b.map(entry));
+            clo_tab.push(d as u32);
+            clo.extend_from_slice(&cc.state);
+            clo.push(0.0);
+            ck.push(cc.k);
+            closures.push(d);
+        }
+    }
+    let nc = closures.len();
+    // the pass-nodes: definitions, passes, each node side's leads in scatter order
     let (mut pn, mut pass_tab, mut kn, mut pn_def) = (vec![], vec![], vec![], vec![]);
     let mut frame: Vec<Vec<u32>> = vec![];
-    let mut pn_key = vec![];
+    let (mut pn_key, mut members) = (vec![], vec![]);
+    let mut lead_of = HashMap::new();
     for (d, c) in cs.contacts().iter().enumerate() {
         for (p, (ns, fs)) in c.pass_sides().into_iter().enumerate() {
             let q = pass_tab.len() as u32 / 2;
             pass_tab.extend([side_start[d][fs].1, d as u32]);
             let sign = if p == 0 { 1.0 } else { -1.0 };
             for n in c.nodes_in_scatter_order(ns) {
+                if let Some(l) = c.lead_of(ns, n) {
+                    lead_of.insert((q, n), l);
+                }
+            }
+            for n in c.leads_in_scatter_order(ns) {
                 // the faces that make its normal: none when all of them eroded (buried)
                 let first = side_start[d][ns].0;
-                let faces: Vec<u32> = (c.faces_of_node(ns, n).iter()).map(|f| first + f).collect();
-                pn.extend([n, q, faces.is_empty() as u32]);
+                let faces: Vec<u32> = (c.frame_of_lead(ns, n).iter()).map(|f| first + f).collect();
+                pn.extend([entry(n), q, faces.is_empty() as u32, c.chain_label(n)]);
                 frame.push(faces);
                 kn.push(cs.node_stiffness(n));
                 pn_def.push((d, sign));
                 pn_key.push((q, n));
+                members.push(c.members_of_lead(ns, n));
             }
         }
     }
     let np = pn_def.len();
-    // the surface nodes: every node of a pass or a face, ascending; what acts on each
+    // the surface entries: every entry of a pass-node or a face, ascending; what acts on each
+    // (its own pass-nodes, the corners of faces, the closed cracks' pairs: 8 k + 2 pair + 1
+    // on the A side)
     let mut own: Vec<Vec<u32>> = vec![vec![]; nn];
     let mut corner: Vec<Vec<u32>> = vec![vec![]; nn];
+    let mut paired: Vec<Vec<u32>> = vec![vec![]; nn];
     for j in 0..np {
-        own[pn[3 * j] as usize].push(j as u32);
+        own[pn[4 * j] as usize].push(j as u32);
     }
-    for (k, &n) in face_nodes.iter().enumerate() {
-        corner[n as usize].push(k as u32); // 4 f + a
+    for (k, &e) in face_entries.iter().enumerate() {
+        corner[e as usize].push(k as u32); // 4 f + a
+    }
+    for c in 0..nc {
+        for k in 0..4 {
+            // the force on b_k, then its opposite on a_k (mod.rs Contact::compute)
+            paired[clo_tab[9 * c + 4 + k] as usize].push((8 * c + 2 * k) as u32);
+            paired[clo_tab[9 * c + k] as usize].push((8 * c + 2 * k + 1) as u32);
+        }
     }
     let surface: Vec<u32> = (0..nn as u32)
         .filter(|&n| !own[n as usize].is_empty() || !corner[n as usize].is_empty())
         .collect();
     let ng = surface.len();
-    // ci: the parameters, faces' nodes and tags, pass-nodes, passes, then three lists with
-    // their pointers (absolute indices into ci)
+    // ci: the parameters, faces' entries, tags and labels, pass-nodes, passes, lists with
+    // their pointers (absolute indices into ci), the closed cracks, each face's crack
     let mut ci = vec![0; PARAMS.len()];
-    ci.extend_from_slice(&face_nodes);
+    ci.extend_from_slice(&face_entries);
     ci.extend_from_slice(&face_tag);
+    let ci_flab = ci.len();
+    ci.extend_from_slice(&face_labels);
     let ci_pn = ci.len();
     ci.extend_from_slice(&pn);
     let ci_pass = ci.len();
@@ -173,18 +264,16 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
     let ci_nfptr = csr(&mut ci, &mut frame.into_iter(), np);
     let ci_gn = ci.len();
     ci.extend_from_slice(&surface);
-    let ci_goptr = csr(
-        &mut ci,
-        &mut surface.iter().map(|&n| own[n as usize].clone()),
-        ng,
-    );
-    let ci_gfptr = csr(
-        &mut ci,
-        &mut surface.iter().map(|&n| corner[n as usize].clone()),
-        ng,
-    );
+    let lists = |of: &Vec<Vec<u32>>| surface.iter().map(|&n| of[n as usize].clone()).collect();
+    let ci_goptr = csr(&mut ci, &mut Vec::into_iter(lists(&own)), ng);
+    let ci_gfptr = csr(&mut ci, &mut Vec::into_iter(lists(&corner)), ng);
+    let ci_gcptr = csr(&mut ci, &mut Vec::into_iter(lists(&paired)), ng);
+    let ci_clo = ci.len();
+    ci.extend_from_slice(&clo_tab);
+    let ci_fclo = ci.len();
+    ci.extend_from_slice(&fclo);
     // cfl: faces' stiffness and depth, pass-nodes' stiffness, friction per definition,
-    // PENOPT, the cell size
+    // PENOPT, the cell size, the closed cracks' penalties
     let mut cfl = fk;
     cfl.extend_from_slice(&fdepth);
     let cf_kn = cfl.len();
@@ -201,8 +290,10 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
     });
     let h = h.unwrap_or_else(|| cell_size(solver, &face_nodes, &cfl[nf..2 * nf]));
     cfl.push(h);
+    let cf_ck = cfl.len();
+    cfl.extend_from_slice(&ck);
     // the grid: counts, offsets, cursors of the cells; of the hit lists per face; the cells'
-    // entries, the big faces, the hit lists
+    // entries, the big faces, the hit lists, the faces' spans, the count of cracks released
     let m = (2 * nf).max(1024).next_power_of_two();
     let g_off = m;
     let g_fill = 2 * m + 1;
@@ -214,7 +305,8 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
     let g_big = g_ent + CELLS * nf;
     let h_list = g_big + nf;
     let g_span = h_list + np;
-    let grid_len = g_span + 6 * nf;
+    let g_rel = g_span + 6 * nf;
+    let grid_len = g_rel + 1;
     let values = [
         ("C_NN", nn as u64),
         ("C_NF", nf as u64),
@@ -222,20 +314,26 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
         ("C_NG", ng as u64),
         ("C_GG", ng.div_ceil(64) as u64),
         ("C_M", m as u64),
+        ("C_NC", nc as u64),
         ("CI_FACE", PARAMS.len() as u64),
         ("CI_FSIDE", (PARAMS.len() + 4 * nf) as u64),
+        ("CI_FLAB", ci_flab as u64),
         ("CI_PN", ci_pn as u64),
         ("CI_PASS", ci_pass as u64),
         ("CI_NFPTR", ci_nfptr as u64),
         ("CI_GN", ci_gn as u64),
         ("CI_GOPTR", ci_goptr as u64),
         ("CI_GFPTR", ci_gfptr as u64),
+        ("CI_GCPTR", ci_gcptr as u64),
+        ("CI_CLO", ci_clo as u64),
+        ("CI_FCLO", ci_fclo as u64),
         ("CF_K", 0),
         ("CF_DEPTH", nf as u64),
         ("CF_KN", cf_kn as u64),
         ("CF_DEF", cf_def as u64),
         ("CF_PEN", cf_pen as u64),
         ("CF_H", cf_pen as u64 + 1),
+        ("CF_CK", cf_ck as u64),
         ("G_COUNT", 0),
         ("G_OFF", g_off as u64),
         ("G_FILL", g_fill as u64),
@@ -247,6 +345,7 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
         ("G_BIG", g_big as u64),
         ("H_LIST", h_list as u64),
         ("G_SPAN", g_span as u64),
+        ("G_REL", g_rel as u64),
     ];
     for (name, v) in values {
         let k = PARAMS.iter().position(|&p| p == name).expect("a parameter");
@@ -262,9 +361,24 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
         pn_def,
         pn_key,
         face_key,
+        members,
+        lead_of,
         surface,
+        closures,
+        clo,
         grid_len,
     })
+}
+
+/// Bring the host's contact up to its coincident sets as they are now (the chains of closed
+/// cracks, the sets' leads: [`ContactSet::settle`]) before its tables are read.
+pub(crate) fn settle(solver: &mut Solver) {
+    let tie: Vec<u32> = (solver.separation())
+        .map(|s| s.sets().node_sets().to_vec())
+        .unwrap_or_default();
+    if let Some(cs) = solver.contact_mut() {
+        cs.settle(&tie);
+    }
 }
 
 /// The grid's cell size: the 90th percentile of the faces' search-sphere diameters
@@ -299,11 +413,13 @@ fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64]) -> f64 {
 pub(crate) struct ContactGpu {
     /// The passes ([`PASSES`]) and the groups each runs over the present tables.
     pub passes: Vec<(&'static str, wgpu::ComputePipeline)>,
-    pub groups: [usize; 9],
+    pub groups: [usize; 11],
     layout: wgpu::BindGroupLayout,
     pub bind_group: wgpu::BindGroup,
-    /// The step's arrays it reads: control block, positions, velocities.
+    /// The step's arrays it reads: control block (floats and integers: it halts the step
+    /// when a closed crack is released), positions, velocities.
     cf: wgpu::Buffer,
+    cu: wgpu::Buffer,
     x: wgpu::Buffer,
     v: wgpu::Buffer,
     /// Each node's contact force of the step (3 per model node), read by the step's shader.
@@ -312,6 +428,8 @@ pub(crate) struct ContactGpu {
     /// step's contact force of each surface node (3 each).
     pub hits: wgpu::Buffer,
     pub fprev: wgpu::Buffer,
+    /// The closed cracks' states ([`CLO`] values each).
+    pub clo: wgpu::Buffer,
     /// The tables, their buffers and the grid's.
     bufs: Vec<wgpu::Buffer>,
     tables: Tables,
@@ -382,16 +500,18 @@ struct Buffers {
     bind_group: wgpu::BindGroup,
     hits: wgpu::Buffer,
     fprev: wgpu::Buffer,
+    clo: wgpu::Buffer,
     bufs: Vec<wgpu::Buffer>,
 }
 
 impl Buffers {
-    /// Tables `t` with pairs `h` and last forces `fp` on the device, bound with the step's
-    /// control block, positions and velocities `step` and the contact forces `fcon`.
+    /// Tables `t` (with their closed cracks' states) with pairs `h` and last forces `fp` on
+    /// the device, bound with the step's control block, positions and velocities `step`
+    /// (`cf`, `x`, `v`, `cu`) and the contact forces `fcon`.
     fn new(
         gpu: &Gpu,
         layout: &wgpu::BindGroupLayout,
-        step: [&wgpu::Buffer; 3],
+        step: [&wgpu::Buffer; 4],
         fcon: &wgpu::Buffer,
         t: &Tables,
         h: &[f64],
@@ -402,10 +522,19 @@ impl Buffers {
         let hits = init(gpu, "contact pairs", bytemuck::cast_slice(h));
         let fprev = init(gpu, "contact forces, last step", bytemuck::cast_slice(fp));
         let grid = zeros(gpu, "contact grid", 4 * t.grid_len);
-        let cpart = zeros(gpu, "contact work partials", 8 * t.groups()[7]);
+        let cpart = zeros(gpu, "contact work partials", 8 * t.groups()[9]);
         let fsph = zeros(gpu, "contact face spheres", 32 * t.faces);
+        // (a binding is never empty)
+        let none = [0.0f64; CLO];
+        let clo_values = if t.clo.is_empty() {
+            &none[..]
+        } else {
+            &t.clo[..]
+        };
+        let clo = init(gpu, "closed cracks", bytemuck::cast_slice(clo_values));
         let bound = [
-            step[0], step[1], step[2], &ci, &cfl, &hits, fcon, &fprev, &grid, &cpart, &fsph,
+            step[0], step[1], step[2], &ci, &cfl, &hits, fcon, &fprev, &grid, &cpart, &fsph, &clo,
+            step[3],
         ];
         let entries: Vec<_> = (bound.iter().enumerate())
             .map(|(b, buf)| wgpu::BindGroupEntry {
@@ -422,28 +551,28 @@ impl Buffers {
             bind_group,
             hits,
             fprev,
+            clo,
             bufs: vec![ci, cfl, grid, cpart, fsph],
         }
     }
 }
 
 impl ContactGpu {
-    /// The contact of `solver` on `gpu`, reading the step's control block `cf`, positions `x`
-    /// and velocities `v`; `None` without contact. Refuses (TooLarge) an array larger than the
-    /// device binds: the contact binds every array whole.
+    /// The contact of `solver` on `gpu`, reading the step's control block `cf` and `cu`,
+    /// positions `x` and velocities `v`; `None` without contact. Refuses (TooLarge) an array
+    /// larger than the device binds: the contact binds every array whole.
     pub fn new(
         gpu: &Gpu,
-        solver: &Solver,
-        cf: &wgpu::Buffer,
-        x: &wgpu::Buffer,
-        v: &wgpu::Buffer,
+        solver: &mut Solver,
+        [cf, cu, x, v]: [&wgpu::Buffer; 4],
     ) -> Result<Option<Self>, GpuError> {
+        settle(solver);
         let Some(t) = tables(solver, None) else {
             return Ok(None);
         };
         let dev = &gpu.device;
         let read_only = [
-            false, true, true, true, true, false, false, false, false, false, false,
+            false, true, true, true, true, false, false, false, false, false, false, false, false,
         ];
         let layout_entries: Vec<_> = (read_only.iter().enumerate())
             .map(|(b, &read_only)| wgpu::BindGroupLayoutEntry {
@@ -485,17 +614,19 @@ impl ContactGpu {
         let fcon = zeros(gpu, "contact forces", 24 * solver.model.num_nodes());
         check_sizes(gpu, &t, x)?;
         let (h, fp) = fresh(&t);
-        let d = Buffers::new(gpu, &layout, [cf, x, v], &fcon, &t, &h, &fp);
+        let d = Buffers::new(gpu, &layout, [cf, x, v, cu], &fcon, &t, &h, &fp);
         Ok(Some(Self {
             passes: passes.into(),
             groups: t.groups(),
             bind_group: d.bind_group,
             layout,
             cf: cf.clone(),
+            cu: cu.clone(),
             x: x.clone(),
             v: v.clone(),
             hits: d.hits,
             fprev: d.fprev,
+            clo: d.clo,
             fcon,
             bufs: d.bufs,
             tables: t,
@@ -513,6 +644,9 @@ impl ContactGpu {
         carry: Option<(&[f64], &[f64])>,
     ) -> Result<(), GpuError> {
         check_sizes(gpu, &t, &self.x)?;
+        // an entry that left the surface (a slot whose nodes on it split off) has no force
+        gpu.queue
+            .write_buffer(&self.fcon, 0, &vec![0u8; self.fcon.size() as usize]);
         let (mut h, mut fp) = fresh(&t);
         if let Some((hits, fprev)) = carry {
             self.carry(&t, hits, fprev, &mut h, &mut fp);
@@ -520,14 +654,14 @@ impl ContactGpu {
         let d = Buffers::new(
             gpu,
             &self.layout,
-            [&self.cf, &self.x, &self.v],
+            [&self.cf, &self.x, &self.v, &self.cu],
             &self.fcon,
             &t,
             &h,
             &fp,
         );
-        (self.bind_group, self.hits, self.fprev, self.bufs) =
-            (d.bind_group, d.hits, d.fprev, d.bufs);
+        (self.bind_group, self.hits, self.fprev, self.clo, self.bufs) =
+            (d.bind_group, d.hits, d.fprev, d.clo, d.bufs);
         self.groups = t.groups();
         self.tables = t;
         Ok(())
@@ -540,11 +674,19 @@ impl ContactGpu {
         let face_at: HashMap<_, u32> = (t.face_key.iter().enumerate())
             .map(|(f, &k)| (k, f as u32))
             .collect();
-        let pn_at: HashMap<_, usize> = (t.pn_key.iter().enumerate())
+        let pn_was: HashMap<_, usize> = (old.pn_key.iter().enumerate())
             .map(|(j, &k)| (k, j))
             .collect();
-        for (j, key) in old.pn_key.iter().enumerate() {
-            let (Some(&jn), Some(o)) = (pn_at.get(key), hits.get(HIT * j..HIT * (j + 1))) else {
+        for (jn, (&(q, _), members)) in t.pn_key.iter().zip(&t.members).enumerate() {
+            // a lead carries on its set's contact: that of the lead before of its first
+            // member (along the chain) that was on the side (mod.rs Contact::regroup_where)
+            let Some(j) = (members.iter())
+                .find_map(|&m| old.lead_of.get(&(q, m)))
+                .and_then(|&lead| pn_was.get(&(q, lead)))
+            else {
+                continue;
+            };
+            let Some(o) = hits.get(HIT * j..HIT * (j + 1)) else {
                 continue;
             };
             let dst = &mut h[HIT * jn..HIT * (jn + 1)];
@@ -577,9 +719,41 @@ impl ContactGpu {
             .sum()
     }
 
-    /// Each definition's resultants from the hits read back (mod.rs ContactForce: the force
-    /// on the slave side, the sum of |f_n|, the pairs), summed in the CPU's order.
-    pub fn resultants(&self, hits: &[f64], ids: impl Iterator<Item = i64>) -> Vec<ContactForce> {
+    /// The closed cracks' states `clo` (as read back) into the host's contact of `solver`,
+    /// the cracks flagged released leaving it when `released` ([`ContactSet::closures_stepped`]).
+    pub fn closures_to_host(
+        &self,
+        solver: &mut Solver,
+        clo: &[f64],
+        released: bool,
+    ) -> Result<(), String> {
+        let Some(cs) = solver.contact_mut() else {
+            return Ok(());
+        };
+        let t = &self.tables;
+        for d in 0..cs.contacts().len() {
+            let (mut states, mut flags) = (vec![], vec![]);
+            for (k, _) in t.closures.iter().enumerate().filter(|&(_, &e)| e == d) {
+                let s = clo
+                    .get(CLO * k..CLO * (k + 1))
+                    .ok_or("the closed cracks read back are cut short")?;
+                states.extend_from_slice(&s[..CLOSURE_STATE]);
+                flags.push(released && s[CLOSURE_STATE] != 0.0);
+            }
+            cs.closures_stepped(d, &states, &flags)?;
+        }
+        Ok(())
+    }
+
+    /// Each definition's resultants from the hits and closed cracks read back (mod.rs
+    /// ContactForce: the force on the slave side, the sum of |f_n|, the pairs), summed in the
+    /// CPU's order: the pass-nodes, then the closed cracks' pairs.
+    pub fn resultants(
+        &self,
+        hits: &[f64],
+        clo: &[f64],
+        ids: impl Iterator<Item = i64>,
+    ) -> Vec<ContactForce> {
         let mut out: Vec<ContactForce> = ids
             .map(|id| ContactForce {
                 id,
@@ -599,6 +773,28 @@ impl ContactGpu {
             }
             o.normal += h[10];
             o.pairs += 1;
+        }
+        for (k, &d) in self.tables.closures.iter().enumerate() {
+            let Some(s) = clo.get(CLO * k..CLO * (k + 1)) else {
+                break;
+            };
+            // closure.rs Closure::force: fn_mag n, plus the friction unless frictionless
+            let frictionless = self.tables.cfl[self.tables.param("CF_DEF") + 4 * d + 3] != 0.0;
+            for p in 0..4 {
+                let fn_mag = s[15 + p];
+                if fn_mag > 0.0 {
+                    let o = &mut out[d];
+                    for i in 0..3 {
+                        let mut f = s[12 + i] * fn_mag;
+                        if !frictionless {
+                            f += s[3 * p + i];
+                        }
+                        o.force[i] += f;
+                    }
+                    o.normal += fn_mag;
+                    o.pairs += 1;
+                }
+            }
         }
         out
     }

@@ -5,6 +5,10 @@
 // Each pass of a definition checks its node side's nodes (the *pass-nodes*, numbered over all
 // passes in the order the CPU scatters their forces) against the faces of its face side. Every
 // step, with no motion bound and no schedule:
+//   c_close (per closed crack)  the closed cracks' step (contact/closure.rs): their pairs'
+//                            forces, or their release
+//   c_close_done (1 thread)  halts the step when some were released (HALT 6: the host lets
+//                            them go and makes the tables again, then runs the rest)
 //   c_count (per face)       each face's search sphere, centre c (the corners' mean) and
 //                            radius E r + depth, in the cells of a hashed grid its box
 //                            overlaps (their count; the span kept for c_fill); a face whose
@@ -26,8 +30,12 @@
 //   c_energy (1 group)       the contact energy, -1/2 dt sum (f^(n-1) + f^n).v^(n-1/2)
 // A node in the face's sphere shares a cell with it (the face is in every cell its sphere's
 // box touches), so no contact the CPU's search finds is missed; the order faces come in does
-// not change which one wins. The forces are written per model node to `fcon`, which the step
-// (step.wgsl node_force's callers) adds to the other forces.
+// not change which one wins. The forces are written per entry (a model node, or with
+// element separation a coincident set's slot: positions, velocities and forces are read and
+// written there) to `fcon`, which the step (step.wgsl node_force's callers) adds to the other
+// forces. With separation the pass-nodes are the sets' leads, a face holding a copy of the
+// node's chain label is left out, and the closed cracks' pairs add their forces after the
+// pass-nodes'.
 //
 // The sizes (C_NN nodes, C_NF faces, C_NP pass-nodes, C_NG surface nodes, C_M cells), the
 // offsets of the tables in `ci` and `cfl` and of the grid's and hit lists' parts are the first
@@ -47,6 +55,10 @@
 @group(0) @binding(9) var<storage, read_write> cpart: array<f64>;
 // each face's sphere of this step (c_count): centre, r (4 values a face)
 @group(0) @binding(10) var<storage, read_write> fsph: array<f64>;
+// the closed cracks' states (CLO values each) and the step's control integers (c_close_done
+// halts the step: HALT 6)
+@group(0) @binding(11) var<storage, read_write> clo: array<f64>;
+@group(0) @binding(12) var<storage, read_write> cu: array<atomic<u32>>;
 
 const DT_PREV: u32 = 1u;
 const STEP: u32 = 3u;
@@ -69,6 +81,25 @@ const SPAN: f64 = 3.0lf;
 // contact point, the force on the node f, the engaged penetration and offset (engagement.rs),
 // |f_n|, and the tangential force f_t (friction.rs; kept for the next step).
 const HIT: u32 = 14u;
+
+// A pass-node in `ci` (at CI_PN, PN values each): the entry of its node (its coincident set's
+// slot, or the node), its pass, 1 when it is buried for good (every face of its set eroded),
+// the label of its chain (mod.rs Chains: a face that holds a node of that label is not
+// tested).
+const PN: u32 = 4u;
+
+// A closed crack (contact/closure.rs): in `ci` at CI_CLO, 9 values each (the entries of A's
+// nodes a_k, of their partners b_k, its definition), its penalty at CF_CK in `cfl`, and its
+// state in `clo`, CLO values each: the tangential force on each b_k (0-11), the mid-surface
+// normal (12-14), each pair's normal force (15-18), 1 while tight (19), 1 in the step it is
+// released (20).
+const CLO: u32 = 21u;
+// closure.rs SLIP, TIGHT, TURN
+const SLIP: f64 = 0.2lf;
+const TIGHT: f64 = 0.2lf;
+const TURN: f64 = 0.866lf;
+// cu: the halt code (step.wgsl HALT)
+const CU_HALT: u32 = 0u;
 
 fn halted() -> bool {
     return cf[HALTED] != 0.0lf;
@@ -107,6 +138,116 @@ fn coeff(p: array<vec3<f64>, 4>, s0: f64, s1: f64, s2: f64, s3: f64) -> vec3<f64
         0.25lf * (s0 * p[0].x + s1 * p[1].x + s2 * p[2].x + s3 * p[3].x),
         0.25lf * (s0 * p[0].y + s1 * p[1].y + s2 * p[2].y + s3 * p[3].y),
         0.25lf * (s0 * p[0].z + s1 * p[1].z + s2 * p[2].z + s3 * p[3].z));
+}
+
+// ---------------------------------------------------------------- closed cracks
+
+fn diagonal_cross(p: array<vec3<f64>, 4>) -> vec3<f64> {
+    return cross(p[2] - p[0], p[3] - p[1]);
+}
+
+// One closed crack's step (closure.rs Closure::step): released when its faces no longer lie
+// on each other (a pair slid by more than SLIP of A's shortest edge, or the faces turned apart
+// past TURN), else each pair's penalty on its normal opening, with friction, and whether it is
+// still tight. A release is counted (c_close_done halts the step for the host).
+@compute @workgroup_size(64)
+fn c_close(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+           @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
+    halves();
+    let c = pass_index(wid, nw, lid.x);
+    if (c >= C_NC || halted()) {
+        return;
+    }
+    let t = CI_CLO + 9u * c;
+    let o = CLO * c;
+    var pa: array<vec3<f64>, 4>;
+    var pb: array<vec3<f64>, 4>;
+    var m: array<vec3<f64>, 4>;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        pa[k] = pos(ci[t + k]);
+        pb[k] = pos(ci[t + 4u + k]);
+        m[k] = (pa[k] + pb[k]) * 0.5lf;
+    }
+    var edge2 = BIG;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        let e = pa[(k + 1u) % 4u] - pa[k];
+        edge2 = min(edge2, dot(e, e));
+    }
+    // both normals in A's node order: flush faces give na . nb = |na| |nb|
+    let na = diagonal_cross(pa);
+    let nb = diagonal_cross(pb);
+    let la = sqrt(dot(na, na));
+    let lb = sqrt(dot(nb, nb));
+    let cm = diagonal_cross(m);
+    let lc = sqrt(dot(cm, cm));
+    var released = !(la > 0.0lf && lb > 0.0lf && lc > 0.0lf) || dot(na, nb) < TURN * la * lb;
+    var n = vec3<f64>(0.0lf);
+    var d: array<vec3<f64>, 4>;
+    if (!released) {
+        // unit normal of the mid-surface, out of A
+        n = cm * (1.0lf / lc);
+        let lim = SLIP * SLIP * edge2;
+        for (var k = 0u; k < 4u; k = k + 1u) {
+            d[k] = pb[k] - pa[k];
+            let tv = d[k] - n * dot(d[k], n);
+            let t2 = dot(tv, tv);
+            if (t2 > lim || t2 != t2) {
+                released = true;
+            }
+        }
+    }
+    if (released) {
+        clo[o + 20u] = 1.0lf;
+        atomicAdd(&grid[G_REL], 1u);
+        return;
+    }
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        clo[o + 12u + i] = n[i];
+    }
+    let open = TIGHT * TIGHT * edge2;
+    var tight = true;
+    let def = ci[t + 8u];
+    let kp = cfl[CF_CK + c];
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        let g = dot(d[k], n);
+        if (g >= 0.0lf || g != g) {
+            tight = tight && g * g <= open;
+            for (var i = 0u; i < 3u; i = i + 1u) {
+                clo[o + 3u * k + i] = 0.0lf;
+            }
+            clo[o + 15u + k] = 0.0lf;
+            continue;
+        }
+        let fn_mag = -kp * g;
+        if (!frictionless(def)) {
+            let v_rel = vel(ci[t + 4u + k]) - vel(ci[t + k]);
+            let v_t = v_rel - n * dot(v_rel, n);
+            let mu = mu_of(def, sqrt(dot(v_t, v_t)));
+            let ft_prev = vec3<f64>(clo[o + 3u * k], clo[o + 3u * k + 1u], clo[o + 3u * k + 2u]);
+            let f_t = tangential(ft_prev, n, v_t * cf[DT_PREV], kp, mu * fn_mag);
+            for (var i = 0u; i < 3u; i = i + 1u) {
+                clo[o + 3u * k + i] = f_t[i];
+            }
+        }
+        clo[o + 15u + k] = fn_mag;
+    }
+    clo[o + 19u] = select(0.0lf, 1.0lf, tight);
+}
+
+// A step in which closed cracks were released halts here (HALT 6): the host lets them go
+// (their node pairs no longer chain their copies) and makes the tables again, then runs the
+// rest of the step, as the CPU releases them before its node checks (mod.rs
+// Contact::compute).
+@compute @workgroup_size(1)
+fn c_close_done() {
+    params();
+    if (halted() || atomicLoad(&grid[G_REL]) == 0u) {
+        return;
+    }
+    atomicStore(&grid[G_REL], 0u);
+    atomicStore(&cu[CU_HALT], 6u);
+    cf[HALTED] = 1.0lf;
 }
 
 // ---------------------------------------------------------------- the broad phase
@@ -445,6 +586,55 @@ fn pair_k(k_face: f64, j: u32) -> f64 {
     return k_face;
 }
 
+// friction.rs: mu = FD + (FS - FD) exp(-DC |v_t|) of definition `def`
+fn mu_of(def: u32, speed: f64) -> f64 {
+    let fr = CF_DEF + 4u * def;
+    return cfl[fr + 1u] + (cfl[fr] - cfl[fr + 1u]) * exp64(-cfl[fr + 2u] * speed);
+}
+
+fn frictionless(def: u32) -> bool {
+    return cfl[CF_DEF + 4u * def + 3u] != 0.0lf;
+}
+
+// friction.rs tangential_force: the last force turned into the plane of n, less k du_t, capped
+// at f_max.
+fn tangential(ft_prev: vec3<f64>, n: vec3<f64>, du_t: vec3<f64>, k: f64, f_max: f64) -> vec3<f64> {
+    let mag = sqrt(dot(ft_prev, ft_prev));
+    var pp = ft_prev - n * dot(ft_prev, n);
+    let pm = sqrt(dot(pp, pp));
+    if (pm > 0.0lf) {
+        pp = pp * (mag / pm);
+    } else {
+        pp = vec3<f64>(0.0lf);
+    }
+    let trial = pp - du_t * k;
+    let t = sqrt(dot(trial, trial));
+    if (t > f_max) {
+        var sc = 0.0lf;
+        if (t > 0.0lf) {
+            sc = f_max / t;
+        }
+        return trial * sc;
+    }
+    return trial;
+}
+
+// Every face of pass-node j's set lies on a tight closed crack (mod.rs Side::buried).
+fn on_tight_cracks(j: u32) -> bool {
+    let a = ci[CI_NFPTR + j];
+    let b = ci[CI_NFPTR + j + 1u];
+    if (a == b) {
+        return false;
+    }
+    for (var k = a; k < b; k = k + 1u) {
+        let c = ci[CI_FCLO + ci[k]];
+        if (c == NONE || clo[CLO * c + 19u] == 0.0lf) {
+            return false;
+        }
+    }
+    return true;
+}
+
 fn hit_v(o: u32) -> vec3<f64> {
     return vec3<f64>(hits[o], hits[o + 1u], hits[o + 2u]);
 }
@@ -460,8 +650,11 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
     if (ci[CI_FSIDE + f] != side) {
         return;
     }
+    // not a face that holds the node, a copy tied to it (one entry) or chained to it (one
+    // label): mod.rs Query::run
+    let label = ci[CI_PN + PN * j + 3u];
     for (var a = 0u; a < 4u; a = a + 1u) {
-        if (face_node(f, a) == n) {
+        if (face_node(f, a) == n || ci[CI_FLAB + 4u * f + a] == label) {
             return;
         }
     }
@@ -509,10 +702,11 @@ fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     if (j >= C_NP || halted()) {
         return;
     }
-    let n = ci[CI_PN + 3u * j];
-    let q = ci[CI_PN + 3u * j + 1u];
-    // a node all of whose faces eroded is buried: not checked (mod.rs Side::buried)
-    let buried = ci[CI_PN + 3u * j + 2u] != 0u;
+    let n = ci[CI_PN + PN * j];
+    let q = ci[CI_PN + PN * j + 1u];
+    // a node all of whose faces eroded, or lie on tight closed cracks, is buried: not checked
+    // (mod.rs Side::buried)
+    let buried = ci[CI_PN + PN * j + 2u] != 0u || (C_NC > 0u && on_tight_cracks(j));
     let side = ci[CI_PASS + 2u * q];
     let def = ci[CI_PASS + 2u * q + 1u];
     let s = pos(n);
@@ -583,28 +777,7 @@ fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
         // friction.rs: mu = FD + (FS - FD) exp(-DC |v_t|), the elastic trial force capped
         let v_t = v_rel - pr.n * dot(v_rel, pr.n);
         let speed = sqrt(dot(v_t, v_t));
-        let mu = cfl[fr + 1u] + (cfl[fr] - cfl[fr + 1u]) * exp64(-cfl[fr + 2u] * speed);
-        let f_max = mu * fn_mag;
-        let ft_prev = hit_v(o + 11u);
-        let mag = sqrt(dot(ft_prev, ft_prev));
-        var pp = ft_prev - pr.n * dot(ft_prev, pr.n);
-        let pm = sqrt(dot(pp, pp));
-        if (pm > 0.0lf) {
-            pp = pp * (mag / pm);
-        } else {
-            pp = vec3<f64>(0.0lf);
-        }
-        let trial = pp - (v_t * dt_prev) * k;
-        let t = sqrt(dot(trial, trial));
-        if (t > f_max) {
-            var sc = 0.0lf;
-            if (t > 0.0lf) {
-                sc = f_max / t;
-            }
-            f_t = trial * sc;
-        } else {
-            f_t = trial;
-        }
+        f_t = tangential(hit_v(o + 11u), pr.n, v_t * dt_prev, k, mu_of(def, speed) * fn_mag);
     }
     let f = f_n + f_t;
     hits[o] = f64(fi);
@@ -759,6 +932,26 @@ fn gather(g: u32) -> vec3<f64> {
             }
         }
         cur = next + 1u;
+    }
+    // the closed cracks' pairs at the node, in the order the cracks closed: the force on b_k,
+    // its opposite on a_k (mod.rs Contact::compute)
+    for (var k = ci[CI_GCPTR + g]; k < ci[CI_GCPTR + g + 1u]; k = k + 1u) {
+        let e = ci[k];
+        let c = e >> 3u;
+        let p = (e >> 1u) & 3u;
+        let o = CLO * c;
+        let fn_mag = clo[o + 15u + p];
+        if (fn_mag > 0.0lf) {
+            var fk = vec3<f64>(clo[o + 12u], clo[o + 13u], clo[o + 14u]) * fn_mag;
+            if (!frictionless(ci[CI_CLO + 9u * c + 8u])) {
+                fk = fk + vec3<f64>(clo[o + 3u * p], clo[o + 3u * p + 1u], clo[o + 3u * p + 2u]);
+            }
+            if ((e & 1u) != 0u) {
+                f = f + fk * (-1.0lf);
+            } else {
+                f = f + fk;
+            }
+        }
     }
     return f;
 }

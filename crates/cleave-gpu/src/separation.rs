@@ -17,8 +17,12 @@
 //! the springs bound), the nodes gather the forces per slot in the faces' order, and the host
 //! takes their state up whenever it reads the GPU's (outputs, splits, restart files).
 //!
-//! What the GPU does not run yet is refused ([`crate::support::unsupported`]): contact, and
-//! rigid bodies, tied contact, erosion or ELFORM 13 with separation.
+//! With automatic contact the faces of the released interfaces join the surfaces in the same
+//! halt, and their cracks close, on the host (`Solver::activate_cracks`), and the contact's
+//! tables are made again (contact.rs).
+//!
+//! What the GPU does not run yet is refused ([`crate::support::unsupported`]): rigid bodies,
+//! tied contact, erosion or ELFORM 13 with separation.
 
 use cleave_core::element::shape::face_points;
 use cleave_core::math::Vec3;
@@ -395,6 +399,13 @@ impl GpuStepper {
             )))
         })?;
         self.upload_sets(solver, c.step());
+        // with contact: the new crack faces join the surfaces and the cracks close on the host,
+        // whose closed cracks take the GPU's states first; the contact's tables made again
+        if self.has_contact() {
+            self.closures_from_gpu(solver, false)?;
+            solver.activate_cracks();
+            self.remake_contact(solver)?;
+        }
         self.clear_halt();
         self.finish_step_after("interfaces_done");
         Ok(())

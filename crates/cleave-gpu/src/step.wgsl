@@ -19,8 +19,10 @@
 //   cohesive (per softening face, with MODELs 3 and 4)  tractions, forces, work, springs
 //   erosion_done (1 thread, with contact and erosion)  halts the step if elements eroded
 //                         (HALT 5: the host changes the contact surfaces, runs the rest)
-//   contact.wgsl's nine passes (with *CONTACT_AUTOMATIC_...; a bind group of their own)
-//                         each node's contact force at t^n into `fcon`, the contact energy
+//   contact.wgsl's passes (with *CONTACT_AUTOMATIC_...; a bind group of their own; nine,
+//                         eleven with separation: the closed cracks' step, which halts the
+//                         step when one is released, HALT 6) each node's contact force at t^n
+//                         into `fcon`, the contact energy
 //   control (1 group)     smallest time step (and the cohesive springs') and energy sums
 //                         (fixed tree); dt^(n+1/2)
 //   rigid (1 group/body)  force and moment of each rigid body (fixed tree), its 6-dof update

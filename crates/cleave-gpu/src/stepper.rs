@@ -316,7 +316,7 @@ impl GpuStepper {
     /// Upload `solver`'s model and initial state to `gpu`. Refuses a deck with a feature the
     /// GPU step lacks ([`crate::support::unsupported`]) or an array larger than the device
     /// binds.
-    pub fn new(gpu: Gpu, solver: &Solver) -> Result<Self, GpuError> {
+    pub fn new(gpu: Gpu, solver: &mut Solver) -> Result<Self, GpuError> {
         let model = solver.model;
         if let Some(what) = crate::support::unsupported(model, &solver.setup) {
             return Err(GpuError::Unsupported(what));
@@ -422,7 +422,7 @@ impl GpuStepper {
             hg: zeros("hourglass forces", 12 * ne),
             bq: zeros("bulk viscosity", ne),
         };
-        let contact = ContactGpu::new(&gpu, solver, &cf_buf, &state.x, &state.v)?;
+        let contact = ContactGpu::new(&gpu, solver, [&cf_buf, &cu_buf, &state.x, &state.v])?;
         let par = f64s("parameters", &lay.par);
         let conn = u32s("connectivity", &by_component(&lay.conn, 8));
         let emat = u32s("element materials", &lay.emat);
@@ -654,12 +654,15 @@ impl GpuStepper {
         // the contact's passes after the forces of the elements (and the interfaces'), before
         // the time step and the nodes, which add its forces
         if let Some(c) = &contact {
-            let cp = (c.passes.iter().enumerate()).map(|(k, (name, p))| Pass {
-                name,
-                pipeline: p.clone(),
-                groups: Groups::Contact(k),
-                contact: true,
-            });
+            // (the closed cracks' passes only where interfaces can fail)
+            let cp = (c.passes.iter().enumerate())
+                .filter(|(_, (name, _))| n_if > 0 || !name.starts_with("c_close"))
+                .map(|(k, (name, p))| Pass {
+                    name,
+                    pipeline: p.clone(),
+                    groups: Groups::Contact(k),
+                    contact: true,
+                });
             pipelines.splice(contact_at..contact_at, cp);
         }
         let commit = pipeline("commit");
@@ -916,34 +919,73 @@ impl GpuStepper {
     /// takes the faces they covered ([`Solver::erode_contact`]), the contact's tables are made
     /// again with the pairs carried over, and the rest of the step runs.
     fn erode_contact(&mut self, solver: &mut Solver) -> Result<(), RunError> {
-        let (Some(ero), Some(c)) = (&self.ero, &self.contact) else {
+        let Some(ero) = self.ero.as_ref().filter(|_| self.contact.is_some()) else {
             return Ok(());
         };
-        let got = self.download_ranges(&[
-            (ero, 0, ero.size()),
-            (&c.hits, 0, c.hits.size()),
-            (&c.fprev, 0, c.fprev.size()),
-        ]);
-        let ero: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
+        let ero = self.download(ero);
         let newly: Vec<u32> = (0..solver.model.num_elements())
             .filter(|&e| ero[4 * e] != 0.0 && !solver.state.eroded[e])
             .map(|e| e as u32)
             .collect();
         solver.erode_contact(&newly);
+        self.remake_contact(solver)?;
+        self.clear_halt();
+        self.finish_step_after("erosion_done");
+        Ok(())
+    }
+
+    /// Closed cracks released in the step halted (HALT 6, after the cracks' pass): the host's
+    /// contact takes their states and lets the released ones go (their pairs unchained), the
+    /// contact's tables are made again with the pairs carried over, and the rest of the step
+    /// runs.
+    fn release_cracks(&mut self, solver: &mut Solver) -> Result<(), RunError> {
+        self.closures_from_gpu(solver, true)?;
+        self.remake_contact(solver)?;
+        self.clear_halt();
+        self.finish_step_after("c_close_done");
+        Ok(())
+    }
+
+    /// The closed cracks' states as the GPU has them into the host's contact, those released
+    /// in this step leaving it when `released` (a halt after the cracks' pass).
+    pub(crate) fn closures_from_gpu(
+        &self,
+        solver: &mut Solver,
+        released: bool,
+    ) -> Result<(), RunError> {
+        let Some(c) = &self.contact else {
+            return Ok(());
+        };
+        let clo: Vec<f64> = self.download(&c.clo);
+        (c.closures_to_host(solver, &clo, released))
+            .map_err(|e| RunError::Output(std::io::Error::other(e)))
+    }
+
+    /// The contact's tables made again from the host's (after its surfaces, sets or closed
+    /// cracks changed), the pairs and last forces carried over.
+    pub(crate) fn remake_contact(&mut self, solver: &mut Solver) -> Result<(), RunError> {
         let failed = |e: String| RunError::Output(std::io::Error::other(e));
+        let Some(c) = &self.contact else {
+            return Ok(());
+        };
+        let got =
+            self.download_ranges(&[(&c.hits, 0, c.hits.size()), (&c.fprev, 0, c.fprev.size())]);
+        crate::contact::settle(solver);
         let c = self
             .contact
             .as_mut()
             .ok_or_else(|| failed("no contact".into()))?;
         let t = crate::contact::tables(solver, Some(c.cell()))
             .ok_or_else(|| failed("the solver's contact is gone".into()))?;
-        let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
-        let fprev: Vec<f64> = bytemuck::pod_collect_to_vec(&got[2]);
+        let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
+        let fprev: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
         c.upload(&self.gpu, t, Some((&hits, &fprev)))
-            .map_err(|e| failed(e.to_string()))?;
-        self.clear_halt();
-        self.finish_step_after("erosion_done");
-        Ok(())
+            .map_err(|e| failed(e.to_string()))
+    }
+
+    /// Whether the model has automatic contact.
+    pub(crate) fn has_contact(&self) -> bool {
+        self.contact.is_some()
     }
 
     /// Contact on surfaces that elements erode from: the host changes them (HALT 5).
@@ -1020,7 +1062,9 @@ impl GpuStepper {
             }
         }
         if let (Some(c), Some(pairs)) = (&mut self.contact, pairs) {
-            if self.ero.is_some() {
+            if self.ero.is_some() || self.sep.n_if > 0 {
+                // the surfaces, sets and closed cracks as the host's state holds them
+                crate::contact::settle(solver);
                 let t = crate::contact::tables(solver, Some(c.cell()))
                     .ok_or("the GPU state's model has no contact")?;
                 c.upload(&self.gpu, t, None).map_err(|e| e.to_string())?;
@@ -1380,12 +1424,18 @@ impl GpuStepper {
             }
         }
         if let Some(ct) = &self.contact {
-            let hits = self.download(&ct.hits);
+            // the closed cracks' states (for a restart file) and the resultants
+            let got =
+                self.download_ranges(&[(&ct.hits, 0, ct.hits.size()), (&ct.clo, 0, ct.clo.size())]);
+            let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
+            let clo: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
+            // (a state the host cannot take is reported at the next halt that needs it)
+            let _ = ct.closures_to_host(solver, &clo, false);
             let ids = solver
                 .contact()
                 .map(|cs| cs.forces().iter().map(|f| f.id).collect::<Vec<_>>());
             if let (Some(ids), Some(cs)) = (ids, solver.contact_mut()) {
-                cs.set_forces(&ct.resultants(&hits, ids.into_iter()));
+                cs.set_forces(&ct.resultants(&hits, &clo, ids.into_iter()));
             }
         }
         c.apply(solver);
@@ -1481,10 +1531,14 @@ impl GpuStepper {
                 }
                 // elements eroded (with contact): the surfaces changed on the host, the step
                 // run to its end
-                5 => {
+                5 | 6 => {
                     let done = (c.step() - start).max(0.0) as usize;
                     self.batch = (done + 1).next_power_of_two().clamp(4, self.batch.max(4));
-                    self.erode_contact(solver)?;
+                    if c.halt() == 5 {
+                        self.erode_contact(solver)?;
+                    } else {
+                        self.release_cracks(solver)?;
+                    }
                     if !stopping && obs.stop_asked() {
                         stopping = true;
                         self.set_stop_time(0.0);

@@ -11,8 +11,8 @@
 //! `*LOAD_BODY`, `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and
 //! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 rigid walls (`*RIGIDWALL_PLANAR`, `_FINITE`, `*RIGIDWALL_GEOMETRIC_...` fixed or moving), tied contact
 //! (`*CONTACT_TIED_...`), automatic contact (`*CONTACT_AUTOMATIC_...`, `*CONTACT_ERODING_...`,
-//! with friction; not with element separation, whose crack faces join the surfaces:
-//! `crate::contact`), element erosion
+//! with friction; with element separation, the crack faces joining the surfaces and closed
+//! cracks: `crate::contact`), element erosion
 //! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), element separation
 //! with every MODEL (not with rigid bodies, erosion or tied contact: `crate::separation`), the
 //! energy ledger, and every output (states and histories are read back at their times).
@@ -26,14 +26,6 @@ use cleave_core::setup::Setup;
 pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
     if model.num_elements() == 0 {
         return Some("a model without solid elements".into());
-    }
-    if !model.contacts.is_empty() {
-        // the surfaces must stay as they start (contact.rs)
-        if !model.separations.is_empty() {
-            return Some(
-                "automatic contact (*CONTACT_...) together with element separation".into(),
-            );
-        }
     }
     if !model.separations.is_empty() {
         let with = |what: &str| Some(format!("{what} together with element separation"));

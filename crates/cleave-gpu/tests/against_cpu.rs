@@ -102,7 +102,7 @@ fn run_cpu(m: &Model, every: f64) -> Vec<Row> {
 
 fn run_gpu(g: Gpu, m: &Model, every: f64) -> (Vec<Row>, Gpu) {
     let mut s = Solver::new(m).unwrap();
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     let mut r = Record {
         every,
         ..Default::default()
@@ -119,7 +119,7 @@ fn end_states(g: Gpu, m: &Model, every: f64) -> (Solver<'_>, Solver<'_>, Gpu) {
         ..Default::default()
     };
     let mut s = Solver::new(m).unwrap();
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     st.run(&mut s, &mut record()).unwrap();
     let mut c = Solver::new(m).unwrap();
     c.run(&mut record()).unwrap();
@@ -909,7 +909,7 @@ fn profiled_steps_are_the_same_steps() {
     let end = m.control.end_time;
     let (plain, g) = run_gpu(g, &m, end);
     let mut s = Solver::new(&m).unwrap();
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     let shares = st.profile(&mut s, 10);
     let mut r = Record {
         every: end,

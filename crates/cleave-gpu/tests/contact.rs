@@ -93,7 +93,7 @@ fn run_cpu(m: &Model, every: f64) -> Vec<Row> {
 
 fn run_gpu(g: Gpu, m: &Model, every: f64) -> (Vec<Row>, Gpu) {
     let mut s = solver(m);
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     let mut r = Record {
         every,
         next: 0.0,
@@ -367,7 +367,7 @@ fn continues(name: &str, g: Gpu, m: &Model, at: f64) -> Gpu {
         rows: vec![],
     };
     let mut s = solver(m);
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     let mut obs = TakeState {
         record: record(),
         due: at * m.control.end_time,
@@ -382,7 +382,7 @@ fn continues(name: &str, g: Gpu, m: &Model, at: f64) -> Gpu {
         .rfind(|r| r.t <= t)
         .map_or(0, eroded);
     let mut s2 = solver(m);
-    let mut st2 = GpuStepper::new(st.into_gpu(), &s2).unwrap();
+    let mut st2 = GpuStepper::new(st.into_gpu(), &mut s2).unwrap();
     st2.load(&mut s2, &state).unwrap();
     assert_eq!(s2.state.t, t);
     let mut r = record();

@@ -74,7 +74,7 @@ fn a_saved_state_holds_the_hosts_layout() {
     let Some(g) = gpu() else { return };
     let m = block(Hourglass::Stiffness);
     let mut s = Solver::new(&m).unwrap();
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     let mut obs = TakeTwo {
         at: m.control.end_time / 3.0,
         taken: Vec::new(),
@@ -152,7 +152,7 @@ fn a_state_of_an_earlier_control_block_is_taken_up() {
     let Some(g) = gpu() else { return };
     let m = block(Hourglass::Viscous);
     let mut s = Solver::new(&m).unwrap();
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     let mut obs = EndAndOne {
         at: m.control.end_time / 2.0,
         state: None,
@@ -180,7 +180,7 @@ fn a_state_of_an_earlier_control_block_is_taken_up() {
     }
     assert!(old.len() < state.len());
     let mut s2 = Solver::new(&m).unwrap();
-    let mut st2 = GpuStepper::new(st.into_gpu(), &s2).unwrap();
+    let mut st2 = GpuStepper::new(st.into_gpu(), &mut s2).unwrap();
     st2.load(&mut s2, &old).unwrap();
     let mut again = EndAndOne {
         at: f64::INFINITY,

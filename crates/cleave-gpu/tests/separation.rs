@@ -11,12 +11,13 @@
 //! could fail a step apart on the two (the measured differences are printed); on these decks
 //! none does, and the tests ask for the same failures in the same steps.
 
+use cleave_core::contact::ContactSet;
 use cleave_core::curve::Curve;
 use cleave_core::math::Vec3;
 use cleave_core::mesh::{box_model, BoxMesh};
 use cleave_core::model::{
-    Hourglass, Material, MaterialKind, Model, MotionTarget, Part, PrescribedMotion, SeparationDef,
-    Vad,
+    ContactDef, Hourglass, Material, MaterialKind, Model, MotionTarget, Part, PrescribedMotion,
+    SeparationDef, Vad,
 };
 use cleave_core::separation::interfaces::{Separation, Status};
 use cleave_core::separation::split::{split_model, SplitModel};
@@ -35,10 +36,12 @@ struct Row {
     x: Vec<Vec3>,
     v: Vec<Vec3>,
     stress: Vec<[f64; 6]>,
-    /// Kinetic, internal, hourglass, external work, fracture (cohesive laws).
-    energy: [f64; 5],
+    /// Kinetic, internal, hourglass, external work, fracture (cohesive laws), contact.
+    energy: [f64; 6],
     /// Interfaces fully open (free).
     free: usize,
+    /// With contact: closed cracks now, and released so far (contact/closure.rs).
+    cracks: (usize, u64),
 }
 
 struct Record {
@@ -68,6 +71,7 @@ impl Observer for Record {
                 e.hourglass,
                 e.external_work,
                 e.fracture,
+                e.contact,
             ],
             free: {
                 let sep = s.separation().unwrap();
@@ -75,6 +79,9 @@ impl Observer for Record {
                     .filter(|&i| sep.status(i) == Status::Free)
                     .count()
             },
+            cracks: s
+                .contact()
+                .map_or((0, 0), |c| (c.stats().closed, c.stats().released)),
         });
         Ok(())
     }
@@ -83,9 +90,13 @@ impl Observer for Record {
     }
 }
 
+/// The solver of a split model, with its contact when the deck has one.
 fn solver(split: &SplitModel) -> Solver<'_> {
     let mut s = Solver::new(&split.model).unwrap();
     s.attach_separation(Separation::new(split).unwrap());
+    if !split.model.contacts.is_empty() {
+        s.attach_contact(ContactSet::new(&split.model, Some(&split.origin)).unwrap());
+    }
     s
 }
 
@@ -102,7 +113,7 @@ fn run_cpu(split: &SplitModel, every: f64) -> Vec<Row> {
 
 fn run_gpu(g: Gpu, split: &SplitModel, every: f64) -> (Vec<Row>, Gpu) {
     let mut s = solver(split);
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     let mut r = Record {
         every,
         next: 0.0,
@@ -146,6 +157,11 @@ fn compare(split: &SplitModel, every: f64, name: &str) -> Option<Vec<Row>> {
             a.t
         );
         assert_eq!(a.free, b.free, "{name}: open interfaces at t = {}", a.t);
+        assert_eq!(
+            a.cracks, b.cracks,
+            "{name}: closed and released cracks at t = {}",
+            a.t
+        );
         let e = a.energy.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let de = (a.energy.iter().zip(&b.energy)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
         let d = [
@@ -244,6 +260,75 @@ fn pulled_bar_breaks_as_on_the_cpu() {
     assert!(!cpu.last().unwrap().failed.is_empty());
 }
 
+/// The CPU's broken bar pushed back (cleave-core tests/contact.rs `bar_pushed_back`): the
+/// pulled bar with single surface contact, pulled at 10 m/s until 15 us (it breaks in the
+/// middle at 9.9 us), then pushed back at 10 m/s, so that the compression waves close the
+/// crack at about 25 us and its faces push on each other through the closed crack's pairs
+/// (contact/closure.rs), to 70 us.
+fn bar_pushed_back() -> Model {
+    let mut m = pulled_bar();
+    m.control.end_time = 70e-6;
+    m.curves[0] = Curve {
+        id: 1,
+        t: vec![0.0, 15e-6, 16e-6, 1.0],
+        y: vec![1.0, 1.0, -1.0, -1.0],
+    };
+    m.contacts.push(ContactDef::single_surface_all(0.0, 0.0));
+    m
+}
+
+/// The broken bar pushed back on the GPU as on the CPU: the crack opens in the same step, its
+/// faces join the contact and close on each other, with the CPU's positions, velocities,
+/// stresses and energies (the contact's among them) to round-off, and they do not pass through
+/// each other: the largest interpenetration of the crack's node pairs is below 5% of the
+/// element (the CPU test's bound, from the penalty's own estimate of 4.4%; without contact
+/// the pieces pass through each other by a whole element).
+#[test]
+fn broken_bar_pushed_back_closes_as_on_the_cpu() {
+    let split = split_model(&bar_pushed_back());
+    let every = split.model.control.end_time / 35.0;
+    let Some(cpu) = compare(&split, every, "bar pushed back") else {
+        return;
+    };
+    let last = cpu.last().unwrap();
+    assert!(!last.failed.is_empty(), "it breaks");
+    // the crack's pairs: the copies of one deck node, left (lower x at the start) and right
+    let h = BAR_L / BAR_N as f64;
+    let mut worst = 0.0f64;
+    for r in &cpu {
+        for d in 0..split.origin.iter().max().map_or(0, |&d| d + 1) {
+            let copies: Vec<usize> = (0..split.origin.len())
+                .filter(|&i| split.origin[i] == d)
+                .collect();
+            for &a in &copies {
+                for &b in &copies {
+                    let (ea, eb) = (elem_x(&split, a), elem_x(&split, b));
+                    if ea < eb {
+                        worst = worst.max(r.x[a][0] - r.x[b][0]);
+                    }
+                }
+            }
+        }
+    }
+    let contact = last.energy[5];
+    eprintln!(
+        "bar pushed back: interpenetration {:.4} h, contact energy {contact:.3e} J",
+        worst / h
+    );
+    assert!(contact > 0.0, "the crack's faces pushed on each other");
+    assert!(worst < 0.05 * h, "the faces pass through: {} h", worst / h);
+}
+
+/// The x of the centre of the element of node copy `i` of a split model (each copy belongs to
+/// one element).
+fn elem_x(split: &SplitModel, i: usize) -> f64 {
+    let m = &split.model;
+    let e = (m.conn.iter())
+        .position(|c| c.contains(&(i as u32)))
+        .expect("a copy of an element");
+    m.conn[e].iter().map(|&a| m.x0[a as usize][0]).sum::<f64>() / 8.0
+}
+
 /// The block of the GPU tests (`common::block`: 3 x 3 x 6 elements of bilinear-plastic steel,
 /// clamped at its foot (SPC), its top driven down by a velocity that ramps up, with an initial
 /// shear velocity and a body load) over 200 steps, every element in a MODEL 2 group (effective stress, BETA 0.7), of a strength (250 MPa) that a few
@@ -286,6 +371,41 @@ fn cracking_block_fails_as_on_the_cpu() {
     );
 }
 
+/// The cracking block with single surface contact and friction: its crack faces join the
+/// surface in the step they fail and close on each other, the closed cracks that slide or open
+/// apart are released to the node-to-face contact, and only the leads of the coincident sets
+/// are checked. The same failures, closed and released cracks in the same steps as on the
+/// CPU, the fields and energies (the contact's among them) to round-off.
+#[test]
+fn cracking_block_in_contact_as_on_the_cpu() {
+    let split = split_model(&cracking_block_in_contact());
+    let every = split.model.control.end_time / 40.0;
+    let Some(cpu) = compare(&split, every, "cracking block in contact") else {
+        return;
+    };
+    let last = cpu.last().unwrap();
+    eprintln!(
+        "cracking block in contact: {} failed, closed cracks {}, released {}, contact energy {:.3e} J",
+        last.failed.len(),
+        last.cracks.0,
+        last.cracks.1,
+        last.energy[5]
+    );
+    assert!(last.failed.len() >= 20);
+    assert!(
+        last.cracks.0 + last.cracks.1 as usize >= 20,
+        "{:?}",
+        last.cracks
+    );
+}
+
+/// The cracking block with single surface contact with friction (FS 0.3, FD 0.2).
+fn cracking_block_in_contact() -> Model {
+    let mut m = cracking_block();
+    m.contacts.push(ContactDef::single_surface_all(0.3, 0.2));
+    m
+}
+
 /// Takes the GPU's state once, at the first halt at or after `due`, and records as [`Record`].
 struct TakeState {
     record: Record,
@@ -322,15 +442,22 @@ impl Checkpointing for TakeState {
 }
 
 /// A run taken up from the GPU state saved midway, after interfaces have failed (with the
-/// interfaces and sets as they have split, the softening faces' state, `GpuStepper::save`),
-/// ends in the same bits as the run that went through: the cracking block (MODEL 2, with
-/// interfaces yet to fail) and the spinning BETA 8 block (MODEL 3, with faces softening).
+/// interfaces and sets as they have split, the softening faces' state, the contact's surfaces,
+/// closed cracks and pairs, `GpuStepper::save`), ends in the same bits as the run that went
+/// through: the cracking block (MODEL 2, with interfaces yet to fail), the spinning BETA 8
+/// block (MODEL 3, with faces softening) and the cracking block in contact (with cracks closed
+/// and yet to be released).
 #[test]
 fn a_cracking_run_continues_from_its_saved_state() {
     // (the spinning block's 45 interfaces fail by 5% of its run and open fully by 10%)
     for (name, m, at) in [
         ("cracking block", cracking_block(), 0.5),
         ("BETA 8 block", spinning_block(), 0.07),
+        (
+            "cracking block in contact",
+            cracking_block_in_contact(),
+            0.6,
+        ),
     ] {
         if !continues_from_its_saved_state(name, &split_model(&m), at) {
             return;
@@ -349,7 +476,7 @@ fn continues_from_its_saved_state(name: &str, split: &SplitModel, at: f64) -> bo
         rows: Vec::new(),
     };
     let mut s = solver(split);
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     let mut obs = TakeState {
         record: record(),
         due: at * end,
@@ -369,7 +496,7 @@ fn continues_from_its_saved_state(name: &str, split: &SplitModel, at: f64) -> bo
         "{name}: nothing left to happen"
     );
     let mut s2 = solver(split);
-    let mut st2 = GpuStepper::new(st.into_gpu(), &s2).unwrap();
+    let mut st2 = GpuStepper::new(st.into_gpu(), &mut s2).unwrap();
     st2.load(&mut s2, &state).unwrap();
     assert_eq!(s2.state.t, t);
     assert_eq!(s2.separation().unwrap().num_failed(), failed_then);

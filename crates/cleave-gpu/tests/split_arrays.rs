@@ -76,7 +76,7 @@ type Rows = Vec<(u64, Vec<u64>)>;
 /// the end last) and the arrays split.
 fn run(g: Gpu, m: &Model) -> (Rows, Vec<(String, usize)>, Gpu) {
     let mut s = solver(&split_model(m), m);
-    let mut st = GpuStepper::new(g, &s).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
     let parts = st.split_arrays().to_vec();
     let mut r = Record {
         every: m.control.end_time / 20.0,
@@ -98,8 +98,8 @@ fn split_one(g: Gpu, m: &Model, name: &str) -> (Gpu, u64, Vec<(String, usize)>) 
     let mut bytes = 256;
     loop {
         g.force_split = vec![(name.to_string(), bytes)];
-        let s = solver(&split, m);
-        match GpuStepper::new(g, &s) {
+        let mut s = solver(&split, m);
+        match GpuStepper::new(g, &mut s) {
             Ok(st) => {
                 let parts = st.split_arrays().to_vec();
                 return (st.into_gpu(), bytes, parts);
@@ -195,8 +195,8 @@ fn too_many_parts_are_refused_by_count() {
     ];
     g.force_split = names.iter().map(|n| (n.to_string(), 256)).collect();
     let most = g.limits.max_storage_buffers_per_shader_stage;
-    let s = solver(&split_model(&m), &m);
-    match GpuStepper::new(g, &s) {
+    let mut s = solver(&split_model(&m), &m);
+    match GpuStepper::new(g, &mut s) {
         Ok(st) => {
             let parts: usize = st.split_arrays().iter().map(|p| p.1).sum();
             eprintln!("{parts} parts bound ({most} bindings)");

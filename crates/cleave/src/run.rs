@@ -212,7 +212,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         if let Some(what) = cleave_gpu::support::unsupported(model, &solver.setup) {
             return Err(cleave_gpu::GpuError::Unsupported(what).into());
         }
-        let mut stepper = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &solver)?;
+        let mut stepper = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &mut solver)?;
         // a GPU run's restart file holds the device's state
         if let Some(r) = &resume {
             stepper

@@ -59,6 +59,74 @@ fn gpu_run_with_contact_writes_what_the_cpu_run_writes() {
     assert!(rows.iter().any(|r| r[fx] != 0.0), "the cubes touched");
 }
 
+/// The fragmenting bar of `cleave example fragmenting-bar` (60 elements, every interface
+/// cohesive with a random strength, single surface contact between the fragments): `--gpu`
+/// breaks it into the same fragments as the CPU, the fragments that spring back closing on
+/// their neighbours through the contact. Its failures follow each other within round-off of
+/// their strengths, so the two runs part after the first failures (the GPU sums in other
+/// orders): measured, 32 interfaces and 5 fragments on both, fragments.csv's element counts and
+/// masses the same, the kinetic energy at the end within 0.4% and the total within 1e-4. The
+/// test asks for the same fragments and the energies within 2% (the issue's "within a few per
+/// cent").
+#[test]
+fn gpu_fragments_the_bar_as_the_cpu() {
+    let d = tmp("gpu-fragmenting-bar");
+    std::fs::create_dir_all(&d).unwrap();
+    let deck = d.join("bar.k");
+    let out = cleave(&[
+        "example",
+        "fragmenting-bar",
+        "--elements",
+        "60",
+        "-o",
+        deck.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let g = run(&deck, &d.join("gpu"), true);
+    if no_gpu(&g) {
+        return;
+    }
+    assert_eq!(
+        g.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&g.stderr)
+    );
+    assert_eq!(run(&deck, &d.join("cpu"), false).status.code(), Some(0));
+    let last = |dir: &str| {
+        let (h, rows) = csv(&d.join(dir).join("glstat.csv"));
+        let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+        let r = rows.last().unwrap().clone();
+        let pick = |name: &str| r[col(name)];
+        (
+            [pick("failed_interfaces"), pick("fragments")],
+            [
+                pick("kinetic_energy"),
+                pick("contact_energy"),
+                pick("total_energy"),
+            ],
+        )
+    };
+    let (cpu, gpu) = (last("cpu"), last("gpu"));
+    eprintln!("fragmenting bar: CPU {cpu:?}, GPU {gpu:?}");
+    assert_eq!(cpu.0, gpu.0, "failed interfaces and fragments");
+    assert!(cpu.0[1] >= 3.0, "it fragments: {:?}", cpu.0);
+    for k in 0..3 {
+        assert!(
+            (cpu.1[k] - gpu.1[k]).abs() <= 0.02 * cpu.1[k].abs(),
+            "energy {k}: {} vs {}",
+            cpu.1[k],
+            gpu.1[k]
+        );
+    }
+    assert!(gpu.1[1] > 0.0, "the fragments meet through the contact");
+    let frags = |dir: &str| {
+        let (_, rows) = csv(&d.join(dir).join("fragments.csv"));
+        rows.iter().map(|r| (r[1], r[2])).collect::<Vec<_>>()
+    };
+    assert_eq!(frags("cpu"), frags("gpu"), "fragments' elements and masses");
+}
+
 /// Two one-element steel cubes 10 mm a side (parts 1 and 2), the second 10 um beyond the first
 /// along x and offset by a fraction of a side in y and z, the first at 10 m/s along x and 3 m/s
 /// along y.
@@ -165,19 +233,17 @@ fn gpu_refuses_what_it_lacks_by_name() {
     let d = tmp("gpu-refuses");
     let text = BASE.replace(
         "*END",
-        "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n0,0,0\n*MAT_ADD_SEPARATION\n1, 1, 1.0e30\n*END",
+        "*SET_NODE_LIST\n9\n2, 5, 8, 11\n*CONSTRAINED_NODAL_RIGID_BODY\n50, , 9\n*MAT_ADD_SEPARATION\n1, 1, 1.0e30\n*END",
     );
     let deck = write_deck(&d, &text);
-    // the CPU runs the deck; the GPU names what it lacks (contact whose surfaces the cracks
-    // change), whether or not a GPU is present
+    // the CPU runs the deck; the GPU names what it lacks (a rigid body with element
+    // separation), whether or not a GPU is present
     assert_eq!(run(&deck, &d.join("cpu"), false).status.code(), Some(0));
     let out = run(&deck, &d.join("gpu"), true);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(
-        err.contains(
-            "--gpu does not run automatic contact (*CONTACT_...) together with element separation"
-        ),
+        err.contains("--gpu does not run rigid bodies together with element separation"),
         "{err}"
     );
     assert!(!d.join("gpu").exists(), "no output is started");
@@ -190,15 +256,15 @@ fn gpu_benchmarks_that_need_what_it_lacks_are_refused() {
     let cases: [(&[&str], &str); 3] = [
         (
             &["bench", "ball", "--gpu", "--elements", "256"],
-            "--gpu does not run automatic contact (*CONTACT_...) together with element separation",
+            "--gpu does not run rigid bodies together with element separation",
         ),
         (
             &["bench", "paper-tables", "--gpu"],
-            "`cleave bench paper-tables` runs contact",
+            "`cleave bench paper-tables` runs on the CPU only",
         ),
         (
             &["bench", "fragmentation", "--gpu"],
-            "`cleave bench fragmentation` runs contact",
+            "`cleave bench fragmentation` runs on the CPU only",
         ),
     ];
     for (args, says) in cases {

@@ -248,7 +248,7 @@ pub mod schedule;
 pub mod search;
 pub mod surface;
 mod touching;
-mod view;
+pub mod view;
 
 use crate::element::hex8;
 use std::collections::hash_map::Entry;
@@ -1630,12 +1630,8 @@ impl Contact {
     fn step_closures(&mut self, inp: &StepInput) {
         let Self {
             closures,
-            chains,
-            pending,
-            released,
-            friction,
             scratch,
-            sides,
+            friction,
             ..
         } = self;
         scratch.clear();
@@ -1649,14 +1645,30 @@ impl Contact {
                 let released = c.step(inp.x, inp.v, inp.dt_prev, friction);
                 *out = released as u32 | ((c.tight != was) as u32) << 1;
             });
-        let mut flags = scratch.iter();
+        let flags = std::mem::take(&mut self.scratch);
+        self.settle_closures(&flags);
+        self.scratch = flags;
+    }
+
+    /// What the closed cracks' step found, one flag per crack (bit 0: released, bit 1: its
+    /// tightness changed): the released ones leave (their pairs unchained, their faces back
+    /// to the search around them), and a crack that opened stops burying its nodes (its faces
+    /// are searched around at once, as around a failed face; one that shut buries them from
+    /// their next search on).
+    fn settle_closures(&mut self, flags: &[u32]) {
+        let Self {
+            closures,
+            chains,
+            pending,
+            released,
+            sides,
+            ..
+        } = self;
+        let mut flags = flags.iter();
         closures.retain(|c| {
             let flag = flags.next().copied().unwrap_or(0);
             if flag & 1 == 0 {
                 if flag & 2 != 0 {
-                    // a crack that opened no longer buries its nodes: they are searched
-                    // again at once, as around a failed face; one that shut again buries
-                    // them from their next search on
                     for side in sides.iter_mut() {
                         side.set_tight(&c.faces, c.tight);
                     }

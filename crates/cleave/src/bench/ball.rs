@@ -190,7 +190,7 @@ fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
     if let Some(what) = cleave_gpu::support::unsupported(&prepared.model, &solver.setup) {
         return Err(cleave_gpu::GpuError::Unsupported(what).into());
     }
-    let mut g = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &solver)?;
+    let mut g = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &mut solver)?;
     let shares = g.profile(&mut solver, 10);
     let (timing, step0) = super::run_quiet_gpu(&mut g, &mut solver, 0.1 * end)?;
     let steps = solver.state.step - step0;

@@ -57,7 +57,7 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
     let mut gpu_lines = Vec::new();
     let mut step0 = 0;
     let timing = if a.gpu {
-        let mut g = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &solver)?;
+        let mut g = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &mut solver)?;
         device = format!(", GPU {}", g.gpu().describe());
         gpu_lines.push(format!(
             "  device memory {:.1} MB in buffers",

@@ -125,10 +125,12 @@ pub fn bench(a: &BenchArgs) -> Result<(), Failure> {
     match a.what.as_str() {
         "cube" => cube::bench_cube(a),
         "ball" => ball::bench_ball(a),
-        "paper-tables" | "fragmentation" if a.gpu => Err(Failure::Input(format!(
-            "--gpu: `cleave bench {}` runs contact between fragments, which the GPU step does not run yet; run it without --gpu",
-            a.what
-        ))),
+        "paper-tables" if a.gpu => Err(Failure::Input(
+            "--gpu: `cleave bench paper-tables` runs on the CPU only (its ball breaks on a rigid plate: the GPU step does not run rigid bodies together with element separation yet); run it without --gpu".into(),
+        )),
+        "fragmentation" if a.gpu => Err(Failure::Input(
+            "--gpu: `cleave bench fragmentation` runs on the CPU only (its sweep times the CPU's threads); run it without --gpu, or run one of its decks with `cleave run --gpu` (`cleave example fragmenting-bar`)".into(),
+        )),
         "paper-tables" => paper_tables::bench_paper_tables(a),
         "fragmentation" => fragmentation::bench_fragmentation(a),
         other => Err(Failure::Input(format!(

@@ -330,7 +330,8 @@ impl Layout {
         }
         for (b, body) in bodies.iter().enumerate() {
             for &n in &body.nodes {
-                rbi[n as usize] = (par.len() - entry_off) as u32 / 4;
+                // (a body's node is in no coincident set: its own slot, GpuStepper::new)
+                rbi[at(n) as usize] = (par.len() - entry_off) as u32 / 4;
                 par.push(b as f64);
                 par.extend_from_slice(&sub(model.x0[n as usize], body.x_cm0));
             }
@@ -352,7 +353,7 @@ impl Layout {
                 par.extend_from_slice(&[pm.window.birth, pm.window.death.min(f64::MAX)]);
             }
         }
-        rbi.extend(bodies.iter().flat_map(|b| b.nodes.iter().copied()));
+        rbi.extend(bodies.iter().flat_map(|b| b.nodes.iter().map(|&n| at(n))));
         let tie_off = par.len() as u32;
         for t in ties {
             par.push(t.slave as f64);

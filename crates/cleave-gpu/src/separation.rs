@@ -21,8 +21,10 @@
 //! halt, and their cracks close, on the host (`Solver::activate_cracks`), and the contact's
 //! tables are made again (contact.rs).
 //!
-//! What the GPU does not run yet is refused ([`crate::support::unsupported`]): rigid bodies,
-//! tied contact, erosion or ELFORM 13 with separation.
+//! Rigid bodies run with it when their nodes are in no group (each node a slot of its own). What
+//! the GPU does not run yet is refused ([`crate::support::unsupported`],
+//! [`crate::support::unsupported_split`]): tied contact, erosion or ELFORM 13 with separation,
+//! a rigid body bonded to a group's nodes.
 
 use cleave_core::element::shape::face_points;
 use cleave_core::math::Vec3;

@@ -321,6 +321,9 @@ impl GpuStepper {
         if let Some(what) = crate::support::unsupported(model, &solver.setup) {
             return Err(GpuError::Unsupported(what));
         }
+        if let Some(what) = crate::support::unsupported_split(solver) {
+            return Err(GpuError::Unsupported(what));
+        }
         let (ne, nn) = (model.num_elements(), model.num_nodes());
         // one buffer per array, at most `max_buffer_size` bytes; an array larger than the
         // device binds is bound in chunks (split.rs)

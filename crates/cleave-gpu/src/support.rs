@@ -14,12 +14,15 @@
 //! with friction; with element separation, the crack faces joining the surfaces and closed
 //! cracks: `crate::contact`), element erosion
 //! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), element separation
-//! with every MODEL (not with rigid bodies, erosion or tied contact: `crate::separation`), the
+//! with every MODEL (with rigid bodies whose nodes are in no separation group; not with erosion
+//! or tied contact: `crate::separation`), the
 //! energy ledger, and every output (states and histories are read back at their times).
 
 use cleave_core::element::Shape;
 use cleave_core::model::{MaterialKind, Model};
+use cleave_core::rigid::NOT_RIGID;
 use cleave_core::setup::Setup;
+use cleave_core::solver::Solver;
 
 /// The first feature of `model` that the GPU step does not run, as a phrase for the message
 /// "`--gpu` does not run X yet"; `None` when the whole deck runs on the GPU.
@@ -29,14 +32,26 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
     }
     if !model.separations.is_empty() {
         let with = |what: &str| Some(format!("{what} together with element separation"));
-        if !setup.rigid.is_empty() {
-            return with("rigid bodies");
-        }
         if !model.erosion.is_empty() {
             return with("element erosion");
         }
         if !model.tied.is_empty() {
             return with("tied contact");
+        }
+        // a rigid body's node on an element of a group (the deck as written; in the split model
+        // the copies are tied to it: `unsupported_split`)
+        let grouped: Vec<usize> = model.separations.iter().map(|s| s.material).collect();
+        for (e, c) in model.conn.iter().enumerate() {
+            let part = &model.parts[model.elem_part[e] as usize];
+            if !grouped.contains(&part.material) {
+                continue;
+            }
+            if let Some(&n) = c
+                .iter()
+                .find(|&&n| setup.node_rigid[n as usize] != NOT_RIGID)
+            {
+                return Some(bonded(model, n as usize));
+            }
         }
     }
     if model.rigid_walls.len() > crate::layout::MAX_WALLS {
@@ -79,4 +94,23 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
         }
     }
     None
+}
+
+/// What the GPU step does not run in a split model as its solver holds it: a rigid body whose
+/// node is tied to the copies of a separation group (the CPU then keeps every copy's position
+/// apart, `Solver::attach_separation`, where the GPU steps each coincident set as one slot);
+/// `None` otherwise.
+pub fn unsupported_split(solver: &Solver) -> Option<String> {
+    let tied = solver.separation()?.sets().node_sets();
+    let rigid = &solver.setup.node_rigid;
+    let n = (tied.iter().zip(rigid)).position(|(&t, &r)| t != u32::MAX && r != NOT_RIGID)?;
+    Some(bonded(solver.model, n))
+}
+
+/// The refusal of a rigid body whose node `n` (an index) is a separation group's.
+fn bonded(model: &Model, n: usize) -> String {
+    format!(
+        "a rigid body bonded to the nodes of a separation group (node {})",
+        model.node_ids[n]
+    )
 }

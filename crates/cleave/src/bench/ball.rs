@@ -178,11 +178,11 @@ pub fn bench_ball(a: &BenchArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `cleave bench ball --gpu`: the ball on the GPU, as `cleave run --gpu` runs it. What the GPU
-/// step lacks is refused by name, as `cleave run --gpu` refuses the deck (with separation:
-/// contact whose surfaces the cracks change), never run on the CPU instead. Timed from a tenth
-/// of the run on (the first batches grow the submissions), after each pass's share is taken
-/// from 10 steps with device timestamps.
+/// `cleave bench ball --gpu`: the ball on the GPU, breaking (or unbroken with
+/// `--no-separation`), as `cleave run --gpu` runs it. What the GPU step lacks is refused by
+/// name, as `cleave run --gpu` refuses the deck, never run on the CPU instead. Timed from a
+/// tenth of the run on (the first batches grow the submissions), after each pass's share is
+/// taken from 10 steps with device timestamps (the first steps: before anything breaks).
 fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
     let model = ball_model(a.elements.unwrap_or(2800), end, !a.no_separation)?;
     let prepared = crate::run::prepare(model);
@@ -199,8 +199,12 @@ fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
     let pairs = solver
         .contact()
         .map_or(0, |c| c.forces().iter().map(|f| f.pairs).sum());
+    let broken = match solver.separation() {
+        Some(sep) => format!("{} interfaces failed", sep.num_failed()),
+        None => "no separation".into(),
+    };
     println!(
-        "bench ball: {ne} elements (ball and plate), {} nodes, {steps} steps timed of {} to {end:e} s, GPU {}, no separation",
+        "bench ball: {ne} elements (ball and plate), {} nodes, {steps} steps timed of {} to {end:e} s, GPU {}, {broken}",
         prepared.model.num_nodes(),
         solver.state.step,
         g.gpu().describe()

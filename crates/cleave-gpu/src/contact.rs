@@ -7,8 +7,10 @@
 //! stiffness and the friction. The GPU runs the same node-to-face penalty contact with friction
 //! (closest point, least penetration, the engagement of a spring, PENOPT, the energy's
 //! trapezoid) with its own broad phase, a hashed grid rebuilt every step (contact.wgsl), and
-//! adds each node's contact force in the CPU's order. The stable time step of the springs is
-//! the CPU's ([`Solver::contact_time_step`]), a constant.
+//! adds each node's contact force in the CPU's order (with separation, each slot's: its
+//! members' pass-nodes merged in pass-node order, then the closed cracks' pairs, where the CPU
+//! sums node by node, then per slot: the same terms in another order, round-off apart). The
+//! stable time step of the springs is the CPU's ([`Solver::contact_time_step`]), a constant.
 //!
 //! Surfaces that erosion changes are made again on the host in the steps elements erode
 //! (`GpuStepper::erode_contact`, [`ContactGpu::upload`] with each pair carried over). With
@@ -88,6 +90,14 @@ impl Tables {
     pub fn param(&self, name: &str) -> usize {
         let k = PARAMS.iter().position(|&p| p == name).expect("a parameter");
         self.ci[k] as usize
+    }
+
+    /// The bytes of the pairs (hits) and of the surface entries' last forces on the device.
+    pub fn pair_bytes(&self) -> [u64; 2] {
+        [
+            (8 * HIT * self.pass_nodes.max(1)) as u64,
+            (24 * self.surface_nodes.max(1)) as u64,
+        ]
     }
 
     /// The groups of 64 threads each pass runs, in [`PASSES`] order.
@@ -370,6 +380,87 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
     })
 }
 
+/// What carries over to new tables: the hits and each surface entry's last force of the tables
+/// before, as read back, and the slots born in this step, each with the slot it split from.
+pub(crate) type Carry<'a> = (&'a [f64], &'a [f64], &'a [(u32, u32)]);
+
+/// The pairs and forces of tables `old` (`hits`, `fprev` as read back; `born`: the slots born
+/// in this step, each with the slot it split from) into the numbering of `t` (`h`, `fp`, filled
+/// with none and zeros): a pass-node takes the pair of its set's lead before (that of its first
+/// member, along the chain, that was on the side), with its face by what it is; a surface
+/// entry keeps its last force. An entry that is no longer on the surface (its set split and
+/// its surface nodes went to the slots born of it) hands its last force to the first of those
+/// on the surface: they move as it did in this step (a born slot starts with its set's
+/// velocity), so the energy's `f^(n-1).v^(n-1/2)` is kept, as the CPU keeps every node's last
+/// force. Returns those entries (their contact force on the device is to be set to zero).
+fn carry_pairs(
+    old: &Tables,
+    t: &Tables,
+    (hits, fprev, born): Carry,
+    h: &mut [f64],
+    fp: &mut [f64],
+) -> Vec<u32> {
+    let face_at: HashMap<_, u32> = (t.face_key.iter().enumerate())
+        .map(|(f, &k)| (k, f as u32))
+        .collect();
+    let pn_was: HashMap<_, usize> = (old.pn_key.iter().enumerate())
+        .map(|(j, &k)| (k, j))
+        .collect();
+    for (jn, (&(q, _), members)) in t.pn_key.iter().zip(&t.members).enumerate() {
+        // a lead carries on its set's contact: that of the lead before of its first
+        // member (along the chain) that was on the side (mod.rs Contact::regroup_where)
+        let Some(j) = (members.iter())
+            .find_map(|&m| old.lead_of.get(&(q, m)))
+            .and_then(|&lead| pn_was.get(&(q, lead)))
+        else {
+            continue;
+        };
+        let Some(o) = hits.get(HIT * j..HIT * (j + 1)) else {
+            continue;
+        };
+        let dst = &mut h[HIT * jn..HIT * (jn + 1)];
+        if o[0] < 0.0 {
+            // out of contact: its friction force may carry (zero unless kept)
+            dst.copy_from_slice(o);
+            continue;
+        }
+        // the face by what it is; a pair whose face left the surface starts again from
+        // none, as a new pair does
+        if let Some(&f) = old.face_key.get(o[0] as usize).and_then(|k| face_at.get(k)) {
+            dst.copy_from_slice(o);
+            dst[0] = f64::from(f);
+        }
+    }
+    let at: HashMap<u32, usize> = (t.surface.iter().enumerate())
+        .map(|(g, &n)| (n, g))
+        .collect();
+    let mut left = vec![];
+    for (g, n) in old.surface.iter().enumerate() {
+        let Some(f) = fprev.get(3 * g..3 * g + 3) else {
+            continue;
+        };
+        if let Some(&gn) = at.get(n) {
+            fp[3 * gn..3 * gn + 3].copy_from_slice(f);
+            continue;
+        }
+        left.push(*n);
+        // the slots born of it (and of those, in this step), in order: the first on the surface
+        let mut family = vec![*n];
+        let mut k = 0;
+        while k < family.len() {
+            let from = family[k];
+            family.extend(born.iter().filter(|b| b.1 == from).map(|b| b.0));
+            k += 1;
+        }
+        if let Some(&gn) = family.iter().find_map(|e| at.get(e)) {
+            for i in 0..3 {
+                fp[3 * gn + i] += f[i];
+            }
+        }
+    }
+    left
+}
+
 /// Bring the host's contact up to its coincident sets as they are now (the chains of closed
 /// cracks, the sets' leads: [`ContactSet::settle`]) before its tables are read.
 pub(crate) fn settle(solver: &mut Solver) {
@@ -477,6 +568,7 @@ fn check_sizes(gpu: &Gpu, t: &Tables, x: &wgpu::Buffer) -> Result<(), GpuError> 
         ("its tables", (4 * t.ci.len()).max(8 * t.cfl.len()) as u64),
         ("its search grid", 4 * t.grid_len as u64),
         ("its contact pairs", (8 * HIT * t.pass_nodes) as u64),
+        ("its closed cracks", (8 * t.clo.len()) as u64),
         ("the positions", x.size()),
     ];
     match sizes.iter().find(|(_, b)| *b > limit) {
@@ -634,22 +726,20 @@ impl ContactGpu {
     }
 
     /// Put tables `t` on the device (new buffers, a new bind group; the pipelines stay), the
-    /// pairs and last forces `carry` (the hits and each surface node's force of the tables
-    /// before, as read back) carried over to the new numbering: a pair keeps its pass-node
-    /// and face, a surface node its force; new ones start from none.
-    pub fn upload(
-        &mut self,
-        gpu: &Gpu,
-        t: Tables,
-        carry: Option<(&[f64], &[f64])>,
-    ) -> Result<(), GpuError> {
+    /// pairs and last forces `carry` (the hits and each surface entry's force of the tables
+    /// before, as read back, and the slots born in this step with the slot each split from)
+    /// carried over to the new numbering ([`carry_pairs`]); new ones start from none.
+    pub fn upload(&mut self, gpu: &Gpu, t: Tables, carry: Option<Carry>) -> Result<(), GpuError> {
         check_sizes(gpu, &t, &self.x)?;
-        // an entry that left the surface (a slot whose nodes on it split off) has no force
-        gpu.queue
-            .write_buffer(&self.fcon, 0, &vec![0u8; self.fcon.size() as usize]);
         let (mut h, mut fp) = fresh(&t);
-        if let Some((hits, fprev)) = carry {
-            self.carry(&t, hits, fprev, &mut h, &mut fp);
+        if let Some((hits, fprev, born)) = carry {
+            // an entry that left the surface gathers no force from now on
+            for e in carry_pairs(&self.tables, &t, (hits, fprev, born), &mut h, &mut fp) {
+                let at = 24 * u64::from(e);
+                if at + 24 <= self.fcon.size() {
+                    gpu.queue.write_buffer(&self.fcon, at, &[0u8; 24]);
+                }
+            }
         }
         let d = Buffers::new(
             gpu,
@@ -667,54 +757,14 @@ impl ContactGpu {
         Ok(())
     }
 
-    /// The pairs and forces of the present tables (`hits`, `fprev` as read back) into the
-    /// numbering of `t` (`h`, `fp`, filled with none and zeros).
-    fn carry(&self, t: &Tables, hits: &[f64], fprev: &[f64], h: &mut [f64], fp: &mut [f64]) {
-        let old = &self.tables;
-        let face_at: HashMap<_, u32> = (t.face_key.iter().enumerate())
-            .map(|(f, &k)| (k, f as u32))
-            .collect();
-        let pn_was: HashMap<_, usize> = (old.pn_key.iter().enumerate())
-            .map(|(j, &k)| (k, j))
-            .collect();
-        for (jn, (&(q, _), members)) in t.pn_key.iter().zip(&t.members).enumerate() {
-            // a lead carries on its set's contact: that of the lead before of its first
-            // member (along the chain) that was on the side (mod.rs Contact::regroup_where)
-            let Some(j) = (members.iter())
-                .find_map(|&m| old.lead_of.get(&(q, m)))
-                .and_then(|&lead| pn_was.get(&(q, lead)))
-            else {
-                continue;
-            };
-            let Some(o) = hits.get(HIT * j..HIT * (j + 1)) else {
-                continue;
-            };
-            let dst = &mut h[HIT * jn..HIT * (jn + 1)];
-            if o[0] < 0.0 {
-                // out of contact: its friction force may carry (zero unless kept)
-                dst.copy_from_slice(o);
-                continue;
-            }
-            // the face by what it is; a pair whose face left the surface starts again from
-            // none, as a new pair does
-            if let Some(&f) = old.face_key.get(o[0] as usize).and_then(|k| face_at.get(k)) {
-                dst.copy_from_slice(o);
-                dst[0] = f64::from(f);
-            }
-        }
-        let at: HashMap<u32, usize> = (t.surface.iter().enumerate())
-            .map(|(g, &n)| (n, g))
-            .collect();
-        for (g, n) in old.surface.iter().enumerate() {
-            if let (Some(&gn), Some(f)) = (at.get(n), fprev.get(3 * g..3 * g + 3)) {
-                fp[3 * gn..3 * gn + 3].copy_from_slice(f);
-            }
-        }
+    /// The present tables.
+    pub fn tables(&self) -> &Tables {
+        &self.tables
     }
 
     /// The bytes of the contact's buffers on the device.
     pub fn bytes(&self) -> u64 {
-        (self.bufs.iter().chain([&self.hits, &self.fprev]))
+        (self.bufs.iter().chain([&self.hits, &self.fprev, &self.clo]))
             .map(|b| b.size())
             .sum()
     }
@@ -825,6 +875,62 @@ mod tests {
     use super::*;
     use cleave_core::model::{ContactDef, ContactSurface, Material, MaterialKind};
     use wgpu::naga;
+
+    /// Tables of one pass whose node side holds `sets` (each a lead and its other members,
+    /// along the chain), with faces `faces` (element numbers) and surface entries `surface`.
+    fn pass_tables(sets: &[&[u32]], faces: &[u32], surface: &[u32]) -> Tables {
+        let mut t = Tables {
+            faces: faces.len(),
+            pass_nodes: sets.len(),
+            surface_nodes: surface.len(),
+            surface: surface.to_vec(),
+            face_key: faces.iter().map(|&e| (0, 0, e, 0)).collect(),
+            ..Default::default()
+        };
+        for set in sets {
+            t.pn_key.push((0, set[0]));
+            t.members.push(set.to_vec());
+            for &m in *set {
+                t.lead_of.insert((0, m), set[0]);
+            }
+        }
+        t
+    }
+
+    /// A hit on face `f` with force `fx` along x.
+    fn hit(f: f64, fx: f64) -> Vec<f64> {
+        let mut h = vec![0.0; HIT];
+        (h[0], h[5], h[10]) = (f, fx, fx);
+        h
+    }
+
+    /// The pairs and last forces carried over when tables are made again: a set that splits
+    /// (lead 10 with members 12 and 14) gives its pair to each new lead, the one that was its
+    /// lead (10) and one that was not (12, whose first member on the side before was itself,
+    /// under lead 10); a lead whose own node left the side (16 under lead 15, 15 gone) takes
+    /// its set's pair; the face is renumbered by what it is; a surface entry keeps its force,
+    /// and one that left the surface (entry 7, whose surface nodes went to slot 9, born of 8,
+    /// itself born of 7 in this step) hands it to the first slot born of it on the surface,
+    /// and is returned (its force on the device is then zeroed).
+    #[test]
+    fn pairs_and_forces_carry_over_splits() {
+        let old = pass_tables(&[&[10, 12, 14], &[15, 16]], &[100, 200], &[3, 7]);
+        let new = pass_tables(&[&[10, 14], &[12], &[16]], &[200, 100], &[3, 9]);
+        let hits = [hit(1.0, 5.0), hit(0.0, 6.0)].concat();
+        let fprev = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+        let (mut h, mut fp) = fresh(&new);
+        let born = [(8, 7), (9, 8)];
+        let left = carry_pairs(&old, &new, (&hits, &fprev, &born), &mut h, &mut fp);
+        // 10 and 12 carry lead 10's pair on element 200's face, now face 0; 16 carries 15's
+        let want = [hit(0.0, 5.0), hit(0.0, 5.0), hit(1.0, 6.0)].concat();
+        assert_eq!(h, want);
+        assert_eq!(fp, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        assert_eq!(left, vec![7]);
+        // without the born slots, the force of entry 7 has no heir
+        let (mut h, mut fp) = fresh(&new);
+        carry_pairs(&old, &new, (&hits, &fprev, &[]), &mut h, &mut fp);
+        assert_eq!(fp, vec![1.0, 2.0, 3.0, 0.0, 0.0, 0.0]);
+    }
 
     /// A 2 x 2 x 2 block with single surface contact: its tables, and the shader made of them
     /// validates in naga (the WGSL front end wgpu uses), without a device.

@@ -406,7 +406,7 @@ impl GpuStepper {
         if self.has_contact() {
             self.closures_from_gpu(solver, false)?;
             solver.activate_cracks();
-            self.remake_contact(solver)?;
+            self.remake_contact(solver, true)?;
         }
         self.clear_halt();
         self.finish_step_after("interfaces_done");

@@ -155,7 +155,7 @@ const WALL_FORCE: u32 = 32u; // 4 per wall: normal force, force x y z
 // (64: the contact energy, contact.wgsl c_energy)
 const DT_CONTACT: u32 = 65u; // the contact springs' stable step (BIG without contact)
 // cu: control integers
-const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error, 4 interfaces failed, 5 elements eroded (with contact)
+const HALT: u32 = 0u;      // 0 running, 1 output due, 2 finished, 3 error, 4 interfaces failed, 5 elements eroded (with contact), 6 closed cracks released (contact.wgsl)
 const ERROR: u32 = 1u;     // 1 inverted element, 2 time step below the floor, 3 bad time step, 4 non-finite
 const INVERTED: u32 = 2u;  // lowest inverted element (atomic min)
 const NONFINITE: u32 = 3u; // lowest node with a non-finite velocity (atomic min)

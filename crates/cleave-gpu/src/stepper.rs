@@ -314,8 +314,10 @@ fn bind_splits(
 
 impl GpuStepper {
     /// Upload `solver`'s model and initial state to `gpu`. Refuses a deck with a feature the
-    /// GPU step lacks ([`crate::support::unsupported`]) or an array larger than the device
-    /// binds.
+    /// GPU step lacks ([`crate::support::unsupported`], [`crate::support::unsupported_split`])
+    /// or an array larger than the device binds. With contact, the host's contact is brought
+    /// up to the coincident sets first (`ContactSet::settle`: leads, chains; what the CPU's
+    /// searches keep pending is dropped), and from then on the GPU runs it.
     pub fn new(gpu: Gpu, solver: &mut Solver) -> Result<Self, GpuError> {
         let model = solver.model;
         if let Some(what) = crate::support::unsupported(model, &solver.setup) {
@@ -872,7 +874,8 @@ impl GpuStepper {
     /// With element separation, or contact on surfaces that erosion changes, one more part
     /// follows: the host solver's state ([`Solver::save_state`]), which holds the interfaces
     /// and the coincident sets as they have split, and the contact surfaces as elements eroded
-    /// from them (the solver's mirror must be of this halt). With contact, the last two parts
+    /// from them or cracks joined them, with the closed cracks (their states taken from the
+    /// GPU by the mirror of this halt, which the solver's must be). With contact, the last two parts
     /// are its pairs and each surface node's last contact force (`contact.rs`), whose tables
     /// [`Self::load`] makes again from that state.
     pub fn save(&self, solver: &Solver) -> Vec<u8> {
@@ -931,7 +934,7 @@ impl GpuStepper {
             .map(|e| e as u32)
             .collect();
         solver.erode_contact(&newly);
-        self.remake_contact(solver)?;
+        self.remake_contact(solver, false)?;
         self.clear_halt();
         self.finish_step_after("erosion_done");
         Ok(())
@@ -943,7 +946,7 @@ impl GpuStepper {
     /// runs.
     fn release_cracks(&mut self, solver: &mut Solver) -> Result<(), RunError> {
         self.closures_from_gpu(solver, true)?;
-        self.remake_contact(solver)?;
+        self.remake_contact(solver, false)?;
         self.clear_halt();
         self.finish_step_after("c_close_done");
         Ok(())
@@ -966,7 +969,11 @@ impl GpuStepper {
 
     /// The contact's tables made again from the host's (after its surfaces, sets or closed
     /// cracks changed), the pairs and last forces carried over.
-    pub(crate) fn remake_contact(&mut self, solver: &mut Solver) -> Result<(), RunError> {
+    pub(crate) fn remake_contact(
+        &mut self,
+        solver: &mut Solver,
+        split: bool,
+    ) -> Result<(), RunError> {
         let failed = |e: String| RunError::Output(std::io::Error::other(e));
         let Some(c) = &self.contact else {
             return Ok(());
@@ -978,11 +985,16 @@ impl GpuStepper {
             .contact
             .as_mut()
             .ok_or_else(|| failed("no contact".into()))?;
-        let t = crate::contact::tables(solver, Some(c.cell()))
-            .ok_or_else(|| failed("the solver's contact is gone".into()))?;
         let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
         let fprev: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
-        c.upload(&self.gpu, t, Some((&hits, &fprev)))
+        let t = crate::contact::tables(solver, Some(c.cell()))
+            .ok_or_else(|| failed("the solver's contact is gone".into()))?;
+        // (the slots born in this step: a halt after a split; none after erosion or a release)
+        let born = match (solver.separation(), split) {
+            (Some(sep), true) => sep.sets().born(),
+            _ => &[],
+        };
+        c.upload(&self.gpu, t, Some((&hits, &fprev, born)))
             .map_err(|e| failed(e.to_string()))
     }
 
@@ -1065,24 +1077,34 @@ impl GpuStepper {
             }
         }
         if let (Some(c), Some(pairs)) = (&mut self.contact, pairs) {
-            if self.ero.is_some() || self.sep.n_if > 0 {
-                // the surfaces, sets and closed cracks as the host's state holds them
-                crate::contact::settle(solver);
-                let t = crate::contact::tables(solver, Some(c.cell()))
-                    .ok_or("the GPU state's model has no contact")?;
-                c.upload(&self.gpu, t, None).map_err(|e| e.to_string())?;
-            }
-            for (data, (buf, what)) in pairs
+            // the surfaces, sets and closed cracks as the host's state holds them, made into
+            // tables; the pairs checked against them before the device is changed
+            let remade = match self.ero.is_some() || self.sep.n_if > 0 {
+                true => {
+                    crate::contact::settle(solver);
+                    Some(
+                        crate::contact::tables(solver, Some(c.cell()))
+                            .ok_or("the GPU state's model has no contact")?,
+                    )
+                }
+                false => None,
+            };
+            let sizes = remade.as_ref().unwrap_or(c.tables()).pair_bytes();
+            for (data, (size, what)) in pairs
                 .iter()
-                .zip([(&c.hits, "contact pairs"), (&c.fprev, "contact forces")])
+                .zip(sizes.into_iter().zip(["contact pairs", "contact forces"]))
             {
-                if data.len() as u64 != buf.size() {
+                if data.len() as u64 != size {
                     return Err(format!(
-                        "the GPU state holds {} bytes of {what} where this model has {}",
+                        "the GPU state holds {} bytes of {what} where this model has {size}",
                         data.len(),
-                        buf.size()
                     ));
                 }
+            }
+            if let Some(t) = remade {
+                c.upload(&self.gpu, t, None).map_err(|e| e.to_string())?;
+            }
+            for (data, buf) in pairs.iter().zip([&c.hits, &c.fprev]) {
                 self.gpu.queue.write_buffer(buf, 0, data);
             }
         }
@@ -1140,8 +1162,10 @@ impl GpuStepper {
         self.copy_control(&mut enc, 0);
         q.submit([enc.finish()]);
         let c = self.read_control(0);
-        self.mirror(solver, &c);
-        Ok(())
+        self.mirror(solver, &c).map_err(|e| match e {
+            RunError::Output(e) => e.to_string(),
+            e => format!("{e:?}"),
+        })
     }
 
     /// Seconds per step of `steps` steps recorded in one submission while the state is
@@ -1372,7 +1396,7 @@ impl GpuStepper {
     }
 
     /// Fill the host mirror of the state from the GPU.
-    pub(crate) fn mirror(&self, solver: &mut Solver, c: &Control) {
+    pub(crate) fn mirror(&self, solver: &mut Solver, c: &Control) -> Result<(), RunError> {
         self.mirror_kinematics(solver, c.step());
         let ne = solver.model.num_elements();
         let sig = by_element(&self.download(&self.state.sig), 6);
@@ -1432,8 +1456,8 @@ impl GpuStepper {
                 self.download_ranges(&[(&ct.hits, 0, ct.hits.size()), (&ct.clo, 0, ct.clo.size())]);
             let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
             let clo: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
-            // (a state the host cannot take is reported at the next halt that needs it)
-            let _ = ct.closures_to_host(solver, &clo, false);
+            ct.closures_to_host(solver, &clo, false)
+                .map_err(|e| RunError::Output(std::io::Error::other(e)))?;
             let ids = solver
                 .contact()
                 .map(|cs| cs.forces().iter().map(|f| f.id).collect::<Vec<_>>());
@@ -1442,6 +1466,7 @@ impl GpuStepper {
             }
         }
         c.apply(solver);
+        Ok(())
     }
 
     /// Run to the end time, showing the state to `obs` at the times it is due
@@ -1532,8 +1557,8 @@ impl GpuStepper {
                         self.set_stop_time(0.0);
                     }
                 }
-                // elements eroded (with contact): the surfaces changed on the host, the step
-                // run to its end
+                // elements eroded (with contact), or closed cracks released: the surfaces or
+                // the cracks changed on the host, the step run to its end
                 5 | 6 => {
                     let done = (c.step() - start).max(0.0) as usize;
                     self.batch = (done + 1).next_power_of_two().clamp(4, self.batch.max(4));
@@ -1548,7 +1573,7 @@ impl GpuStepper {
                     }
                 }
                 h => {
-                    self.mirror(solver, &c);
+                    self.mirror(solver, &c)?;
                     solver.set_finished(h == 2);
                     obs.observe(solver).map_err(RunError::Output)?;
                     let t = solver.state.t;

@@ -170,7 +170,8 @@ impl ContactSet<'_> {
     /// Definition `def`'s closed cracks as another stepper stepped them: each one's state
     /// ([`CLOSURE_STATE`] values, in [`Contact::closed_cracks`] order) and whether it was
     /// released; the released ones leave, as the CPU's step lets them (mod.rs `Contact::compute`; call
-    /// [`Self::settle`] after). Errors when the counts do not match.
+    /// [`Self::settle`] after). Nothing is left pending for a search (the other stepper searches
+    /// every step). Errors when the counts do not match.
     pub fn closures_stepped(
         &mut self,
         def: usize,
@@ -202,6 +203,8 @@ impl ContactSet<'_> {
             cl.tight = tight;
         }
         c.settle_closures(&flags);
+        // (a stepper that searches every step leaves nothing for a later search)
+        c.pending.clear();
         Ok(())
     }
 

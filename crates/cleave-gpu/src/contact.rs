@@ -128,14 +128,14 @@ pub(crate) const PASSES: [&str; 11] = [
     "c_energy",
 ];
 
-/// The tables of the solver's contact definitions as they are now, with the grid's cell size
-/// `h` (from [`cell_size`] when `None`); `None` without contact. With element separation the
+/// The tables of the solver's contact definitions as they are now, with the grid's cell from
+/// the surfaces as they are ([`cell_size`]); `None` without contact. With element separation the
 /// nodes are read at their coincident sets' slots (where the GPU keeps their positions and
 /// gathers their forces), only each set's lead is checked (with its set's normal), and a node
 /// is not checked against a face that holds a node of its chain
 /// ([`cleave_core::contact::Contact::chain_label`]); the host's contact must be settled
 /// ([`ContactSet::settle`]).
-pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
+pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     let cs: &ContactSet = solver.contact()?;
     if cs.is_empty() {
         return None;
@@ -298,7 +298,7 @@ pub(crate) fn tables(solver: &Solver, h: Option<f64>) -> Option<Tables> {
         PenaltyRule::Smaller => 1.0,
         PenaltyRule::Face => 2.0,
     });
-    let h = h.unwrap_or_else(|| cell_size(solver, &face_nodes, &cfl[nf..2 * nf]));
+    let h = cell_size(solver, &face_nodes, &cfl[nf..2 * nf]);
     cfl.push(h);
     let cf_ck = cfl.len();
     cfl.extend_from_slice(&ck);
@@ -473,7 +473,8 @@ pub(crate) fn settle(solver: &mut Solver) {
 }
 
 /// The grid's cell size: the 90th percentile of the faces' search-sphere diameters
-/// `2 (E r + depth)` at the start (penalty.rs WEIGHT_SUM E, r the largest centre-corner
+/// `2 (E r + depth)` when the tables are made (at the start, and again when faces join or
+/// erode; penalty.rs WEIGHT_SUM E, r the largest centre-corner
 /// distance), so that nine faces in ten span at most two cells a side (three once grown) and
 /// the few largest (a thick plate's faces, whose depth 0.4 V/A reaches far) go to the list
 /// every node reads, rather than making every cell hold many small faces; 1 when no face has
@@ -659,7 +660,7 @@ impl ContactGpu {
         [cf, cu, x, v]: [&wgpu::Buffer; 4],
     ) -> Result<Option<Self>, GpuError> {
         settle(solver);
-        let Some(t) = tables(solver, None) else {
+        let Some(t) = tables(solver) else {
             return Ok(None);
         };
         let dev = &gpu.device;
@@ -848,11 +849,6 @@ impl ContactGpu {
         }
         out
     }
-
-    /// The grid's cell size (kept when the tables are made again).
-    pub fn cell(&self) -> f64 {
-        self.tables.cfl[self.tables.param("CF_H")]
-    }
 }
 
 /// contact.wgsl with the declaration and loading of its parameters ([`PARAMS`]) and the shared
@@ -956,7 +952,7 @@ mod tests {
         });
         let mut s = Solver::new(&m).unwrap();
         s.attach_contact(ContactSet::new(&m, None).unwrap());
-        let t = tables(&s, None).unwrap();
+        let t = tables(&s).unwrap();
         // 24 exterior faces, the 26 nodes on the surface (all but the centre), one pass
         assert_eq!((t.faces, t.pass_nodes, t.surface_nodes), (24, 26, 26));
         let c = |name: &str| t.param(name);

@@ -969,7 +969,9 @@ impl GpuStepper {
 
     /// The contact's tables made again from the host's (after its surfaces, sets or closed
     /// cracks changed), the pairs and last forces carried over. The grid's cell is found again
-    /// from the surfaces as they are (the crack faces among them): it changes no result (a node
+    /// from the surfaces as they are (the crack faces among them), at the positions the host
+    /// last read (at a split this step's; after erosion or a release those of the last output
+    /// or split): it changes no result, and no more than the speed (a node
     /// finds every face whose sphere holds it, whatever the cell), and on the breaking
     /// 2800-element ball (`cleave example ball-impact`, its first 10 us on lavapipe) it took the
     /// run from 33.2 to 21.8 s, the outputs byte for byte the same, where the cell of the
@@ -994,7 +996,9 @@ impl GpuStepper {
         let fprev: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
         let t = crate::contact::tables(solver)
             .ok_or_else(|| failed("the solver's contact is gone".into()))?;
-        // (the slots born in this step: a halt after a split; none after erosion or a release)
+        // (the slots born in this step: a halt after a split; none after erosion or a release.
+        // A split halt whose failure list read back empty splits nothing, and then no entry
+        // leaves the surface: the older births `born` still lists are not read)
         let born = match (solver.separation(), split) {
             (Some(sep), true) => sep.sets().born(),
             _ => &[],

@@ -96,15 +96,21 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
     None
 }
 
-/// What the GPU step does not run in a split model as its solver holds it: a rigid body whose
-/// node is tied to the copies of a separation group (the CPU then keeps every copy's position
-/// apart, `Solver::attach_separation`, where the GPU steps each coincident set as one slot);
-/// `None` otherwise.
+/// What the GPU step does not run in a split model as its solver holds it: the GPU steps each
+/// coincident set as one slot, so the solver must keep its positions per slot
+/// ([`Solver::slot_masses`]); it does not where a rigid body's node is tied to the copies of a
+/// separation group (`Solver::attach_separation`, named by the node), nor when attached with
+/// `attach_separation_per_node`. `None` otherwise.
 pub fn unsupported_split(solver: &Solver) -> Option<String> {
     let tied = solver.separation()?.sets().node_sets();
     let rigid = &solver.setup.node_rigid;
-    let n = (tied.iter().zip(rigid)).position(|(&t, &r)| t != u32::MAX && r != NOT_RIGID)?;
-    Some(bonded(solver.model, n))
+    if let Some(n) = (tied.iter().zip(rigid)).position(|(&t, &r)| t != u32::MAX && r != NOT_RIGID) {
+        return Some(bonded(solver.model, n));
+    }
+    solver
+        .slot_masses()
+        .is_none()
+        .then(|| "element separation with a position kept for every node copy".into())
 }
 
 /// The refusal of a rigid body whose node `n` (an index) is a separation group's.

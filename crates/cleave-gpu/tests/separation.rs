@@ -334,6 +334,24 @@ fn elem_x(split: &SplitModel, i: usize) -> f64 {
     m.conn[e].iter().map(|&a| m.x0[a as usize][0]).sum::<f64>() / 8.0
 }
 
+/// A solver that keeps a position for every node copy (`attach_separation_per_node`) is
+/// refused by name: the GPU steps each coincident set as one slot.
+#[test]
+fn a_solver_with_a_position_per_copy_is_refused() {
+    let Some(g) = gpu() else { return };
+    let split = split_model(&pulled_bar());
+    let mut s = Solver::new(&split.model).unwrap();
+    s.attach_separation_per_node(Separation::new(&split).unwrap());
+    match GpuStepper::new(g, &mut s) {
+        Err(cleave_gpu::GpuError::Unsupported(what)) => assert!(
+            what.contains("a position kept for every node copy"),
+            "{what}"
+        ),
+        Err(e) => panic!("refused otherwise: {e}"),
+        Ok(_) => panic!("accepted"),
+    }
+}
+
 /// The block of the GPU tests (`common::block`: 3 x 3 x 6 elements of bilinear-plastic steel,
 /// clamped at its foot (SPC), its top driven down by a velocity that ramps up, with an initial
 /// shear velocity and a body load) over 200 steps, every element in a MODEL 2 group (effective stress, BETA 0.7), of a strength (250 MPa) that a few

@@ -401,13 +401,12 @@ impl GpuStepper {
             )))
         })?;
         self.upload_sets(solver, c.step());
-        // with contact: the new crack faces join the surfaces and the cracks close on the host,
-        // whose closed cracks take the GPU's states first; the contact's tables made again
-        if self.has_contact() {
-            self.closures_from_gpu(solver, false)?;
-            solver.activate_cracks();
-            self.remake_contact(solver, true)?;
-        }
+        // with contact (each a no-op without): the new crack faces join the surfaces and the
+        // cracks close on the host, whose closed cracks take the GPU's states first; the
+        // contact's tables made again
+        self.closures_from_gpu(solver, false)?;
+        solver.activate_cracks();
+        self.remake_contact(solver, true)?;
         self.clear_halt();
         self.finish_step_after("interfaces_done");
         Ok(())

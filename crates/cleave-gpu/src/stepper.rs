@@ -968,14 +968,12 @@ impl GpuStepper {
     }
 
     /// The contact's tables made again from the host's (after its surfaces, sets or closed
-    /// cracks changed), the pairs and last forces carried over. The grid's cell is found again
-    /// from the surfaces as they are (the crack faces among them), at the positions the host
-    /// last read (at a split this step's; after erosion or a release those of the last output
-    /// or split): it changes no result, and no more than the speed (a node
-    /// finds every face whose sphere holds it, whatever the cell), and on the breaking
-    /// 2800-element ball (`cleave example ball-impact`, its first 10 us on lavapipe) it took the
-    /// run from 33.2 to 21.8 s, the outputs byte for byte the same, where the cell of the
-    /// initial surfaces, the ball's outer faces and the plate's, held many crack faces.
+    /// cracks changed), the pairs and last forces carried over; `split`: the halt of a step in
+    /// which sets split (their born slots inherit the last forces, [`ContactGpu::upload`]).
+    /// The grid's cell is found again from the surfaces as they are, crack faces among them, at
+    /// the positions the host last read (at a split this step's; after erosion or a release
+    /// those of the last output or split): the cell changes the speed only, as a node finds
+    /// every face whose sphere holds it whatever the cell (BENCHMARKS.md: the breaking ball).
     pub(crate) fn remake_contact(
         &mut self,
         solver: &mut Solver,
@@ -1005,11 +1003,6 @@ impl GpuStepper {
         };
         c.upload(&self.gpu, t, Some((&hits, &fprev, born)))
             .map_err(|e| failed(e.to_string()))
-    }
-
-    /// Whether the model has automatic contact.
-    pub(crate) fn has_contact(&self) -> bool {
-        self.contact.is_some()
     }
 
     /// Contact on surfaces that elements erode from: the host changes them (HALT 5).
@@ -1553,29 +1546,21 @@ impl GpuStepper {
                     return Err(RunError::Solver(c.error(solver)));
                 }
                 // interfaces failed: released on the host, the step run to its end
-                4 => {
-                    // a split comes when it comes: the rest of this batch and the one behind
-                    // it ran idle, so the batches shrink to about the steps between splits
-                    // (and grow again, doubling, while batches run through)
+                // a step halted for the host, which changes what it must and runs the rest
+                // of the step: interfaces failed (4: the sets split), elements eroded (5:
+                // the contact surfaces change), closed cracks released (6)
+                k @ 4..=6 => {
+                    // such a halt comes when it comes: the rest of this batch and the one
+                    // behind it ran idle, so the batches shrink to about the steps between
+                    // halts (and grow again, doubling, while batches run through)
                     let done = (c.step() - start).max(0.0) as usize;
                     self.batch = (done + 1).next_power_of_two().clamp(4, self.batch.max(4));
-                    self.split(solver, &c)?;
-                    // (when interfaces fail in every step no batch runs through: ask here)
-                    if !stopping && obs.stop_asked() {
-                        stopping = true;
-                        self.set_stop_time(0.0);
+                    match k {
+                        4 => self.split(solver, &c)?,
+                        5 => self.erode_contact(solver)?,
+                        _ => self.release_cracks(solver)?,
                     }
-                }
-                // elements eroded (with contact), or closed cracks released: the surfaces or
-                // the cracks changed on the host, the step run to its end
-                5 | 6 => {
-                    let done = (c.step() - start).max(0.0) as usize;
-                    self.batch = (done + 1).next_power_of_two().clamp(4, self.batch.max(4));
-                    if c.halt() == 5 {
-                        self.erode_contact(solver)?;
-                    } else {
-                        self.release_cracks(solver)?;
-                    }
+                    // (when halts come in every step no batch runs through: ask here)
                     if !stopping && obs.stop_asked() {
                         stopping = true;
                         self.set_stop_time(0.0);

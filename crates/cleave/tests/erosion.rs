@@ -5,24 +5,19 @@
 
 mod common;
 
-use common::{cleave, csv, tmp};
+use common::{cleave, csv, example_deck, tmp};
 
 #[test]
 fn an_eroding_ball_books_its_erosion_in_every_output() {
     let d = tmp("erosion-cli");
-    let deck = d.join("ball.k");
+    let deck = example_deck(
+        &d,
+        "ball.k",
+        "ball-impact",
+        &["--elements", "425", "--erosion"],
+    );
     let deck_s = deck.to_str().unwrap();
     let out = d.join("out");
-    let o = cleave(&[
-        "example",
-        "ball-impact",
-        "--elements",
-        "425",
-        "--erosion",
-        "-o",
-        deck_s,
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(&deck).unwrap();
     assert!(text.contains("*MAT_ADD_EROSION"), "{text}");
     assert!(!text.contains("*MAT_ADD_SEPARATION"));

@@ -11,7 +11,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use common::{cleave, csv, no_gpu, tmp, BASE};
+use common::{cleave, csv, example_deck, no_gpu, tmp, BASE};
 
 fn write_deck(dir: &Path, text: &str) -> PathBuf {
     let p = dir.join("deck.k");
@@ -71,17 +71,7 @@ fn gpu_run_with_contact_writes_what_the_cpu_run_writes() {
 #[test]
 fn gpu_fragments_the_bar_as_the_cpu() {
     let d = tmp("gpu-fragmenting-bar");
-    std::fs::create_dir_all(&d).unwrap();
-    let deck = d.join("bar.k");
-    let out = cleave(&[
-        "example",
-        "fragmenting-bar",
-        "--elements",
-        "60",
-        "-o",
-        deck.to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(0));
+    let deck = example_deck(&d, "bar.k", "fragmenting-bar", &["--elements", "60"]);
     let g = run(&deck, &d.join("gpu"), true);
     if no_gpu(&g) {
         return;
@@ -135,19 +125,8 @@ fn gpu_fragments_the_bar_as_the_cpu() {
 #[test]
 fn gpu_breaks_the_ball_on_its_plate_as_the_cpu() {
     let d = tmp("gpu-ball");
-    std::fs::create_dir_all(&d).unwrap();
-    let deck = d.join("ball.k");
-    let out = cleave(&[
-        "example",
-        "ball-impact",
-        "--elements",
-        "256",
-        "--end-time",
-        "2e-5",
-        "-o",
-        deck.to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(0));
+    let args = ["--elements", "256", "--end-time", "2e-5"];
+    let deck = example_deck(&d, "ball.k", "ball-impact", &args);
     if !same_outputs(&deck, &d, &["glstat.csv", "rcforc.csv"]) {
         return;
     }

@@ -13,6 +13,23 @@ pub fn cleave(args: &[&str]) -> Output {
         .expect("cleave runs")
 }
 
+/// `cleave example NAME ARGS -o DIR/FILE` (DIR made first): the deck's path; panics with
+/// cleave's message when it fails.
+pub fn example_deck(dir: &Path, file: &str, name: &str, args: &[&str]) -> PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let deck = dir.join(file);
+    let mut all = vec!["example", name];
+    all.extend_from_slice(args);
+    all.extend(["-o", deck.to_str().unwrap()]);
+    let out = cleave(&all);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    deck
+}
+
 /// A scratch folder for one test, removed when the test passes (the guard drops) and kept
 /// when it fails (dropped while panicking), so a failure can be looked at and passing runs
 /// leave nothing behind: the paper studies alone write some 165 MB a run.

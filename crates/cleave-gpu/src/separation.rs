@@ -188,10 +188,14 @@ pub(crate) fn slots<'a>(solver: &'a Solver) -> Option<Slots<'a>> {
 }
 
 /// Positions, velocities (flat, 3 per entry) and masses as the GPU keeps them: one entry per
-/// node, or with separation per slot of the coincident sets, padded with zeros to one per node
-/// (the passes skip the unused slots, [`entries`]).
-pub(crate) fn kinematics(solver: &Solver) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let nn = solver.model.num_nodes();
+/// node, or with separation per slot of the coincident sets, with `padded` padded with zeros
+/// to one per node (the passes skip the unused slots, [`entries`]).
+pub(crate) fn kinematics(solver: &Solver, padded: bool) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let nn = if padded {
+        solver.model.num_nodes()
+    } else {
+        entries(solver) as usize
+    };
     let flat = |v: &[Vec3]| {
         let mut f: Vec<f64> = v.iter().flatten().copied().collect();
         f.resize(3 * nn, 0.0);
@@ -279,7 +283,9 @@ impl GpuStepper {
         u32s(&b.ninc, &lay.ninc);
         u32s(&b.nflag, &lay.nflag);
         u32s(&b.mptr, &lay.mptr);
-        let (x, v, mass) = kinematics(solver);
+        // the entries in use only: those past them are zero on the device and stay so (sets
+        // only split, so the entries only grow)
+        let (x, v, mass) = kinematics(solver, false);
         f64s(&b.mass, &mass);
         // (x^n, in the half of the positions of step `step`)
         q.write_buffer(
@@ -289,8 +295,7 @@ impl GpuStepper {
         );
         f64s(&self.state.v, &v);
         // v^n: the solver's own (the GPU's v^n of a slot is only used within a step)
-        let mut vn: Vec<f64> = (solver.velocities().entries().iter().flatten().copied()).collect();
-        vn.resize(x.len(), 0.0);
+        let vn: Vec<f64> = (solver.velocities().entries().iter().flatten().copied()).collect();
         f64s(&self.state.vn, &vn);
         let (ifu, ifs, _, _) = interface_table(solver);
         u32s(&self.sep.ifu, &ifu);

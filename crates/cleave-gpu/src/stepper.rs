@@ -415,7 +415,7 @@ impl GpuStepper {
         let cu_buf = u32s("control integers", &cu0);
         // the state's positions (a tied slave node starts on its face), one entry per node or
         // per slot of the coincident sets
-        let (x0, v0, mass0) = kinematics(solver);
+        let (x0, v0, mass0) = kinematics(solver, true);
         // (two steps' positions: x^n and x^(n+1), step.wgsl halves)
         let x_len = x0.len();
         let state = StateBuffers {
@@ -1374,23 +1374,20 @@ impl GpuStepper {
     pub(crate) fn mirror_kinematics(&self, solver: &mut Solver, step: f64) {
         let vec3s =
             |d: Vec<f64>| -> Vec<Vec3> { d.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect() };
-        // one entry per node, or per slot of the coincident sets (as many as there are now)
+        // one entry per node, or per slot of the coincident sets (as many as there are now:
+        // the GPU's arrays hold one per node, the entries past these unused)
         let nn = solver.positions().entries().len();
+        let bytes = (24 * nn as u64).min(8 * self.x_len as u64);
         // (one read-back: x^n's half of the positions, v^(n+1/2), v^n)
         let half = self.x_half(step);
         let (v, vn) = (&self.state.v, &self.state.vn);
         let got = self.download_ranges(&[
-            (&self.state.x, 8 * half.start as u64, 8 * half.len() as u64),
-            (v, 0, v.size()),
-            (vn, 0, vn.size()),
+            (&self.state.x, 8 * half.start as u64, bytes),
+            (v, 0, bytes),
+            (vn, 0, bytes),
         ]);
         let f64s = |b: &[u8]| -> Vec<f64> { bytemuck::pod_collect_to_vec(b) };
-        let mut x = vec3s(f64s(&got[0]));
-        let mut v = vec3s(f64s(&got[1]));
-        let mut vn = vec3s(f64s(&got[2]));
-        x.truncate(nn);
-        v.truncate(nn);
-        vn.truncate(nn);
+        let [x, v, vn] = [0, 1, 2].map(|k| vec3s(f64s(&got[k])));
         solver.set_kinematics(x, v, vn);
         if self.sep.coh_cap > 0 {
             self.import_cohesive(solver);

@@ -26,10 +26,43 @@ use cleave_core::contact::view::CLOSURE_STATE;
 use cleave_core::contact::{ContactForce, ContactSet};
 use cleave_core::model::PenaltyRule;
 use cleave_core::solver::Solver;
-use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 use wgpu::util::DeviceExt;
 
 use crate::device::{Gpu, GpuError};
+
+/// The tables' look-ups (a node's lead, a face or pass-node by what it is), remade at every
+/// split: keyed by small integers, looked up only (never iterated, so their order cannot reach
+/// a result), hashed by a multiply-xor of each integer (std's SipHash, made for keys an
+/// adversary chooses, took most of the time of making the tables).
+type HashMap<K, V> = std::collections::HashMap<K, V, BuildHasherDefault<IntHasher>>;
+
+#[derive(Default)]
+pub(crate) struct IntHasher(u64);
+
+impl Hasher for IntHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u8(&mut self, i: u8) {
+        self.write_u64(u64::from(i));
+    }
+    fn write_u32(&mut self, i: u32) {
+        self.write_u64(u64::from(i));
+    }
+    fn write_u64(&mut self, i: u64) {
+        // (the multiplier of FxHash: odd, bits spread)
+        self.0 = (self.0.rotate_left(5) ^ i).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_usize(&mut self, i: usize) {
+        self.write_u64(i as u64);
+    }
+}
 
 /// Values per pass-node in the hits array (contact.wgsl HIT).
 pub(crate) const HIT: usize = 14;
@@ -202,7 +235,7 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     let (mut pn, mut pass_tab, mut kn, mut pn_def) = (vec![], vec![], vec![], vec![]);
     let mut frame: Vec<Vec<u32>> = vec![];
     let (mut pn_key, mut members) = (vec![], vec![]);
-    let mut lead_of = HashMap::new();
+    let mut lead_of = HashMap::default();
     for (d, c) in cs.contacts().iter().enumerate() {
         for (p, (ns, fs)) in c.pass_sides().into_iter().enumerate() {
             let q = pass_tab.len() as u32 / 2;
@@ -230,24 +263,27 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     // the surface entries: every entry of a pass-node or a face, ascending; what acts on each
     // (its own pass-nodes, the corners of faces, the closed cracks' pairs: 8 k + 2 pair + 1
     // on the A side)
-    let mut own: Vec<Vec<u32>> = vec![vec![]; nn];
-    let mut corner: Vec<Vec<u32>> = vec![vec![]; nn];
-    let mut paired: Vec<Vec<u32>> = vec![vec![]; nn];
-    for j in 0..np {
-        own[pn[4 * j] as usize].push(j as u32);
-    }
-    for (k, &e) in face_entries.iter().enumerate() {
-        corner[e as usize].push(k as u32); // 4 f + a
-    }
-    for c in 0..nc {
-        for k in 0..4 {
-            // the force on b_k, then its opposite on a_k (mod.rs Contact::compute)
-            paired[clo_tab[9 * c + 4 + k] as usize].push((8 * c + 2 * k) as u32);
-            paired[clo_tab[9 * c + k] as usize].push((8 * c + 2 * k + 1) as u32);
-        }
-    }
+    let own = ByEntry::new(nn, (0..np).map(|j| (pn[4 * j], j as u32)));
+    // 4 f + a
+    let corner = ByEntry::new(
+        nn,
+        (face_entries.iter().enumerate()).map(|(k, &e)| (e, k as u32)),
+    );
+    // the force on b_k, then its opposite on a_k (mod.rs Contact::compute)
+    let clo_tab = &clo_tab;
+    let paired = ByEntry::new(
+        nn,
+        (0..nc).flat_map(|c| {
+            (0..4).flat_map(move |k| {
+                [
+                    (clo_tab[9 * c + 4 + k], (8 * c + 2 * k) as u32),
+                    (clo_tab[9 * c + k], (8 * c + 2 * k + 1) as u32),
+                ]
+            })
+        }),
+    );
     let surface: Vec<u32> = (0..nn as u32)
-        .filter(|&n| !own[n as usize].is_empty() || !corner[n as usize].is_empty())
+        .filter(|&n| !own.of(n).is_empty() || !corner.of(n).is_empty())
         .collect();
     let ng = surface.len();
     // ci: the parameters, faces' entries, tags and labels, pass-nodes, passes, lists with
@@ -261,25 +297,14 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     ci.extend_from_slice(&pn);
     let ci_pass = ci.len();
     ci.extend_from_slice(&pass_tab);
-    let csr = |ci: &mut Vec<u32>, lists: &mut dyn Iterator<Item = Vec<u32>>, count: usize| {
-        let ptr = ci.len();
-        ci.resize(ptr + count + 1, 0);
-        for (k, list) in lists.enumerate() {
-            ci[ptr + k] = ci.len() as u32;
-            ci.extend(list);
-        }
-        ci[ptr + count] = ci.len() as u32;
-        ptr
-    };
-    let ci_nfptr = csr(&mut ci, &mut frame.into_iter(), np);
+    let ci_nfptr = csr(&mut ci, np, |j| &frame[j]);
     let ci_gn = ci.len();
     ci.extend_from_slice(&surface);
-    let lists = |of: &Vec<Vec<u32>>| surface.iter().map(|&n| of[n as usize].clone()).collect();
-    let ci_goptr = csr(&mut ci, &mut Vec::into_iter(lists(&own)), ng);
-    let ci_gfptr = csr(&mut ci, &mut Vec::into_iter(lists(&corner)), ng);
-    let ci_gcptr = csr(&mut ci, &mut Vec::into_iter(lists(&paired)), ng);
+    let ci_goptr = csr(&mut ci, ng, |g| own.of(surface[g]));
+    let ci_gfptr = csr(&mut ci, ng, |g| corner.of(surface[g]));
+    let ci_gcptr = csr(&mut ci, ng, |g| paired.of(surface[g]));
     let ci_clo = ci.len();
-    ci.extend_from_slice(&clo_tab);
+    ci.extend_from_slice(clo_tab);
     let ci_fclo = ci.len();
     ci.extend_from_slice(&fclo);
     // cfl: faces' stiffness and depth, pass-nodes' stiffness, friction per definition,
@@ -378,6 +403,48 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
         clo,
         grid_len,
     })
+}
+
+/// Append `count` lists to `ci` behind their pointers (absolute indices into `ci`, the end
+/// last); returns where the pointers start.
+fn csr<'a>(ci: &mut Vec<u32>, count: usize, list: impl Fn(usize) -> &'a [u32]) -> usize {
+    let ptr = ci.len();
+    ci.resize(ptr + count + 1, 0);
+    for k in 0..count {
+        ci[ptr + k] = ci.len() as u32;
+        ci.extend_from_slice(list(k));
+    }
+    ci[ptr + count] = ci.len() as u32;
+    ptr
+}
+
+/// Values listed by entry (`n` entries), each entry's in the order given: a counting sort.
+struct ByEntry {
+    start: Vec<u32>,
+    values: Vec<u32>,
+}
+
+impl ByEntry {
+    fn new(n: usize, items: impl Iterator<Item = (u32, u32)> + Clone) -> Self {
+        let mut start = vec![0u32; n + 1];
+        for (e, _) in items.clone() {
+            start[e as usize + 1] += 1;
+        }
+        for k in 0..n {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut values = vec![0; start[n] as usize];
+        for (e, v) in items {
+            values[fill[e as usize] as usize] = v;
+            fill[e as usize] += 1;
+        }
+        ByEntry { start, values }
+    }
+
+    fn of(&self, e: u32) -> &[u32] {
+        &self.values[self.start[e as usize] as usize..self.start[e as usize + 1] as usize]
+    }
 }
 
 /// What carries over to new tables: the hits and each surface entry's last force of the tables

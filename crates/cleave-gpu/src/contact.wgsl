@@ -658,15 +658,8 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
     if (ci[CI_FSIDE + f] != side) {
         return;
     }
-    // not a face that holds the node, a copy tied to it (one entry) or chained to it (one
-    // label): mod.rs Query::run
-    let label = ci[CI_PN + PN * j + 3u];
-    for (var a = 0u; a < 4u; a = a + 1u) {
-        if (face_node(f, a) == n || ci[CI_FLAB + 4u * f + a] == label) {
-            return;
-        }
-    }
-    // the face's sphere, as c_count found it, before its corners are read
+    // the face's sphere, as c_count found it, before its nodes and corners are read (it
+    // rejects most of a cell's faces)
     let c = vec3<f64>(fsph[4u * f], fsph[4u * f + 1u], fsph[4u * f + 2u]);
     let r = fsph[4u * f + 3u];
     let depth = cfl[CF_DEPTH + f];
@@ -674,6 +667,14 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
     let reach = (WEIGHT_SUM * r + depth) * (1.0lf + 1e-9lf);
     if (dot(ds, ds) > reach * reach) {
         return;
+    }
+    // not a face that holds the node, a copy tied to it (one entry) or chained to it (one
+    // label): mod.rs Query::run
+    let label = ci[CI_PN + PN * j + 3u];
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        if (face_node(f, a) == n || ci[CI_FLAB + 4u * f + a] == label) {
+            return;
+        }
     }
     var p = corners(f);
     let gap_min = GAP_TOL * r;

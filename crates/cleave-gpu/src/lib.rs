@@ -24,6 +24,7 @@
 mod contact;
 pub mod device;
 pub mod layout;
+mod pass_times;
 mod separation;
 mod split;
 pub mod stepper;

@@ -70,6 +70,11 @@ impl PassTimes {
         })
     }
 
+    /// Start recording `slot` again: times recorded there and never collected are dropped.
+    pub fn begin(&self, slot: usize) {
+        self.slots[slot].passes.borrow_mut().clear();
+    }
+
     /// The timestamps of the next compute pass recorded in `slot`, which runs pass `pass` of
     /// the step; `None` when the slot's queries are used up (the pass is then not timed).
     pub fn writes(&self, slot: usize, pass: usize) -> Option<wgpu::ComputePassTimestampWrites<'_>> {

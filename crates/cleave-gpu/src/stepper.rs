@@ -20,6 +20,7 @@ use wgpu::util::DeviceExt;
 use crate::contact::ContactGpu;
 use crate::device::{Gpu, GpuError};
 use crate::layout::{by_component, by_element, Layout, RB_STATE};
+use crate::pass_times::PassTimes;
 use crate::separation::{kinematics, SepBuffers};
 
 /// The groups of `groups` threads' dispatch: (x, y), a second dimension past the per-dimension
@@ -178,6 +179,8 @@ pub struct GpuStepper {
     split: Vec<(String, usize)>,
     /// Automatic contact (contact.rs), when the deck has some.
     contact: Option<ContactGpu>,
+    /// Each pass timed over the run, when asked ([`Self::time_passes`]).
+    times: Option<PassTimes>,
 }
 
 /// How a buffer that carries the state is stored on the device, and so turned for a restart
@@ -719,6 +722,7 @@ impl GpuStepper {
             rb,
             ero: erodes.then_some(ero),
             batch: 4,
+            times: None,
             gpu,
             model_bufs: ModelBuffers {
                 par,
@@ -763,6 +767,11 @@ impl GpuStepper {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("steps"),
             });
+        if let Some(times) = &self.times {
+            self.record_timed(&mut enc, times, staging, &self.pipelines, 0, steps);
+            self.copy_control(&mut enc, staging);
+            return enc.finish();
+        }
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("steps"),
@@ -781,7 +790,7 @@ impl GpuStepper {
 
     /// Submit the passes of the step in flight that come after `after` (an entry point); the
     /// queue runs them before anything submitted later.
-    pub(crate) fn finish_step_after(&self, after: &str) {
+    pub(crate) fn finish_step_after(&mut self, after: &str) {
         let Some(k) = self.pipelines.iter().position(|p| p.name == after) else {
             return;
         };
@@ -791,12 +800,77 @@ impl GpuStepper {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("the rest of a step"),
             });
+        if let Some(times) = &self.times {
+            let rest = &self.pipelines[k + 1..];
+            self.record_timed(&mut enc, times, 2, rest, k + 1, 1);
+            self.gpu.queue.submit([enc.finish()]);
+            if let Some(times) = &mut self.times {
+                times.collect(&self.gpu, 2);
+            }
+            return;
+        }
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_bind_group(0, &self.bind_group, &[]);
             self.dispatch_all(&mut pass, &self.pipelines[k + 1..]);
         }
         self.gpu.queue.submit([enc.finish()]);
+    }
+
+    /// Time each pass over the runs that follow, with the device's timestamps, or stop doing
+    /// so; returns whether the device can ([`Self::pass_times`]). Each pass then goes in a
+    /// compute pass of its own, which costs more than a plain batch: for benchmarks.
+    pub fn time_passes(&mut self, on: bool) -> bool {
+        self.times = if on {
+            PassTimes::new(&self.gpu, self.pipelines.len())
+        } else {
+            None
+        };
+        self.times.is_some()
+    }
+
+    /// The device seconds of each pass, by name in the step's order, summed over the steps run
+    /// since [`Self::time_passes`] (those that halt for the host and the rest of such a step
+    /// included).
+    pub fn pass_times(&self) -> Option<Vec<(&'static str, f64)>> {
+        let t = self.times.as_ref()?;
+        Some(
+            (self.pipelines.iter().zip(&t.secs))
+                .map(|(p, &s)| (p.name, s))
+                .collect(),
+        )
+    }
+
+    /// Record `steps` steps of `passes` (the step's from number `first` on), each pass in a
+    /// compute pass of its own timed in `slot` of `times`, then the read-back of the times.
+    /// A batch (`first` 0) starts with the commit of a halted step, as [`Self::record`]'s.
+    fn record_timed(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        times: &PassTimes,
+        slot: usize,
+        passes: &[Pass],
+        first: usize,
+        steps: usize,
+    ) {
+        times.begin(slot);
+        if first == 0 {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.set_pipeline(&self.commit);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        for _ in 0..steps {
+            for (i, p) in passes.iter().enumerate() {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(p.name),
+                    timestamp_writes: times.writes(slot, first + i),
+                });
+                pass.set_bind_group(0, self.bind_group_of(p), &[]);
+                self.dispatch(&mut pass, p);
+            }
+        }
+        times.finish(enc, slot);
     }
 
     /// The time at which the GPU halts next (for output, a restart file or a stop; 0: at the
@@ -1296,6 +1370,13 @@ impl GpuStepper {
         })
     }
 
+    /// Add the pass times of the batch read back from `staging`, when they are taken.
+    fn collect_times(&mut self, staging: usize) {
+        if let Some(t) = &mut self.times {
+            t.collect(&self.gpu, staging);
+        }
+    }
+
     /// Wait for the read-back of `staging` and decode it.
     fn read_control(&self, staging: usize) -> Control {
         let s = &self.ctl_staging[staging];
@@ -1502,7 +1583,10 @@ impl GpuStepper {
                     stop_at(obs).min(end_time)
                 };
                 let ahead: usize = in_flight.iter().map(|b| b.2).sum();
-                let steps = batch_steps(self.batch, t_known, dt_known, stop, ahead);
+                let mut steps = batch_steps(self.batch, t_known, dt_known, stop, ahead);
+                if let Some(t) = &self.times {
+                    steps = steps.min(t.max_steps);
+                }
                 if steps == 0 {
                     // the batch in flight reaches the halt: another would only run idle
                     break;
@@ -1515,6 +1599,7 @@ impl GpuStepper {
             }
             let (staging, started, _, start) = in_flight.remove(0);
             let c = self.read_control(staging);
+            self.collect_times(staging);
             (t_known, dt_known, step_known) = (c.f[cf::T], c.f[cf::DT], c.step());
             let secs = started.elapsed().as_secs_f64();
             if c.halt() == 0 {
@@ -1533,6 +1618,7 @@ impl GpuStepper {
             // the batch still in flight does nothing once halted: let it finish
             for (s, _, _, _) in in_flight.drain(..) {
                 self.read_control(s);
+                self.collect_times(s);
             }
             match c.halt() {
                 3 => {

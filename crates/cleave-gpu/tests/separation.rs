@@ -422,6 +422,50 @@ fn cracking_block_in_contact_as_on_the_cpu() {
     );
 }
 
+/// Timing each pass over a run (`GpuStepper::time_passes`, `cleave bench ball --gpu
+/// --passes`: each pass in a compute pass of its own, the steps that halt for a split or a
+/// crack's release and the rest of such a step included) changes no result: the cracking block
+/// in contact gives the same rows bit for bit. The times are of every pass, each finite and
+/// not negative, with device time in the element pass and the node checks (on a device without
+/// timestamp queries there are none, and the test says so).
+#[test]
+fn timing_each_pass_changes_no_result() {
+    let Some(g) = gpu() else {
+        return;
+    };
+    let split = split_model(&cracking_block_in_contact());
+    let every = split.model.control.end_time / 40.0;
+    let (plain, g) = run_gpu(g, &split, every);
+    let mut s = solver(&split);
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
+    let timed = st.time_passes(true);
+    let mut r = Record {
+        every,
+        next: 0.0,
+        rows: Vec::new(),
+    };
+    st.run(&mut s, &mut r).unwrap();
+    assert!(r.rows == plain, "timing the passes changed the run");
+    let last = plain.last().unwrap();
+    assert!(
+        last.failed.len() >= 20 && last.cracks.1 > 0,
+        "{:?}",
+        last.cracks
+    );
+    if !timed {
+        eprintln!("SKIPPED the times: the device has no timestamp queries");
+        assert!(st.pass_times().is_none());
+        return;
+    }
+    let times = st.pass_times().unwrap();
+    eprintln!("pass times over {} steps: {times:?}", s.state.step);
+    assert!(times.iter().all(|(_, t)| t.is_finite() && *t >= 0.0));
+    for name in ["elements", "interfaces", "c_detect", "c_close", "nodes"] {
+        let t = times.iter().find(|p| p.0 == name).map(|p| p.1);
+        assert!(t.is_some_and(|t| t > 0.0), "{name}: {t:?}");
+    }
+}
+
 /// The cracking block with single surface contact with friction (FS 0.3, FD 0.2).
 fn cracking_block_in_contact() -> Model {
     let mut m = cracking_block();

@@ -147,12 +147,18 @@ pub struct BenchArgs {
     /// Worker threads.
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
-    /// Cube: run the step on a GPU (as `cleave run --gpu`), with `--separation` its element
-    /// separation too; ball: with `--no-separation` (its contact with the plate). The breaking
-    /// ball, paper-tables and fragmentation benchmarks need contact between fragments, which
-    /// the GPU step does not run yet: with --gpu they are refused (exit 2), not run on the CPU.
+    /// Cube and ball: run the step on a GPU (as `cleave run --gpu`): the cube with
+    /// `--separation` its element separation too, the ball breaking on its plate (or unbroken
+    /// with `--no-separation`). paper-tables and fragmentation are CPU benchmarks: with --gpu
+    /// they are refused (exit 2), not run on the CPU.
     #[arg(long)]
     pub gpu: bool,
+    /// Ball with --gpu: time every pass of every step of the run with the device's timestamps
+    /// (the steps that halt for the host and the rest of such a step included) and print each
+    /// pass's share. Each pass then runs in a compute pass of its own, so the run is slower
+    /// than without.
+    #[arg(long)]
+    pub passes: bool,
     /// Cube: put every element in a separation group (MODEL 1, a strength nothing reaches), so
     /// the step carries the split nodes, their coincident sets and the failure check of every
     /// interface.

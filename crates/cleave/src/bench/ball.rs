@@ -192,6 +192,7 @@ fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
     }
     let mut g = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &mut solver)?;
     let shares = g.profile(&mut solver, 10);
+    let timed = a.passes && g.time_passes(true);
     let (timing, step0) = super::run_quiet_gpu(&mut g, &mut solver, 0.1 * end)?;
     let steps = solver.state.step - step0;
     let ne = prepared.model.num_elements();
@@ -225,6 +226,25 @@ fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
             );
         }
         None => println!("  GPU passes: not timed (no timestamp queries on the device)"),
+    }
+    if a.passes {
+        match g.pass_times().filter(|_| timed) {
+            Some(secs) => {
+                let total: f64 = secs.iter().map(|s| s.1).sum();
+                let parts: Vec<String> = (secs.iter())
+                    .map(|(name, s)| format!("{name} {:.1}%", 100.0 * s / total.max(1e-300)))
+                    .collect();
+                println!(
+                    "  GPU passes over the whole run ({} steps, device timestamps, each pass in its own compute pass): {:.1} us of device time a step; {}",
+                    solver.state.step,
+                    1e6 * total / solver.state.step.max(1) as f64,
+                    parts.join(", ")
+                );
+            }
+            None => println!(
+                "  GPU passes over the run: not timed (no timestamp queries on the device)"
+            ),
+        }
     }
     println!("  contact pairs at the end: {pairs}");
     super::print_steal(timing.steal);

@@ -274,10 +274,11 @@ fn gpu_refuses_what_it_lacks_by_name() {
 }
 
 /// The benchmarks that time the CPU alone are refused with `--gpu` (exit 2, nothing run), never
-/// run on the CPU instead.
+/// run on the CPU instead; so is `--passes` anywhere but on `bench ball --gpu`.
 #[test]
 fn gpu_benchmarks_that_need_what_it_lacks_are_refused() {
-    let cases: [(&[&str], &str); 2] = [
+    let passes = "--passes times each pass of the GPU's step over a run: it goes with `cleave bench ball --gpu`";
+    let cases: [(&[&str], &str); 4] = [
         (
             &["bench", "paper-tables", "--gpu"],
             "`cleave bench paper-tables` runs on the CPU only",
@@ -286,6 +287,8 @@ fn gpu_benchmarks_that_need_what_it_lacks_are_refused() {
             &["bench", "fragmentation", "--gpu"],
             "`cleave bench fragmentation` runs on the CPU only",
         ),
+        (&["bench", "ball", "--passes"], passes),
+        (&["bench", "cube", "--gpu", "--passes"], passes),
     ];
     for (args, says) in cases {
         let out = cleave(args);

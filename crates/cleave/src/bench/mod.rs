@@ -122,6 +122,11 @@ fn print_steal(steal: Option<f64>) {
 }
 
 pub fn bench(a: &BenchArgs) -> Result<(), Failure> {
+    if a.passes && !(a.gpu && a.what == "ball") {
+        return Err(Failure::Input(
+            "--passes times each pass of the GPU's step over a run: it goes with `cleave bench ball --gpu` (the cube's --gpu run prints its passes' shares already)".into(),
+        ));
+    }
     match a.what.as_str() {
         "cube" => cube::bench_cube(a),
         "ball" => ball::bench_ball(a),

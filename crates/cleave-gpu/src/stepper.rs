@@ -181,6 +181,8 @@ pub struct GpuStepper {
     contact: Option<ContactGpu>,
     /// Each pass timed over the run, when asked ([`Self::time_passes`]).
     times: Option<PassTimes>,
+    /// The halts for the host in a step ([`Self::host_halts`]): count and wall seconds.
+    halts: [(u64, f64); 3],
 }
 
 /// How a buffer that carries the state is stored on the device, and so turned for a restart
@@ -723,6 +725,7 @@ impl GpuStepper {
             ero: erodes.then_some(ero),
             batch: 4,
             times: None,
+            halts: [(0, 0.0); 3],
             gpu,
             model_bufs: ModelBuffers {
                 par,
@@ -815,6 +818,14 @@ impl GpuStepper {
             self.dispatch_all(&mut pass, &self.pipelines[k + 1..]);
         }
         self.gpu.queue.submit([enc.finish()]);
+    }
+
+    /// The steps that halted for the host so far, each kind's count and wall seconds of the
+    /// host's work (its read-backs, its changes, the writes and the submission of the rest of
+    /// the step): sets split (interfaces failed), elements eroded from a contact's surfaces,
+    /// closed cracks released. On a GPU these, not the passes, can set a breaking run's time.
+    pub fn host_halts(&self) -> [(u64, f64); 3] {
+        self.halts
     }
 
     /// Time each pass over the runs that follow, with the device's timestamps, or stop doing
@@ -1638,11 +1649,14 @@ impl GpuStepper {
                     // halts (and grow again, doubling, while batches run through)
                     let done = (c.step() - start).max(0.0) as usize;
                     self.batch = (done + 1).next_power_of_two().clamp(4, self.batch.max(4));
+                    let began = Instant::now();
                     match k {
                         4 => self.split(solver, &c)?,
                         5 => self.erode_contact(solver)?,
                         _ => self.release_cracks(solver)?,
                     }
+                    let h = &mut self.halts[k as usize - 4];
+                    *h = (h.0 + 1, h.1 + began.elapsed().as_secs_f64());
                     // (when halts come in every step no batch runs through: ask here)
                     if !stopping && obs.stop_asked() {
                         stopping = true;

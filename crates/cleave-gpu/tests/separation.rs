@@ -427,7 +427,8 @@ fn cracking_block_in_contact_as_on_the_cpu() {
 /// crack's release and the rest of such a step included) changes no result: the cracking block
 /// in contact gives the same rows bit for bit. The times are of every pass, each finite and
 /// not negative, with device time in the element pass and the node checks (on a device without
-/// timestamp queries there are none, and the test says so).
+/// timestamp queries there are none, and the test says so). The host's halts are counted: at
+/// least one split and one release, no more than the interfaces failed and cracks released.
 #[test]
 fn timing_each_pass_changes_no_result() {
     let Some(g) = gpu() else {
@@ -452,6 +453,13 @@ fn timing_each_pass_changes_no_result() {
         "{:?}",
         last.cracks
     );
+    // the host's halts: each split releases an interface at least, each release a crack; no
+    // erosion in this deck
+    let [split, eroded, released] = st.host_halts();
+    eprintln!("host halts: splits {split:?}, erosions {eroded:?}, releases {released:?}");
+    assert!(split.0 >= 1 && split.0 as usize <= last.failed.len() && split.1 > 0.0);
+    assert!(released.0 >= 1 && released.0 <= last.cracks.1 && released.1 > 0.0);
+    assert_eq!(eroded, (0, 0.0));
     if !timed {
         eprintln!("SKIPPED the times: the device has no timestamp queries");
         assert!(st.pass_times().is_none());

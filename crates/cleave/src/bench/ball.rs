@@ -227,6 +227,17 @@ fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
         }
         None => println!("  GPU passes: not timed (no timestamp queries on the device)"),
     }
+    let halts: Vec<String> = (g.host_halts().iter())
+        .zip(["sets split", "erosions", "cracks released"])
+        .filter(|((n, _), _)| *n > 0)
+        .map(|((n, secs), what)| format!("{n} {what}, {:.2} ms each", 1e3 * secs / *n as f64))
+        .collect();
+    if !halts.is_empty() {
+        println!(
+            "  steps halted for the host over the run: {} (the host's work at each, wall clock)",
+            halts.join("; ")
+        );
+    }
     if a.passes {
         match g.pass_times().filter(|_| timed) {
             Some(secs) => {

@@ -105,9 +105,9 @@ pub(crate) struct Tables {
     pub face_key: Vec<(u32, u32, u32, u8)>,
     /// Each pass-node's coincident set on its side, along the member chain (its lead first).
     pub members: Vec<Vec<u32>>,
-    /// The lead of each node of a pass's node side: `lead_of[pass][node]`, [`NONE`] for a
-    /// node not on the side.
-    pub lead_of: Vec<Vec<u32>>,
+    /// The lead of each node of a pass's node side, by (pass, node): as many entries as the
+    /// sides have nodes (not the model).
+    pub lead_of: HashMap<(u32, u32), u32>,
     /// The entries of the surface nodes (slots of the coincident sets, or nodes), ascending:
     /// each one's last contact force is kept, in this order.
     pub surface: Vec<u32>,
@@ -237,19 +237,17 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     // (each pass-node's faces in one list: `frame[frame_at[j]..frame_at[j + 1]]`)
     let (mut frame, mut frame_at) = (vec![], vec![0]);
     let (mut pn_key, mut members) = (vec![], vec![]);
-    let mut lead_of = vec![];
+    let mut lead_of = HashMap::default();
     for (d, c) in cs.contacts().iter().enumerate() {
         for (p, (ns, fs)) in c.pass_sides().into_iter().enumerate() {
             let q = pass_tab.len() as u32 / 2;
             pass_tab.extend([side_start[d][fs].1, d as u32]);
             let sign = if p == 0 { 1.0 } else { -1.0 };
-            let mut leads = vec![NONE; nn];
             for n in c.nodes_in_scatter_order(ns) {
                 if let Some(l) = c.lead_of(ns, n) {
-                    leads[n as usize] = l;
+                    lead_of.insert((q, n), l);
                 }
             }
-            lead_of.push(leads);
             for n in c.leads_in_scatter_order(ns) {
                 // the faces that make its normal: none when all of them eroded (buried)
                 let first = side_start[d][ns].0;
@@ -476,29 +474,15 @@ fn carry_pairs(
     let face_at: HashMap<_, u32> = (t.face_key.iter().enumerate())
         .map(|(f, &k)| (k, f as u32))
         .collect();
-    // the old pass-node of each (pass, lead)
-    let mut pn_was: Vec<Vec<u32>> = (old.lead_of.iter()).map(|l| vec![NONE; l.len()]).collect();
-    for (j, &(q, n)) in old.pn_key.iter().enumerate() {
-        if let Some(w) = pn_was
-            .get_mut(q as usize)
-            .and_then(|w| w.get_mut(n as usize))
-        {
-            *w = j as u32;
-        }
-    }
-    let at = |v: &[Vec<u32>], q: u32, n: u32| {
-        v.get(q as usize)
-            .and_then(|v| v.get(n as usize))
-            .copied()
-            .filter(|&k| k != NONE)
-    };
+    let pn_was: HashMap<_, usize> = (old.pn_key.iter().enumerate())
+        .map(|(j, &k)| (k, j))
+        .collect();
     for (jn, (&(q, _), members)) in t.pn_key.iter().zip(&t.members).enumerate() {
         // a lead carries on its set's contact: that of the lead before of its first
         // member (along the chain) that was on the side (mod.rs Contact::regroup_where)
-        let Some(j) = (members.iter())
-            .find_map(|&m| at(&old.lead_of, q, m))
-            .and_then(|lead| at(&pn_was, q, lead))
-            .map(|j| j as usize)
+        let Some(&j) = (members.iter())
+            .find_map(|&m| old.lead_of.get(&(q, m)))
+            .and_then(|&lead| pn_was.get(&(q, lead)))
         else {
             continue;
         };
@@ -971,15 +955,13 @@ mod tests {
             face_key: faces.iter().map(|&e| (0, 0, e, 0)).collect(),
             ..Default::default()
         };
-        let mut leads = vec![NONE; 32];
         for set in sets {
             t.pn_key.push((0, set[0]));
             t.members.push(set.to_vec());
             for &m in *set {
-                leads[m as usize] = set[0];
+                t.lead_of.insert((0, m), set[0]);
             }
         }
-        t.lead_of.push(leads);
         t
     }
 

@@ -1,10 +1,11 @@
-//! Device time of each pass over a whole run ([`crate::GpuStepper::time_passes`]): every
-//! pass of every step a run records goes in a compute pass of its own, with a timestamp at its
-//! start and end, and the times are summed per pass as the batches come back. Unlike the
-//! profile of a few steps at the start (`GpuStepper::profile`), this covers the steps that
-//! halt for the host (a split, a crack released) and the rest of such a step, so it shows
-//! where a breaking model's time goes. For benchmarks: separate compute passes cost more than
-//! a plain batch's one.
+//! Device time of each pass over a whole run ([`crate::GpuStepper::time_passes`]): each pass
+//! of the steps a run records goes in a compute pass of its own, with a timestamp at its start
+//! and end, and the times are summed per pass as the batches come back. Unlike the profile of a
+//! few steps at the start (`GpuStepper::profile`), this covers the steps that halt for the host
+//! (a split, a crack released) and the rest of such a step, so it shows where a breaking
+//! model's time goes. Left out: the steps a batch recorded past a halt (they run idle, each
+//! pass returning at once) and the one dispatch at a batch's start that ends a halted step.
+//! For benchmarks: separate compute passes cost more than a plain batch's one.
 
 use std::cell::RefCell;
 
@@ -102,11 +103,24 @@ impl PassTimes {
         }
     }
 
-    /// Add the times of `slot`'s passes, once the submission that holds them has run; the
-    /// slot is then free for the next batch.
-    pub fn collect(&mut self, gpu: &Gpu, slot: usize) {
+    /// Add the times of the first `steps` steps of the batch recorded in `slot` (0 or 1: the
+    /// staging of its control block), once its submission has run: those it ran before a halt,
+    /// the halting step's included. The slot is then free for the next batch.
+    pub fn collect(&mut self, gpu: &Gpu, slot: usize, steps: usize) {
+        self.add(gpu, slot, steps * self.secs.len());
+    }
+
+    /// Add the times of the rest of a halted step (slot 2), if one was recorded since, once a
+    /// submission after it has run.
+    pub fn collect_rest(&mut self, gpu: &Gpu) {
+        self.add(gpu, 2, usize::MAX);
+    }
+
+    /// Add the times of the first `keep` passes recorded in `slot`.
+    fn add(&mut self, gpu: &Gpu, slot: usize, keep: usize) {
         let s = &self.slots[slot];
-        let passes = std::mem::take(&mut *s.passes.borrow_mut());
+        let mut passes = std::mem::take(&mut *s.passes.borrow_mut());
+        passes.truncate(keep);
         if passes.is_empty() {
             return;
         }

@@ -283,8 +283,8 @@ impl GpuStepper {
         u32s(&b.ninc, &lay.ninc);
         u32s(&b.nflag, &lay.nflag);
         u32s(&b.mptr, &lay.mptr);
-        // the entries in use only: those past them are zero on the device and stay so (sets
-        // only split, so the entries only grow)
+        // the entries in use only: no pass reads those past them (the node passes stop at
+        // `cf[SLOTS]`, the others reach nodes through the layout's slots)
         let (x, v, mass) = kinematics(solver, false);
         f64s(&b.mass, &mass);
         // (x^n, in the half of the positions of step `step`)

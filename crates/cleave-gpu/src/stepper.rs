@@ -804,12 +804,10 @@ impl GpuStepper {
                 label: Some("the rest of a step"),
             });
         if let Some(times) = &self.times {
+            // (its times are taken with the next batch's, which the queue runs after it)
             let rest = &self.pipelines[k + 1..];
             self.record_timed(&mut enc, times, 2, rest, k + 1, 1);
             self.gpu.queue.submit([enc.finish()]);
-            if let Some(times) = &mut self.times {
-                times.collect(&self.gpu, 2);
-            }
             return;
         }
         {
@@ -842,7 +840,8 @@ impl GpuStepper {
 
     /// The device seconds of each pass, by name in the step's order, summed over the steps run
     /// since [`Self::time_passes`] (those that halt for the host and the rest of such a step
-    /// included).
+    /// included; the idle steps of a batch recorded past a halt left out, but for a batch that
+    /// starts halted, when the rest of a halted step halts again).
     pub fn pass_times(&self) -> Option<Vec<(&'static str, f64)>> {
         let t = self.times.as_ref()?;
         Some(
@@ -1381,10 +1380,12 @@ impl GpuStepper {
         })
     }
 
-    /// Add the pass times of the batch read back from `staging`, when they are taken.
-    fn collect_times(&mut self, staging: usize) {
+    /// Add the pass times of the first `steps` steps of the batch read back from `staging`,
+    /// when they are taken.
+    fn collect_times(&mut self, staging: usize, steps: usize) {
         if let Some(t) = &mut self.times {
-            t.collect(&self.gpu, staging);
+            t.collect(&self.gpu, staging, steps);
+            t.collect_rest(&self.gpu);
         }
     }
 
@@ -1580,7 +1581,10 @@ impl GpuStepper {
         self.set_stop_time(stop_at(obs));
         let end_time = solver.model.control.end_time;
         // (staging buffer, when submitted, steps, the step count it starts from)
-        let mut in_flight: Vec<(usize, Instant, usize, f64)> = Vec::new();
+        let mut in_flight: Vec<(usize, Instant, usize, f64, bool)> = Vec::new();
+        // whether the next batch is the first after a halt: the halted step's count comes in
+        // it (the rest of the step, or its first dispatch, advances the step)
+        let mut after_halt = false;
         let mut next_staging = 0;
         let mut stopping = false;
         // the time, step size and step count last read back, for the batches' lengths
@@ -1605,12 +1609,17 @@ impl GpuStepper {
                 let cmd = self.record(steps, next_staging);
                 self.gpu.queue.submit([cmd]);
                 let start = step_known + ahead as f64;
-                in_flight.push((next_staging, Instant::now(), steps, start));
+                in_flight.push((next_staging, Instant::now(), steps, start, after_halt));
+                after_halt = false;
                 next_staging = 1 - next_staging;
             }
-            let (staging, started, _, start) = in_flight.remove(0);
+            let (staging, started, recorded, start, first) = in_flight.remove(0);
             let c = self.read_control(staging);
-            self.collect_times(staging);
+            // (the steps it ran: those its count grew by, less the step halted before it, and
+            // the one it halted in)
+            let grew = c.step() - start - f64::from(u8::from(first));
+            let ran = (grew.max(0.0) as usize + usize::from(c.halt() != 0)).min(recorded);
+            self.collect_times(staging, ran);
             (t_known, dt_known, step_known) = (c.f[cf::T], c.f[cf::DT], c.step());
             let secs = started.elapsed().as_secs_f64();
             if c.halt() == 0 {
@@ -1627,9 +1636,9 @@ impl GpuStepper {
                 continue;
             }
             // the batch still in flight does nothing once halted: let it finish
-            for (s, _, _, _) in in_flight.drain(..) {
+            for (s, _, _, _, _) in in_flight.drain(..) {
                 self.read_control(s);
-                self.collect_times(s);
+                self.collect_times(s, 0);
             }
             match c.halt() {
                 3 => {
@@ -1657,6 +1666,7 @@ impl GpuStepper {
                     }
                     let h = &mut self.halts[k as usize - 4];
                     *h = (h.0 + 1, h.1 + began.elapsed().as_secs_f64());
+                    after_halt = true;
                     // (when halts come in every step no batch runs through: ask here)
                     if !stopping && obs.stop_asked() {
                         stopping = true;
@@ -1692,6 +1702,7 @@ impl GpuStepper {
                     }
                     self.set_stop_time(stop_at(obs));
                     self.clear_halt();
+                    after_halt = true;
                 }
             }
         }

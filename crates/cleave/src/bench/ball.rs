@@ -193,6 +193,7 @@ fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
     let mut g = cleave_gpu::GpuStepper::new(cleave_gpu::Gpu::new()?, &mut solver)?;
     let shares = g.profile(&mut solver, 10);
     let timed = a.passes && g.time_passes(true);
+    let timed_from = solver.state.step;
     let (timing, step0) = super::run_quiet_gpu(&mut g, &mut solver, 0.1 * end)?;
     let steps = solver.state.step - step0;
     let ne = prepared.model.num_elements();
@@ -241,14 +242,14 @@ fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
     if a.passes {
         match g.pass_times().filter(|_| timed) {
             Some(secs) => {
+                let steps = solver.state.step - timed_from;
                 let total: f64 = secs.iter().map(|s| s.1).sum();
                 let parts: Vec<String> = (secs.iter())
                     .map(|(name, s)| format!("{name} {:.1}%", 100.0 * s / total.max(1e-300)))
                     .collect();
                 println!(
-                    "  GPU passes over the whole run ({} steps, device timestamps, each pass in its own compute pass): {:.1} us of device time a step; {}",
-                    solver.state.step,
-                    1e6 * total / solver.state.step.max(1) as f64,
+                    "  GPU passes over the whole run ({steps} steps, device timestamps, each pass in its own compute pass): {:.1} us of device time a step; {}",
+                    1e6 * total / steps.max(1) as f64,
                     parts.join(", ")
                 );
             }

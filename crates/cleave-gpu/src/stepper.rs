@@ -1302,79 +1302,25 @@ impl GpuStepper {
         solver: &mut Solver,
         steps: usize,
     ) -> Option<Vec<(&'static str, f64)>> {
-        let passes = self.pipelines.len();
-        let queries = 2 * passes * steps;
-        if steps == 0 || !self.gpu.timestamps || queries > wgpu::QUERY_SET_MAX_QUERIES as usize {
+        let mut times = PassTimes::new(&self.gpu, self.pipelines.len())?;
+        if steps == 0 || steps > times.max_steps {
             return None;
         }
-        let dev = &self.gpu.device;
-        let set = dev.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("pass times"),
-            ty: wgpu::QueryType::Timestamp,
-            count: queries as u32,
-        });
-        let bytes = 8 * queries as u64;
-        let resolved = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("pass times"),
-            size: bytes,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let read = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("pass times read-back"),
-            size: bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         // no output time inside the profiled steps
         self.set_stop_time(f64::MAX);
-        let mut enc = dev.create_command_encoder(&Default::default());
-        {
-            // the end of the step before, if it halted (not timed: once per batch)
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_bind_group(0, &self.bind_group, &[]);
-            pass.set_pipeline(&self.commit);
-            pass.dispatch_workgroups(1, 1, 1);
-        }
-        for k in 0..steps {
-            for (i, p) in self.pipelines.iter().enumerate() {
-                let q = (2 * (k * passes + i)) as u32;
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(p.name),
-                    timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
-                        query_set: &set,
-                        beginning_of_pass_write_index: Some(q),
-                        end_of_pass_write_index: Some(q + 1),
-                    }),
-                });
-                pass.set_bind_group(0, self.bind_group_of(p), &[]);
-                self.dispatch(&mut pass, p);
-            }
-        }
-        enc.resolve_query_set(&set, 0..queries as u32, &resolved, 0);
-        enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, bytes);
+        let mut enc = self.gpu.device.create_command_encoder(&Default::default());
+        self.record_timed(&mut enc, &times, 0, &self.pipelines, 0, steps);
         self.copy_control(&mut enc, 0);
         self.gpu.queue.submit([enc.finish()]);
         let c = self.read_control(0);
-        read.slice(..).map_async(wgpu::MapMode::Read, |_| {});
-        let _ = dev.poll(wgpu::PollType::wait_indefinitely());
-        let ticks: Vec<u64> =
-            bytemuck::pod_collect_to_vec(&read.slice(..).get_mapped_range().ok()?);
+        times.collect(&self.gpu, 0, steps);
         c.apply(solver);
         if c.halt() != 0 {
             return None;
         }
-        let period = f64::from(self.gpu.queue.get_timestamp_period()) * 1e-9;
-        let mut secs = vec![0.0; passes];
-        for k in 0..steps {
-            for (i, s) in secs.iter_mut().enumerate() {
-                let q = 2 * (k * passes + i);
-                *s += ticks[q + 1].saturating_sub(ticks[q]) as f64 * period;
-            }
-        }
-        let total: f64 = secs.iter().sum();
+        let total: f64 = times.secs.iter().sum();
         (total > 0.0).then(|| {
-            (self.pipelines.iter().zip(secs))
+            (self.pipelines.iter().zip(&times.secs))
                 .map(|(p, s)| (p.name, s / total))
                 .collect()
         })

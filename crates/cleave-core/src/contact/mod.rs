@@ -238,6 +238,7 @@
 
 pub mod bounds_cache;
 mod cand_lists;
+mod cell_lists;
 pub mod closure;
 pub mod engagement;
 pub mod friction;
@@ -1097,11 +1098,17 @@ impl Side {
 
     /// Boxes and spheres of the faces that have none yet, from positions `x_ref`.
     fn box_new_faces(&mut self, x_ref: Points, margin: f64) {
-        for f in self.boxed..self.faces.len() {
-            self.boxes[f] = search_box(&self.faces[f], x_ref, margin).into();
-            let (c, reach) = search_sphere(&self.faces[f], x_ref, margin);
-            self.spheres[f] = Sphere::new(c, reach);
-        }
+        let b = self.boxed;
+        self.faces[b..]
+            .par_iter()
+            .zip(&mut self.boxes[b..])
+            .zip(&mut self.spheres[b..])
+            .with_min_len(NODE_CHUNK)
+            .for_each(|((face, bx), sphere)| {
+                *bx = search_box(face, x_ref, margin).into();
+                let (c, reach) = search_sphere(face, x_ref, margin);
+                *sphere = Sphere::new(c, reach);
+            });
         self.boxed = self.faces.len();
     }
 }

@@ -16,7 +16,9 @@
 //! to each other since the last build (see `contact::Contact`); in between, the lists are
 //! reused.
 
+use super::cell_lists::{self, Cells};
 use crate::math::{f32_down, f32_up, Vec3};
+use rayon::prelude::*;
 
 /// An axis-aligned box, bounds included.
 #[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
@@ -40,6 +42,13 @@ impl Aabb {
             b.include(*q);
         }
         b
+    }
+    /// The smallest box holding both.
+    pub fn join(&self, o: &Self) -> Self {
+        Self {
+            min: std::array::from_fn(|d| self.min[d].min(o.min[d])),
+            max: std::array::from_fn(|d| self.max[d].max(o.max[d])),
+        }
     }
     /// Grow the box to hold `q`.
     #[inline]
@@ -201,6 +210,9 @@ const LEVEL_RATIO: f64 = 4.0;
 /// Boxes larger than `h0 LEVEL_RATIO^MAX_LEVEL` (or of non-finite extent) share the last level.
 const MAX_LEVEL: usize = 16;
 
+/// Boxes or points a thread takes at a time in a build.
+const PAR_CHUNK: usize = 4096;
+
 /// Faces of a cell whose boxes are tested at a time in [`BucketGrid::faces_at`].
 const BLOCK: usize = 64;
 
@@ -227,6 +239,9 @@ pub struct BucketGrid {
     /// Scratch: level of each box, extents.
     level_of: Vec<u8>,
     ext: Vec<f64>,
+    /// Scratch: the boxes of each level, ascending, level after level.
+    #[serde(skip)]
+    members: Vec<u32>,
 }
 
 /// One uniform grid: the items (box or point indices) of each cell, in ascending order.
@@ -238,13 +253,16 @@ struct Level {
     /// Compressed rows: cell c's items are `items[start[c]..start[c + 1]]`.
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Scratch of the parallel sort ([`cell_lists::fill`]).
+    #[serde(skip)]
+    spans: Vec<cell_lists::Span>,
 }
 
 impl BucketGrid {
     /// Candidate faces of every point: the faces `f` whose box `boxes[f]` contains `points[i]`
     /// and for which `keep(i, f)` holds (e.g. the node is not one of the face's own nodes),
     /// ascending.
-    pub fn candidates<B: SearchBox>(
+    pub fn candidates<B: SearchBox + Sync>(
         &mut self,
         boxes: &[B],
         points: &[Vec3],
@@ -326,19 +344,29 @@ impl BucketGrid {
     /// Sort the boxes into size levels and list each in the cells of its level it overlaps;
     /// list each point in its cell of the point grid (cells about as large as the smallest
     /// level's).
-    pub fn build<B: SearchBox>(&mut self, boxes: &[B], points: &[Vec3]) {
+    pub fn build<B: SearchBox + Sync>(&mut self, boxes: &[B], points: &[Vec3]) {
         self.build_with(boxes, points.len(), |q| points[q as usize]);
     }
 
     /// [`BucketGrid::build`] with the points given as `n` positions `point(q)`, so that the
     /// caller need not gather them (the nodes of a side: 1.8 MB on the 20,000-element ball).
-    pub fn build_with<B: SearchBox>(&mut self, boxes: &[B], n: usize, point: impl Fn(u32) -> Vec3) {
+    pub fn build_with<B: SearchBox + Sync>(
+        &mut self,
+        boxes: &[B],
+        n: usize,
+        point: impl Fn(u32) -> Vec3 + Sync,
+    ) {
         self.used = 0;
         self.points.clear();
         // median extent of the boxes of finite extent
         self.ext.clear();
-        self.ext
-            .extend(boxes.iter().map(B::size).filter(|e| e.is_finite()));
+        self.ext.par_extend(
+            boxes
+                .par_iter()
+                .with_min_len(PAR_CHUNK)
+                .map(B::size)
+                .filter(|e| e.is_finite()),
+        );
         let h0 = if self.ext.is_empty() {
             0.0
         } else {
@@ -346,20 +374,34 @@ impl BucketGrid {
             *self.ext.select_nth_unstable_by(mid, f64::total_cmp).1
         };
         self.level_of.clear();
-        let mut counts = [0usize; MAX_LEVEL + 1];
-        for b in boxes {
-            let e = b.size();
-            let k = if e <= h0 {
-                0
-            } else if e.is_finite() && h0 > 0.0 {
-                ((e / h0).ln() / LEVEL_RATIO.ln())
-                    .ceil()
-                    .clamp(1.0, MAX_LEVEL as f64) as usize
-            } else {
-                MAX_LEVEL
-            };
-            self.level_of.push(k as u8);
-            counts[k] += 1;
+        self.level_of
+            .par_extend(boxes.par_iter().with_min_len(PAR_CHUNK).map(|b| {
+                let e = b.size();
+                (if e <= h0 {
+                    0
+                } else if e.is_finite() && h0 > 0.0 {
+                    ((e / h0).ln() / LEVEL_RATIO.ln())
+                        .ceil()
+                        .clamp(1.0, MAX_LEVEL as f64) as usize
+                } else {
+                    MAX_LEVEL
+                }) as u8
+            }));
+        // the boxes of each level, ascending, one level after the other
+        let mut first = [0usize; MAX_LEVEL + 2];
+        for &k in &self.level_of {
+            first[k as usize + 1] += 1;
+        }
+        let counts: [usize; MAX_LEVEL + 1] = std::array::from_fn(|k| first[k + 1]);
+        for k in 1..first.len() {
+            first[k] += first[k - 1];
+        }
+        self.members.clear();
+        self.members.resize(boxes.len(), 0);
+        let mut at = first;
+        for (f, &k) in self.level_of.iter().enumerate() {
+            self.members[at[k as usize]] = f as u32;
+            at[k as usize] += 1;
         }
         // levels in use, in order; an empty level is skipped
         let mut slot = [usize::MAX; MAX_LEVEL + 1];
@@ -384,21 +426,31 @@ impl BucketGrid {
             if n == 0 {
                 continue;
             }
-            let members =
-                || (0..boxes.len() as u32).filter(|&f| self.level_of[f as usize] as usize == k);
-            let mut bounds = Aabb::empty();
-            let mut h: f64 = 0.0;
-            for f in members() {
-                let b = &boxes[f as usize];
-                bounds.include(b.lo());
-                bounds.include(b.hi());
-                h = h.max(b.size());
-            }
+            let members = &self.members[first[k]..first[k + 1]];
+            // bounds and largest extent: minima and maxima, the same in any order
+            let (bounds, h) = members
+                .par_iter()
+                .with_min_len(PAR_CHUNK)
+                .fold(
+                    || (Aabb::empty(), 0.0f64),
+                    |(mut bounds, h), &f| {
+                        let b = &boxes[f as usize];
+                        bounds.include(b.lo());
+                        bounds.include(b.hi());
+                        (bounds, h.max(b.size()))
+                    },
+                )
+                .reduce(
+                    || (Aabb::empty(), 0.0),
+                    |a, b| (a.0.join(&b.0), a.1.max(b.1)),
+                );
             let level = &mut self.levels[slot[k]];
             level.size(bounds, h / CELLS_PER_BOX, (27 * n + 64) as f64);
-            level.fill(members(), |f| {
-                (boxes[f as usize].lo(), boxes[f as usize].hi())
-            });
+            level.fill(
+                members.len(),
+                |i| members[i],
+                |f| (boxes[f as usize].lo(), boxes[f as usize].hi()),
+            );
             if h_points == 0.0 {
                 h_points = level.h;
             }
@@ -406,21 +458,30 @@ impl BucketGrid {
         if n == 0 {
             return;
         }
-        let mut bounds = Aabb::empty();
-        for p in (0..n as u32).map(&point) {
-            if p.iter().all(|v| v.is_finite()) {
-                bounds.include(p);
-            }
-        }
+        let bounds = (0..n as u32)
+            .into_par_iter()
+            .with_min_len(PAR_CHUNK)
+            .fold(Aabb::empty, |mut bounds, q| {
+                let p = point(q);
+                if p.iter().all(|v| v.is_finite()) {
+                    bounds.include(p);
+                }
+                bounds
+            })
+            .reduce(Aabb::empty, |a, b| a.join(&b));
         if h_points == 0.0 || !h_points.is_finite() {
             // points only: about one per cell
             h_points = bounds.extent() / (n as f64).cbrt();
         }
         self.points.size(bounds, h_points, (n + 64) as f64);
-        self.points.fill(0..n as u32, |q| {
-            let p = point(q);
-            (p, p)
-        });
+        self.points.fill(
+            n,
+            |i| i as u32,
+            |q| {
+                let p = point(q);
+                (p, p)
+            },
+        );
     }
 
     /// Number of cells over all levels and the point grid.
@@ -475,53 +536,31 @@ impl Level {
         self.dims = dims;
     }
 
-    /// List each item in the cells from its `span(item)` (min and max corner): a counting sort,
-    /// each cell listing its items in the order given. `start[c]` first counts up to the end of
-    /// cell c's items; the items, taken last to first, then count it down to the start, so the
-    /// sort needs no cursor array beside `start` (0.6 MB on the 20,000-element ball). Buffers
-    /// more than a quarter larger than this build needs are trimmed ([`trim`]).
+    /// List each item (`len` of them, `item(k)` ascending) in the cells from its `span(item)`
+    /// (min and max corner): a counting sort, each cell listing its items ascending, on every
+    /// thread where there are many ([`cell_lists::fill`]). Buffers more than a quarter larger
+    /// than this build needs are trimmed ([`trim`]).
     fn fill(
         &mut self,
-        items: impl DoubleEndedIterator<Item = u32> + Clone,
-        span: impl Fn(u32) -> (Vec3, Vec3),
+        len: usize,
+        item: impl Fn(usize) -> u32 + Sync,
+        span: impl Fn(u32) -> (Vec3, Vec3) + Sync,
     ) {
-        let ncell = self.dims[0] * self.dims[1] * self.dims[2];
-        self.start.clear();
-        self.start.resize(ncell + 1, 0);
-        let mut total = 0usize;
-        for q in items.clone() {
+        let cells = Cells { dims: self.dims };
+        let (mut start, mut items, mut spans) = (
+            std::mem::take(&mut self.start),
+            std::mem::take(&mut self.items),
+            std::mem::take(&mut self.spans),
+        );
+        let this = &*self;
+        let span = |q| {
             let (a, b) = span(q);
-            let (lo, hi) = (self.index(a), self.index(b));
-            for k in lo[2]..=hi[2] {
-                for j in lo[1]..=hi[1] {
-                    for i in lo[0]..=hi[0] {
-                        let c = self.flat([i, j, k]);
-                        self.start[c] += 1;
-                        total += 1;
-                    }
-                }
-            }
-        }
-        for c in 1..=ncell {
-            self.start[c] += self.start[c - 1];
-        }
-        self.items.clear();
-        self.items.resize(total, 0);
-        for q in items.rev() {
-            let (a, b) = span(q);
-            let (lo, hi) = (self.index(a), self.index(b));
-            for k in lo[2]..=hi[2] {
-                for j in lo[1]..=hi[1] {
-                    for i in lo[0]..=hi[0] {
-                        let c = self.flat([i, j, k]);
-                        self.start[c] -= 1;
-                        self.items[self.start[c] as usize] = q;
-                    }
-                }
-            }
-        }
-        trim(&mut self.start);
-        trim(&mut self.items);
+            (this.index(a), this.index(b))
+        };
+        cell_lists::fill(cells, len, item, span, &mut start, &mut items, &mut spans);
+        trim(&mut start);
+        trim(&mut items);
+        (self.start, self.items, self.spans) = (start, items, spans);
     }
 
     /// Cell coordinates of a point, clamped to the grid. Monotone in each coordinate, so a
@@ -529,8 +568,10 @@ impl Level {
     #[inline]
     fn index(&self, p: Vec3) -> [usize; 3] {
         let b = self.bounds.as_ref().expect("grid built");
+        // truncation is the floor for t > 0 (and no call of libm's floor, which the baseline
+        // x86-64 target makes: 1% of the breaking ball's step)
         std::array::from_fn(|d| {
-            let t = ((p[d] - b.min[d]) / self.h).floor();
+            let t = (p[d] - b.min[d]) / self.h;
             if t > 0.0 {
                 (t as usize).min(self.dims[d] - 1)
             } else {
@@ -541,7 +582,7 @@ impl Level {
 
     #[inline]
     fn flat(&self, c: [usize; 3]) -> usize {
-        c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
+        Cells { dims: self.dims }.flat(c)
     }
 
     /// The cell holding `p`, or `None` outside the level's bounds (then no box of it holds p).

@@ -60,13 +60,12 @@ pub(super) fn fill(
     span: impl Fn(u32) -> ([usize; 3], [usize; 3]) + Sync,
     start: &mut Vec<u32>,
     items: &mut Vec<u32>,
-    spans: &mut Vec<Span>,
 ) {
     let ncell = cells.count();
     start.clear();
     start.resize(ncell + 1, 0);
     if len >= PAR_MIN_ITEMS && rayon::current_num_threads() > 1 {
-        fill_par(cells, len, item, span, start, items, spans);
+        fill_par(cells, len, item, span, start, items);
     } else {
         fill_serial(cells, len, item, span, start, items);
     }
@@ -106,10 +105,10 @@ fn fill_serial(
 /// The same sort on every thread, without atomics: the cells are cut into slabs of whole
 /// xy-planes (contiguous cell numbers, so each slab owns a contiguous part of `start` and of
 /// `items`), and each slab sorts, as the serial sort does, the items whose span reaches it,
-/// over its own cells. Every slab reads every item's span (kept from one pass over the items:
-/// two comparisons an item, against the few that fall in its cells), so slabs are only a few
-/// per thread. (Atomic counts and places, then a sort of each cell, cost more than the serial
-/// sort on two threads.)
+/// over its own cells. Every slab reads every item's planes (12 bytes an item, kept from one
+/// pass over the items and dropped at the end: two comparisons an item, against the work of
+/// the few that reach its cells), so slabs are only a few per thread. (Atomic counts and
+/// places, then a sort of each cell, cost more than the serial sort on two threads.)
 fn fill_par(
     cells: Cells,
     len: usize,
@@ -117,26 +116,24 @@ fn fill_par(
     span: impl Fn(u32) -> ([usize; 3], [usize; 3]) + Sync,
     start: &mut [u32],
     items: &mut Vec<u32>,
-    spans: &mut Vec<Span>,
 ) {
-    spans.clear();
-    spans.par_extend((0..len).into_par_iter().with_min_len(ITEM_CHUNK).map(|k| {
+    let mut planes = Vec::with_capacity(len);
+    planes.par_extend((0..len).into_par_iter().with_min_len(ITEM_CHUNK).map(|k| {
         let q = item(k);
         let (lo, hi) = span(q);
-        Span {
+        Planes {
             q,
-            lo: lo.map(|v| v as u32),
-            hi: hi.map(|v| v as u32),
+            lo: lo[2] as u32,
+            hi: hi[2] as u32,
         }
     }));
-    let spans: &[Span] = spans;
+    let planes: &[Planes] = &planes;
     let plane = cells.dims[0] * cells.dims[1];
     let nz = cells.dims[2];
     let slabs = (SLABS_PER_THREAD * rayon::current_num_threads()).min(nz);
     // slab s: the planes z0(s)..z0(s + 1)
     let z0 = |s: usize| s * nz / slabs;
-    let reaches =
-        |sp: &Span, s: usize| sp.hi[2] as usize >= z0(s) && (sp.lo[2] as usize) < z0(s + 1);
+    let reaches = |p: &&Planes, s: usize| p.hi as usize >= z0(s) && (p.lo as usize) < z0(s + 1);
     // each slab counts its cells' items in its part of `start` (summed up to the end of each
     // cell, as in the serial sort), and returns its number of entries
     let mut parts = split_at(&mut start[..nz * plane], (1..slabs).map(|s| z0(s) * plane));
@@ -145,8 +142,8 @@ fn fill_par(
         .enumerate()
         .map(|(s, part)| {
             let base = z0(s) * plane;
-            for sp in spans.iter().filter(|sp| reaches(sp, s)) {
-                cells.each(clip(sp, z0(s), z0(s + 1)), |c| part[c - base] += 1);
+            for p in planes.iter().filter(|p| reaches(p, s)) {
+                cells.each(clip(span(p.q), z0(s), z0(s + 1)), |c| part[c - base] += 1);
             }
             let mut run = 0;
             for c in part.iter_mut() {
@@ -173,11 +170,11 @@ fn fill_par(
             let base = z0(s) * plane;
             // the items last to first, each cell's end counted down to its start (within the
             // slab's entries), then the slab's offset added
-            for sp in spans.iter().rev().filter(|sp| reaches(sp, s)) {
-                cells.each(clip(sp, z0(s), z0(s + 1)), |c| {
+            for p in planes.iter().rev().filter(|p| reaches(p, s)) {
+                cells.each(clip(span(p.q), z0(s), z0(s + 1)), |c| {
                     let at = &mut part[c - base];
                     *at -= 1;
-                    out[*at as usize] = sp.q;
+                    out[*at as usize] = p.q;
                 });
             }
             for c in part.iter_mut() {
@@ -187,19 +184,20 @@ fn fill_par(
     start[nz * plane] = total;
 }
 
-/// An item and its block of cells (lowest and highest), as the parallel sort keeps them.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Span {
+/// An item and its lowest and highest plane of cells, as the parallel sort keeps them.
+struct Planes {
     q: u32,
-    lo: [u32; 3],
-    hi: [u32; 3],
+    lo: u32,
+    hi: u32,
 }
 
-/// The block of cells of `sp` within the planes `z0..z1` (which it reaches).
+/// The block of cells `(lo, hi)` within the planes `z0..z1` (which it reaches).
 #[inline]
-fn clip(sp: &Span, z0: usize, z1: usize) -> ([usize; 3], [usize; 3]) {
-    let mut lo = sp.lo.map(|v| v as usize);
-    let mut hi = sp.hi.map(|v| v as usize);
+fn clip(
+    (mut lo, mut hi): ([usize; 3], [usize; 3]),
+    z0: usize,
+    z1: usize,
+) -> ([usize; 3], [usize; 3]) {
     lo[2] = lo[2].max(z0);
     hi[2] = hi[2].min(z1 - 1);
     (lo, hi)
@@ -260,7 +258,7 @@ mod tests {
             assert!(len >= PAR_MIN_ITEMS);
             let (mut s1, mut i1, mut s2, mut i2) = (vec![], vec![], vec![], vec![]);
             fill_serial_for_test(cells, len, pick, span, &mut s1, &mut i1);
-            pool.install(|| fill(cells, len, pick, span, &mut s2, &mut i2, &mut vec![]));
+            pool.install(|| fill(cells, len, pick, span, &mut s2, &mut i2));
             assert_eq!(s1, s2, "starts");
             assert_eq!(i1, i2, "items");
             // every cell's items ascending, and each item in every cell of its span

@@ -253,9 +253,6 @@ struct Level {
     /// Compressed rows: cell c's items are `items[start[c]..start[c + 1]]`.
     start: Vec<u32>,
     items: Vec<u32>,
-    /// Scratch of the parallel sort ([`cell_lists::fill`]).
-    #[serde(skip)]
-    spans: Vec<cell_lists::Span>,
 }
 
 impl BucketGrid {
@@ -455,6 +452,7 @@ impl BucketGrid {
                 h_points = level.h;
             }
         }
+        trim(&mut self.members);
         if n == 0 {
             return;
         }
@@ -531,6 +529,11 @@ impl Level {
             }
             h *= (total / cap).cbrt().max(1.01);
         }
+        // -0 as +0: the bounds are minima and maxima, and which zero f64::min/max give of a
+        // tie is left open, so a -0 could depend on the order the threads joined their parts
+        // (the cells would not, the bytes of a restart file would)
+        bounds.min = bounds.min.map(|v| v + 0.0);
+        bounds.max = bounds.max.map(|v| v + 0.0);
         self.bounds = Some(bounds);
         self.h = h;
         self.dims = dims;
@@ -547,20 +550,19 @@ impl Level {
         span: impl Fn(u32) -> (Vec3, Vec3) + Sync,
     ) {
         let cells = Cells { dims: self.dims };
-        let (mut start, mut items, mut spans) = (
+        let (mut start, mut items) = (
             std::mem::take(&mut self.start),
             std::mem::take(&mut self.items),
-            std::mem::take(&mut self.spans),
         );
         let this = &*self;
         let span = |q| {
             let (a, b) = span(q);
             (this.index(a), this.index(b))
         };
-        cell_lists::fill(cells, len, item, span, &mut start, &mut items, &mut spans);
+        cell_lists::fill(cells, len, item, span, &mut start, &mut items);
         trim(&mut start);
         trim(&mut items);
-        (self.start, self.items, self.spans) = (start, items, spans);
+        (self.start, self.items) = (start, items);
     }
 
     /// Cell coordinates of a point, clamped to the grid. Monotone in each coordinate, so a

@@ -710,6 +710,55 @@ pub(crate) mod tests {
         assert!(total > 10_000, "only {total} candidates");
     }
 
+    /// Grids large enough to be built on every thread (a size level and the point grid over
+    /// [`cell_lists`]' threshold): on three threads the candidates are the brute-force ones and
+    /// those of one thread, and the points in random boxes are the brute-force ones.
+    #[test]
+    fn grids_built_on_several_threads_are_exact() {
+        let (boxes, pts) = soup(31, 40_000, 20_000);
+        let pool = |n| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+        };
+        let (mut a, mut b, mut c) = (
+            Candidates::default(),
+            Candidates::default(),
+            Candidates::default(),
+        );
+        let few = &pts[..4000];
+        let mut grid = BucketGrid::default();
+        pool(3).install(|| grid.candidates(&boxes, few, |_, _| true, &mut a));
+        let level0 = grid.levels[0].items.len();
+        assert!(level0 >= 2 * 8192, "level 0 lists {level0} entries");
+        pool(1).install(|| BucketGrid::default().candidates(&boxes, few, |_, _| true, &mut b));
+        brute_force_candidates(&boxes, few, |_, _| true, &mut c);
+        assert_eq!(a, c, "3 threads against brute force");
+        assert_eq!(a, b, "3 threads against 1");
+        assert!(a.list.len() > 100_000, "only {} candidates", a.list.len());
+        pool(3).install(|| grid.build(&boxes, &pts));
+        let mut r = Rng(78);
+        let mut found = 0;
+        for _ in 0..100 {
+            let c = [r.range(-1.0, 11.0), r.range(-1.0, 6.0), r.range(-2.0, 2.0)];
+            let h = r.range(0.0, 1.0);
+            let b = Aabb {
+                min: c.map(|v| v - h),
+                max: c.map(|v| v + h),
+            };
+            let mut got = Vec::new();
+            grid.points_in(&b, |q| pts[q as usize], &mut got);
+            got.sort_unstable();
+            let want: Vec<u32> = (0..pts.len() as u32)
+                .filter(|&q| b.contains(pts[q as usize]))
+                .collect();
+            assert_eq!(got, want);
+            found += got.len();
+        }
+        assert!(found > 5000, "{found}");
+    }
+
     /// Far-apart clusters (a domain much larger than the faces) hit the cell cap; the result
     /// is still exact.
     #[test]

@@ -738,24 +738,7 @@ pub(crate) mod tests {
         assert_eq!(a, b, "3 threads against 1");
         assert!(a.list.len() > 100_000, "only {} candidates", a.list.len());
         pool(3).install(|| grid.build(&boxes, &pts));
-        let mut r = Rng(78);
-        let mut found = 0;
-        for _ in 0..100 {
-            let c = [r.range(-1.0, 11.0), r.range(-1.0, 6.0), r.range(-2.0, 2.0)];
-            let h = r.range(0.0, 1.0);
-            let b = Aabb {
-                min: c.map(|v| v - h),
-                max: c.map(|v| v + h),
-            };
-            let mut got = Vec::new();
-            grid.points_in(&b, |q| pts[q as usize], &mut got);
-            got.sort_unstable();
-            let want: Vec<u32> = (0..pts.len() as u32)
-                .filter(|&q| b.contains(pts[q as usize]))
-                .collect();
-            assert_eq!(got, want);
-            found += got.len();
-        }
+        let found = points_in_random_boxes(&grid, &pts, 78, 100, 1.0);
         assert!(found > 5000, "{found}");
     }
 
@@ -787,25 +770,39 @@ pub(crate) mod tests {
         let (boxes, pts) = soup(5, 400, 3000);
         let mut grid = BucketGrid::default();
         grid.build(&boxes, &pts);
-        let mut r = Rng(77);
+        let found = points_in_random_boxes(&grid, &pts, 77, 200, 1.5);
+        assert!(found > 1000, "{found}");
+    }
+
+    /// `count` random cubes of half-width up to `h_max` over the soups' domain: the grid's
+    /// [`BucketGrid::points_in`] finds exactly the points inside each (brute force); returns
+    /// how many it found in all.
+    fn points_in_random_boxes(
+        grid: &BucketGrid,
+        pts: &[Vec3],
+        seed: u64,
+        count: usize,
+        h_max: f64,
+    ) -> usize {
+        let mut r = Rng(seed);
         let mut found = 0;
-        for _ in 0..200 {
+        for _ in 0..count {
             let c = [r.range(-1.0, 11.0), r.range(-1.0, 6.0), r.range(-2.0, 2.0)];
-            let h = r.range(0.0, 1.5);
+            let h = r.range(0.0, h_max);
             let b = Aabb {
                 min: c.map(|v| v - h),
                 max: c.map(|v| v + h),
             };
-            let mut a = Vec::new();
-            grid.points_in(&b, |q| pts[q as usize], &mut a);
-            a.sort_unstable();
+            let mut got = Vec::new();
+            grid.points_in(&b, |q| pts[q as usize], &mut got);
+            got.sort_unstable();
             let want: Vec<u32> = (0..pts.len() as u32)
                 .filter(|&q| b.contains(pts[q as usize]))
                 .collect();
-            assert_eq!(a, want);
-            found += a.len();
+            assert_eq!(got, want);
+            found += got.len();
         }
-        assert!(found > 1000, "{found}");
+        found
     }
 
     /// Each cell lists its items in ascending order, and each item in exactly the cells its

@@ -237,6 +237,24 @@
 //! diagonal) cut the pair tests of the 2800 ball by 30% and left its time within noise (why
 //! was not measured; the tests saved may be cheap ones, whose face's bounds another node had
 //! already worked out that step).
+//!
+//! Tried and dropped (2026-11-27, the 20,000-element ball, 50 us, one thread, counters and
+//! timers added for the runs): a motion bound per cell of space, the cells 2.5 mean face sizes
+//! wide, each growing by the diagonal of the box of the step's displacements of its own and its
+//! 26 neighbours' watched entries (and of the corners of the faces larger than a cell whose box
+//! reaches it), so that a pair is due when its node's cell's bound has grown by its clearance.
+//! Sound for listed pairs (a listed face's box held the node at x_ref, so its corners are in the
+//! node's cell or a neighbour, or the face is a large one registered there), and with the same
+//! forces bit for bit. It cut the pair tests from 48.5 to 29.4 million and the nodes looked at
+//! from 39.7 to 32.6 million, but the contact's time only by 0.9 s of about 25 s before the cost
+//! of the cells' own pass (3.3 s as written, serial): the tests saved are the cheap ones, of
+//! faces whose bounds the step had worked out already. The full builds stay: with the rule for
+//! them made local too (a build when a cell's neighbourhood has spread by the margin) a probe
+//! counted 153 to 189 builds instead of 240 (cells 1.5 and 3 face sizes), the fragments sliding
+//! on the plate and flying apart being local motion as well. A larger margin (0.2) halves the
+//! builds (240 to 123, their time 6.5 to 4.3 s) but the checks grow more (the contact 23.0 to
+//! 24.2 s); cells of the grids a half, two thirds and a third of a box (`CELLS_PER_BOX` 1, 1.5, 3
+//! instead of 2): no gain.
 
 pub mod bounds_cache;
 mod cand_lists;
@@ -306,6 +324,10 @@ pub const HOT_STEPS: f64 = 4.0;
 /// A full build is also made when the motion bound exceeds this many margins (nodes vibrating
 /// in place), so the f32 `due` values stay fine.
 const REBASE: f64 = 1.0e4;
+
+/// An incremental search looks up the nodes in the failed faces' boxes on every thread from
+/// this many faces on ([`Contact::update`]).
+const PAR_REGIONS: usize = 64;
 
 /// A full build puts a side's nodes in space order again once more than 1/REORDER of them
 /// joined since the last ordering ([`Contact::reorder`]).
@@ -1047,13 +1069,20 @@ impl Side {
     /// The permutation that puts the nodes in space order (Morton order of their positions
     /// `x`, those of the full build): `order[k].1` is the node to go to place k.
     fn space_order(&self, x: Points) -> Vec<(u64, u32)> {
-        let mut b = Aabb::empty();
-        for &n in &self.nodes {
-            let p = x[n as usize];
-            if p.iter().all(|v| v.is_finite()) {
-                b.include(p);
-            }
-        }
+        // minima and maxima (a -0 for +0 changes no cell below), keys in node order, and a
+        // sort of distinct keys: the same order on any number of threads
+        let b = self
+            .nodes
+            .par_iter()
+            .with_min_len(NODE_CHUNK)
+            .fold(Aabb::empty, |mut b, &n| {
+                let p = x[n as usize];
+                if p.iter().all(|v| v.is_finite()) {
+                    b.include(p);
+                }
+                b
+            })
+            .reduce(Aabb::empty, |a, b| a.join(&b));
         let h = b.extent() / ((1u64 << 21) - 1) as f64;
         let cell = |v: f64, lo: f64| -> u64 {
             let q = ((v - lo) / h).floor();
@@ -1064,18 +1093,24 @@ impl Side {
             }
         };
         let mut order = Vec::with_capacity(self.nodes.len());
-        for (k, &n) in self.nodes.iter().enumerate() {
-            let p = x[n as usize];
-            let c: [u64; 3] = std::array::from_fn(|d| cell(p[d], b.min[d]));
-            let mut key = 0u64;
-            for bit in 0..21 {
-                for (d, &cd) in c.iter().enumerate() {
-                    key |= ((cd >> bit) & 1) << (3 * bit + d);
-                }
-            }
-            order.push((key, k as u32));
-        }
-        order.sort_unstable();
+        order.par_extend(
+            self.nodes
+                .par_iter()
+                .enumerate()
+                .with_min_len(NODE_CHUNK)
+                .map(|(k, &n)| {
+                    let p = x[n as usize];
+                    let c: [u64; 3] = std::array::from_fn(|d| cell(p[d], b.min[d]));
+                    let mut key = 0u64;
+                    for bit in 0..21 {
+                        for (d, &cd) in c.iter().enumerate() {
+                            key |= ((cd >> bit) & 1) << (3 * bit + d);
+                        }
+                    }
+                    (key, k as u32)
+                }),
+        );
+        order.par_sort_unstable();
         order
     }
 
@@ -2062,15 +2097,35 @@ impl Contact {
             let point = |q: u32| x_ref[new_nodes[q as usize] as usize];
             pass.extra
                 .build_with(&fs.boxes[fs.base..], new_nodes.len(), point);
-            scratch.clear();
-            for b in region.iter() {
-                pass.grid
-                    .points_in(b, |q| x_ref[ns.nodes[q as usize] as usize], scratch);
-                let start = scratch.len();
-                pass.extra.points_in(b, point, scratch);
-                for q in &mut scratch[start..] {
+            // the nodes in the regions, on every thread where there are many regions (the
+            // list is sorted below: its order does not matter)
+            let (grid, extra) = (&pass.grid, &pass.extra);
+            let nodes_in = |out: &mut Vec<u32>, b: &Aabb| {
+                grid.points_in(b, |q| x_ref[ns.nodes[q as usize] as usize], out);
+                let start = out.len();
+                extra.points_in(b, point, out);
+                for q in &mut out[start..] {
                     *q += nbase as u32;
                 }
+            };
+            scratch.clear();
+            if region.len() < PAR_REGIONS {
+                for b in region.iter() {
+                    nodes_in(scratch, b);
+                }
+            } else {
+                let found = region
+                    .par_iter()
+                    .with_min_len(PAR_REGIONS / 2)
+                    .fold(Vec::new, |mut out, b| {
+                        nodes_in(&mut out, b);
+                        out
+                    })
+                    .reduce(Vec::new, |mut a, b| {
+                        a.extend_from_slice(&b);
+                        a
+                    });
+                scratch.extend_from_slice(&found);
             }
             // nodes that became or stopped being leads (all at the failed faces' corners, so
             // in their boxes already; listed again for safety)

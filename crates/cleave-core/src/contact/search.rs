@@ -242,6 +242,9 @@ pub struct BucketGrid {
     /// Scratch: the boxes of each level, ascending, level after level.
     #[serde(skip)]
     members: Vec<u32>,
+    /// Scratch: the cell of each point (its number in the point grid).
+    #[serde(skip)]
+    cell_of_point: Vec<u32>,
 }
 
 /// One uniform grid: the items (box or point indices) of each cell, in ascending order.
@@ -347,6 +350,8 @@ impl BucketGrid {
 
     /// [`BucketGrid::build`] with the points given as `n` positions `point(q)`, so that the
     /// caller need not gather them (the nodes of a side: 1.8 MB on the 20,000-element ball).
+    /// Each point is read twice, for the grid's bounds and for its cell (kept, 4 bytes a point,
+    /// for the counting sort), both on every thread.
     pub fn build_with<B: SearchBox + Sync>(
         &mut self,
         boxes: &[B],
@@ -472,14 +477,28 @@ impl BucketGrid {
             h_points = bounds.extent() / (n as f64).cbrt();
         }
         self.points.size(bounds, h_points, (n + 64) as f64);
-        self.points.fill(
+        // each point's cell worked out once, on every thread (a point is read through the
+        // nodes' and the slots' numbers: one read of it, not one per pass of the sort)
+        let grid = &self.points;
+        self.cell_of_point.clear();
+        self.cell_of_point.par_extend(
+            (0..n as u32)
+                .into_par_iter()
+                .with_min_len(PAR_CHUNK)
+                .map(|q| grid.flat(grid.index(point(q))) as u32),
+        );
+        let cells = &self.cell_of_point;
+        let [nx, ny, _] = self.points.dims;
+        self.points.fill_cells(
             n,
             |i| i as u32,
             |q| {
-                let p = point(q);
-                (p, p)
+                let c = cells[q as usize] as usize;
+                let ijk = [c % nx, (c / nx) % ny, c / (nx * ny)];
+                (ijk, ijk)
             },
         );
+        trim(&mut self.cell_of_point);
     }
 
     /// Number of cells over all levels and the point grid.
@@ -549,16 +568,33 @@ impl Level {
         item: impl Fn(usize) -> u32 + Sync,
         span: impl Fn(u32) -> (Vec3, Vec3) + Sync,
     ) {
+        // the grid's geometry only (the lists are being made)
+        let this = Level {
+            bounds: self.bounds,
+            h: self.h,
+            dims: self.dims,
+            start: Vec::new(),
+            items: Vec::new(),
+        };
+        let span = |q| {
+            let (a, b) = span(q);
+            (this.index(a), this.index(b))
+        };
+        self.fill_cells(len, item, span);
+    }
+
+    /// [`Level::fill`] with each item's span given as its lowest and highest cell.
+    fn fill_cells(
+        &mut self,
+        len: usize,
+        item: impl Fn(usize) -> u32 + Sync,
+        span: impl Fn(u32) -> ([usize; 3], [usize; 3]) + Sync,
+    ) {
         let cells = Cells { dims: self.dims };
         let (mut start, mut items) = (
             std::mem::take(&mut self.start),
             std::mem::take(&mut self.items),
         );
-        let this = &*self;
-        let span = |q| {
-            let (a, b) = span(q);
-            (this.index(a), this.index(b))
-        };
         cell_lists::fill(cells, len, item, span, &mut start, &mut items);
         trim(&mut start);
         trim(&mut items);

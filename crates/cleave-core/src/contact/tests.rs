@@ -1610,3 +1610,41 @@ fn single_precision_spheres_hold_their_spheres() {
         }
     }
 }
+
+/// A side's space order (Morton keys of its nodes, sorted) is made on every thread: the same
+/// order on 1 and 3 threads, for a side of 2,000 nodes (several tasks of nodes each), and it is
+/// an order of the keys (each key at most the next).
+#[test]
+fn space_order_does_not_depend_on_the_threads() {
+    let mut m = two_blocks(
+        [24, 24, 2],
+        [1.0; 3],
+        [2, 2, 2],
+        [1.0; 3],
+        [0.25, 0.25, 0.99],
+    );
+    m.contacts.push(def(true, 0.0, 0.0, 0.0));
+    let cs = ContactSet::new(&m, None).unwrap();
+    let side = &cs.contacts[0].sides[0];
+    assert!(side.nodes.len() > 4 * NODE_CHUNK, "{}", side.nodes.len());
+    // positions jittered so that the keys are not those of a regular grid
+    let x: Vec<Vec3> =
+        m.x0.iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let j = (i as f64 * 0.618_033_988_75).fract() - 0.5;
+                [p[0] + 0.01 * j, p[1] - 0.02 * j, p[2] + 0.005 * j]
+            })
+            .collect();
+    let order = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| side.space_order(Points::new(&x, None)))
+    };
+    let one = order(1);
+    assert_eq!(one.len(), side.nodes.len());
+    assert!(one.windows(2).all(|w| w[0] < w[1]));
+    assert_eq!(one, order(3));
+}

@@ -168,7 +168,8 @@
 //! bit-identical for any number of threads, and to those of testing every candidate every
 //! step. After the first steps no buffer grows unless faces are added, the candidate lists
 //! get longer, or more nodes of a chunk touch than ever before; the space ordering, which comes
-//! only after many nodes joined, allocates its scratch and frees it. The grids of a search are
+//! only after many nodes joined, allocates its scratch and frees it, and so does an
+//! incremental search around many failed faces (its look-ups on every thread). The grids of a search are
 //! built on every thread ([`cell_lists`]): each cell lists its faces or nodes ascending, the
 //! same lists as the serial counting sort gives.
 //!
@@ -331,8 +332,9 @@ pub const HOT_STEPS: f64 = 4.0;
 const REBASE: f64 = 1.0e4;
 
 /// An incremental search looks up the nodes in the failed faces' boxes on every thread from
-/// this many faces on ([`Contact::update`]).
-const PAR_REGIONS: usize = 64;
+/// this many faces on ([`Contact::update`]; the tasks' lists are allocated and freed at each
+/// such search). The unit tests take it from 2 faces, so their searches run it.
+const PAR_REGIONS: usize = if cfg!(test) { 2 } else { 64 };
 
 /// A full build puts a side's nodes in space order again once more than 1/REORDER of them
 /// joined since the last ordering ([`Contact::reorder`]).
@@ -1074,8 +1076,9 @@ impl Side {
     /// The permutation that puts the nodes in space order (Morton order of their positions
     /// `x`, those of the full build): `order[k].1` is the node to go to place k.
     fn space_order(&self, x: Points) -> Vec<(u64, u32)> {
-        // minima and maxima (a -0 for +0 changes no cell below), keys in node order, and a
-        // sort of distinct keys: the same order on any number of threads
+        // minima and maxima (a -0 for +0 changes no cell below: the cell size is taken as +0
+        // when the extent is 0), keys in node order, and a sort of (key, place) pairs, which
+        // are distinct: the same order on any number of threads
         let b = self
             .nodes
             .par_iter()
@@ -1088,7 +1091,7 @@ impl Side {
                 b
             })
             .reduce(Aabb::empty, |a, b| a.join(&b));
-        let h = b.extent() / ((1u64 << 21) - 1) as f64;
+        let h = (b.extent() + 0.0) / ((1u64 << 21) - 1) as f64;
         let cell = |v: f64, lo: f64| -> u64 {
             let q = ((v - lo) / h).floor();
             if q > 0.0 {
@@ -2119,7 +2122,7 @@ impl Contact {
                     nodes_in(scratch, b);
                 }
             } else {
-                let found = region
+                let mut found = region
                     .par_iter()
                     .with_min_len(PAR_REGIONS / 2)
                     .fold(Vec::new, |mut out, b| {
@@ -2130,7 +2133,7 @@ impl Contact {
                         a.extend_from_slice(&b);
                         a
                     });
-                scratch.extend_from_slice(&found);
+                scratch.append(&mut found);
             }
             // nodes that became or stopped being leads (all at the failed faces' corners, so
             // in their boxes already; listed again for safety)

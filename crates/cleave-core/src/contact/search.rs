@@ -459,6 +459,11 @@ impl BucketGrid {
         }
         trim(&mut self.members);
         if n == 0 {
+            // no points: nothing kept of a larger build before
+            self.points.items.clear();
+            trim(&mut self.points.items);
+            self.cell_of_point.clear();
+            trim(&mut self.cell_of_point);
             return;
         }
         let bounds = (0..n as u32)

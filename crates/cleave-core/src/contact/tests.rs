@@ -1611,9 +1611,49 @@ fn single_precision_spheres_hold_their_spheres() {
     }
 }
 
-/// A side's space order (Morton keys of its nodes, sorted) is made on every thread: the same
-/// order on 1 and 3 threads, for a side of 2,000 nodes (several tasks of nodes each), and it is
-/// an order of the keys (each key at most the next).
+/// The space order of a side's nodes as the serial code made it: the box of their finite
+/// positions, each node's cell of 2^21 per axis, its Morton key, and the (key, place) pairs
+/// sorted. The reference of `space_order_does_not_depend_on_the_threads`.
+fn serial_space_order(nodes: &[u32], x: &[Vec3]) -> Vec<(u64, u32)> {
+    let mut b = Aabb::empty();
+    for &n in nodes {
+        let p = x[n as usize];
+        if p.iter().all(|v| v.is_finite()) {
+            b.include(p);
+        }
+    }
+    let h = b.extent() / ((1u64 << 21) - 1) as f64;
+    let cell = |v: f64, lo: f64| -> u64 {
+        let q = ((v - lo) / h).floor();
+        if q > 0.0 {
+            (q as u64).min((1 << 21) - 1)
+        } else {
+            0
+        }
+    };
+    let mut order: Vec<(u64, u32)> = nodes
+        .iter()
+        .enumerate()
+        .map(|(k, &n)| {
+            let p = x[n as usize];
+            let c: [u64; 3] = std::array::from_fn(|d| cell(p[d], b.min[d]));
+            let mut key = 0u64;
+            for bit in 0..21 {
+                for (d, &cd) in c.iter().enumerate() {
+                    key |= ((cd >> bit) & 1) << (3 * bit + d);
+                }
+            }
+            (key, k as u32)
+        })
+        .collect();
+    order.sort_unstable();
+    order
+}
+
+/// A side's space order (Morton keys of its nodes, sorted) is made on every thread: the serial
+/// code's order on 1, 2 and 3 threads, for a side of over 1,000 nodes (several tasks), with
+/// tied keys (coincident nodes, non-finite positions), signed zeros, and the extreme positions
+/// at the end of the side's list (the last task's part of the box).
 #[test]
 fn space_order_does_not_depend_on_the_threads() {
     let mut m = two_blocks(
@@ -1626,9 +1666,10 @@ fn space_order_does_not_depend_on_the_threads() {
     m.contacts.push(def(true, 0.0, 0.0, 0.0));
     let cs = ContactSet::new(&m, None).unwrap();
     let side = &cs.contacts[0].sides[0];
-    assert!(side.nodes.len() > 4 * NODE_CHUNK, "{}", side.nodes.len());
+    let nodes = &side.nodes;
+    assert!(nodes.len() > 4 * NODE_CHUNK, "{}", nodes.len());
     // positions jittered so that the keys are not those of a regular grid
-    let x: Vec<Vec3> =
+    let mut x: Vec<Vec3> =
         m.x0.iter()
             .enumerate()
             .map(|(i, p)| {
@@ -1636,6 +1677,19 @@ fn space_order_does_not_depend_on_the_threads() {
                 [p[0] + 0.01 * j, p[1] - 0.02 * j, p[2] + 0.005 * j]
             })
             .collect();
+    let at = |k: usize| nodes[k] as usize;
+    let last = nodes.len() - 1;
+    // the box's extremes last, coincident pairs, non-finite and signed-zero coordinates
+    x[at(last)] = [3.0, 2.5, 4.0];
+    x[at(last - 1)] = [-2.0, -1.5, -3.0];
+    x[at(5)] = x[at(6)];
+    x[at(100)] = x[at(700)];
+    x[at(7)] = [f64::NAN, 0.5, 0.5];
+    x[at(8)] = [f64::INFINITY, f64::NEG_INFINITY, 0.5];
+    x[at(9)] = [-0.0, 0.0, -0.0];
+    x[at(10)] = [f64::NAN; 3];
+    let reference = serial_space_order(nodes, &x);
+    assert!(reference.windows(2).any(|w| w[0].0 == w[1].0), "tied keys");
     let order = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -1643,8 +1697,7 @@ fn space_order_does_not_depend_on_the_threads() {
             .unwrap();
         pool.install(|| side.space_order(Points::new(&x, None)))
     };
-    let one = order(1);
-    assert_eq!(one.len(), side.nodes.len());
-    assert!(one.windows(2).all(|w| w[0] < w[1]));
-    assert_eq!(one, order(3));
+    for threads in [1, 2, 3] {
+        assert_eq!(order(threads), reference, "{threads} threads");
+    }
 }

@@ -1108,14 +1108,10 @@ impl Side {
                 .with_min_len(NODE_CHUNK)
                 .map(|(k, &n)| {
                     let p = x[n as usize];
-                    let c: [u64; 3] = std::array::from_fn(|d| cell(p[d], b.min[d]));
-                    let mut key = 0u64;
-                    for bit in 0..21 {
-                        for (d, &cd) in c.iter().enumerate() {
-                            key |= ((cd >> bit) & 1) << (3 * bit + d);
-                        }
-                    }
-                    (key, k as u32)
+                    (
+                        morton(std::array::from_fn(|d| cell(p[d], b.min[d]))),
+                        k as u32,
+                    )
                 }),
         );
         order.par_sort_unstable();
@@ -1156,6 +1152,18 @@ impl Side {
             });
         self.boxed = self.faces.len();
     }
+}
+
+/// The Morton key of a cell of 2^21 per axis: its coordinates' bits interleaved, x lowest
+/// ([`Side::space_order`]).
+fn morton(c: [u64; 3]) -> u64 {
+    let mut key = 0u64;
+    for bit in 0..21 {
+        for (d, &cd) in c.iter().enumerate() {
+            key |= ((cd >> bit) & 1) << (3 * bit + d);
+        }
+    }
+    key
 }
 
 /// The search box of a face at positions `x`: its corners' box grown by

@@ -1612,8 +1612,8 @@ fn single_precision_spheres_hold_their_spheres() {
 }
 
 /// The space order of a side's nodes as the serial code made it: the box of their finite
-/// positions, each node's cell of 2^21 per axis, its Morton key, and the (key, place) pairs
-/// sorted. The reference of `space_order_does_not_depend_on_the_threads`.
+/// positions, each node's cell of 2^21 per axis, its Morton key ([`morton`], shared), and the
+/// (key, place) pairs sorted. The reference of `space_order_does_not_depend_on_the_threads`.
 fn serial_space_order(nodes: &[u32], x: &[Vec3]) -> Vec<(u64, u32)> {
     let mut b = Aabb::empty();
     for &n in nodes {
@@ -1636,14 +1636,10 @@ fn serial_space_order(nodes: &[u32], x: &[Vec3]) -> Vec<(u64, u32)> {
         .enumerate()
         .map(|(k, &n)| {
             let p = x[n as usize];
-            let c: [u64; 3] = std::array::from_fn(|d| cell(p[d], b.min[d]));
-            let mut key = 0u64;
-            for bit in 0..21 {
-                for (d, &cd) in c.iter().enumerate() {
-                    key |= ((cd >> bit) & 1) << (3 * bit + d);
-                }
-            }
-            (key, k as u32)
+            (
+                morton(std::array::from_fn(|d| cell(p[d], b.min[d]))),
+                k as u32,
+            )
         })
         .collect();
     order.sort_unstable();

@@ -169,9 +169,9 @@
 //! step. After the first steps no buffer grows unless faces are added, the candidate lists
 //! get longer, or more nodes of a chunk touch than ever before; the space ordering, which comes
 //! only after many nodes joined, allocates its scratch and frees it, and so does an
-//! incremental search around many failed faces (its look-ups on every thread). The grids of a search are
-//! built on every thread ([`cell_lists`]): each cell lists its faces or nodes ascending, the
-//! same lists as the serial counting sort gives.
+//! incremental search around many failed faces (its look-ups on every thread). The grids of a
+//! search are built on every thread ([`cell_lists`]): each cell lists its faces or nodes
+//! ascending, the same lists as the serial counting sort gives.
 //!
 //! # Closed cracks
 //! The two faces of a failed interface start flush, each node on a corner of the face

@@ -1079,18 +1079,7 @@ impl Side {
         // minima and maxima (a -0 for +0 changes no cell below: the cell size is taken as +0
         // when the extent is 0), keys in node order, and a sort of (key, place) pairs, which
         // are distinct: the same order on any number of threads
-        let b = self
-            .nodes
-            .par_iter()
-            .with_min_len(NODE_CHUNK)
-            .fold(Aabb::empty, |mut b, &n| {
-                let p = x[n as usize];
-                if p.iter().all(|v| v.is_finite()) {
-                    b.include(p);
-                }
-                b
-            })
-            .reduce(Aabb::empty, |a, b| a.join(&b));
+        let b = Aabb::of_finite(self.nodes.len(), |k| x[self.nodes[k as usize] as usize]);
         let h = (b.extent() + 0.0) / ((1u64 << 21) - 1) as f64;
         let cell = |v: f64, lo: f64| -> u64 {
             let q = ((v - lo) / h).floor();

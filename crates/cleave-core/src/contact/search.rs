@@ -43,6 +43,21 @@ impl Aabb {
         }
         b
     }
+    /// The box of the finite ones of `n` points `point(q)`, on every thread (minima and
+    /// maxima: the same box in any order, but for which zero a tie of -0 and +0 keeps).
+    pub fn of_finite(n: usize, point: impl Fn(u32) -> Vec3 + Sync) -> Self {
+        (0..n as u32)
+            .into_par_iter()
+            .with_min_len(PAR_CHUNK)
+            .fold(Self::empty, |mut b, q| {
+                let p = point(q);
+                if p.iter().all(|v| v.is_finite()) {
+                    b.include(p);
+                }
+                b
+            })
+            .reduce(Self::empty, |a, b| a.join(&b))
+    }
     /// The smallest box holding both.
     pub fn join(&self, o: &Self) -> Self {
         Self {
@@ -466,17 +481,7 @@ impl BucketGrid {
             trim(&mut self.cell_of_point);
             return;
         }
-        let bounds = (0..n as u32)
-            .into_par_iter()
-            .with_min_len(PAR_CHUNK)
-            .fold(Aabb::empty, |mut bounds, q| {
-                let p = point(q);
-                if p.iter().all(|v| v.is_finite()) {
-                    bounds.include(p);
-                }
-                bounds
-            })
-            .reduce(Aabb::empty, |a, b| a.join(&b));
+        let bounds = Aabb::of_finite(n, &point);
         if h_points == 0.0 || !h_points.is_finite() {
             // points only: about one per cell
             h_points = bounds.extent() / (n as f64).cbrt();

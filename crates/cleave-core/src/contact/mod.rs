@@ -1675,7 +1675,9 @@ impl Contact {
 
     /// The closed cracks at this step ([`closure`]), in parallel: those whose faces no longer
     /// lie on each other are released (their faces go back to the search, which renews the
-    /// lists around them at this step); the others get their forces.
+    /// lists around them at this step); the others get their forces. Only a step in which
+    /// some crack was released or changed its tightness passes over the list again (most
+    /// steps change none: that serial pass would grow with the cracks).
     fn step_closures(&mut self, inp: &StepInput) {
         let Self {
             closures,
@@ -1685,15 +1687,20 @@ impl Contact {
         } = self;
         scratch.clear();
         scratch.resize(closures.len(), 0);
-        closures
+        let any = closures
             .par_iter_mut()
             .zip(scratch.par_iter_mut())
             .with_min_len(NODE_CHUNK)
-            .for_each(|(c, out)| {
+            .map(|(c, out)| {
                 let was = c.tight;
                 let released = c.step(inp.x, inp.v, inp.dt_prev, friction);
                 *out = released as u32 | ((c.tight != was) as u32) << 1;
-            });
+                *out
+            })
+            .reduce(|| 0, |a, b| a | b);
+        if any == 0 {
+            return;
+        }
         let flags = std::mem::take(&mut self.scratch);
         self.settle_closures(&flags);
         self.scratch = flags;

@@ -10,7 +10,7 @@
 //! two threads): with a serial part of about 22 us, 179-206 us a step where about 169 are the
 //! ideal; with about 155 us, 334-349 us where about 302 are; with the workers kept polling,
 //! 168-179 and 306-311 us. On the 2800-element ball, two threads: 0.2932-0.3019 us per element
-//! step before, 0.2712-0.2811 after (BENCHMARKS.md, session 12).
+//! step before, 0.2712-0.2811 after (the history of BENCHMARKS.md).
 //!
 //! So, as an OpenMP runtime does with `OMP_WAIT_POLICY=active` (its default spins a while and
 //! then sleeps), the workers other than the one running the step poll the pool for jobs while

@@ -38,7 +38,7 @@ pub fn norm(a: Vec3) -> f64 {
 /// Cube root, within 1 ulp of the correctly rounded `x.cbrt()`, for the element kernel's
 /// length `V^(1/3)` (once per element and step): perf put the Rust runtime's correctly
 /// rounded routine at 5.6% of the 2800 ball's step; in a loop this one takes 4 ns a call
-/// against its 11 (the 100k cube's step about 2% shorter, BENCHMARKS.md session 15).
+/// against its 11 (the 100k cube's step about 2% shorter).
 ///
 /// For a positive normal x: a first guess from the bits, the biased exponent and mantissa
 /// divided by 3 and re-biased by 2/3 of the exponent bias (`0x2AA0...`), lowered slightly (the

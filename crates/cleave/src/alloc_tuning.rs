@@ -7,8 +7,8 @@
 //! block: once the threshold has risen, the freed blocks stay as holes in the heap and count
 //! in the resident set. Fixing the threshold at 128 KiB (`mallopt` turns the rise off) keeps
 //! every large block in its own mapping: the 20,000-element ball's peak resident memory over
-//! 20 us went from 75.7 to 70.9 MB, with no change in its time per element step (BENCHMARKS.md,
-//! session 15). Elsewhere this does nothing.
+//! 20 us went from 75.7 to 70.9 MB, with no change in its time per element step. Elsewhere
+//! this does nothing.
 
 /// 128 KiB: glibc's own starting value.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]

@@ -131,12 +131,10 @@
 //! anywhere: on the fracturing 2800-element ball at about 190 m/s over its first 44 us, twice
 //! the impact speed, and that is motion inside the breaking ball spread over many nodes, not
 //! the ball against the plate (without the plate's nodes the box keeps 83-95% of it, without
-//! the 50 most extreme displacements at each end of each axis 86%: BENCHMARKS.md, Session 22),
-//! while the pairs that get tested mostly move together: on the fracturing
-//! 20,000-element ball the pairs tested moved relative to each other at 0.055 of its growth on
-//! average. A sound bound per node (from the displacement boxes of small cells around it) would
-//! grow at 0.28 of it, so at best 3.6 times fewer tests, for about 2 MB more memory at that size
-//! (BENCHMARKS.md, Session 21); not built.
+//! the 50 most extreme displacements at each end of each axis 86%), while the pairs that get
+//! tested mostly move together: on the fracturing 20,000-element ball the pairs tested moved
+//! relative to each other at 0.055 of its growth on average. Bounds per node and per cell of
+//! space were tried and dropped (Cost, below): the tests they save are the cheap ones.
 //!
 //! Facing bound: with n_s the node's normal `S / |S|` and n the face's normals (within the cone
 //! of [`penalty::FaceBounds`] about n0), `n_s . n >= f0`, f0 the least over the cone
@@ -195,72 +193,35 @@
 //! opened along the normal by more than [`closure::TIGHT`] (a fifth, as the slip that
 //! releases it) of its shortest edge: its faces are then searched around at once, as when an
 //! interface fails, and bury their nodes again from their next search when the crack shuts.
-//! Counted on the 2800 ball (one run, before the rule): the nodes that are now buried made
-//! 69% of the 2.62 million pair tests and found no contact; with the rule the ball's CSVs
-//! are byte-identical, and the contact's share of the step fell from 36.7-41.3% to
-//! 28.2-30.0% (one thread, five runs each; BENCHMARKS.md, session 14).
+//! On the 2800 ball the buried nodes made 69% of the pair tests (counted before the rule), and
+//! found no contact; leaving them out keeps the ball's output byte for byte and took the
+//! contact's share of the step from 37-41% to 28-30% (one thread).
 //!
-//! # Cost (measured)
-//! `cleave bench ball` (the ball and plate of `cleave example ball-impact`, 2825 elements split
-//! into 22472 nodes, SLSFAC 0.2, 3473 steps to 50 us; 2267 since PENOPT 1), on this project's
-//! 2-core machine, one thread, runs alternating with the build of the session's start (16afc31):
-//! 0.530-0.540 us per element step, contact 44% of the step (16afc31: 0.704-0.707 us, 54%). Per
-//! step, with the margin at 0.1: about 11,000 nodes on the surface, 3,800 leads, 1,700 pair tests
-//! (1,262 since the first due from the sphere and no drops, session 8; 776 nodes test a pair), 49
-//! projections, bounds worked out for 740 faces of 3,100 listed (at 20,000 elements, 12 us: 65,000
-//! nodes, 22,000 leads, 10,900 tests of which 62% are rejected by the bounds with a clearance of
-//! more than [`HOT_STEPS`] steps, 460 projections). Timers added for one run (then removed): node
-//! checks 1.2 s, full searches 0.55 s (90), incremental searches 0.11 s (558), closed cracks 0.29
-//! s, motion tracking 0.19 s, scatter 0.08 s, face normals 0.07 s. The node checks are bound by
-//! memory: each test reads the node's schedule, its list, the face's bounds and stamp, at about 200
-//! ns a test. Closed cracks (c76f631) took the pairs tested in full from 29 to about 2.1 million
-//! over the run. Earlier builds: checking every copy of a set (before 0ccfa64): 1.29 and 2.44 us on
-//! 2 and 1 threads, contact 81% and 84%; before the skipping and the parallel searches: 2.09 and
-//! 3.46 us, 89%. Without separation (`--no-separation`) contact takes 2-3% of the 20,000-element
-//! ball's step.
+//! # Cost
+//! Where a fragmenting run's contact time goes (the 20,000-element ball of `cleave bench ball`,
+//! 50 us, one thread, timers added for one run and removed; BENCHMARKS.md has the current
+//! figures and how to take them): the node checks and the force scatter about half, the full
+//! builds 28% (240 of them: the faces' boxes, the grids, the nodes' searches), the closed
+//! cracks 16% (about 150 ns a crack and step), motion tracking 3%, the incremental searches
+//! 2.5%. The node checks are bound by memory: a check reads the node's schedule and list, the
+//! face's bounds and their stamp; a node's frame costs about 160 ns and a face's bounds about
+//! 120 ns, together about a fifth of the contact. Without separation the contact takes 2-3% of
+//! the ball's step.
 //!
-//! Session 10 (7e4e171; BENCHMARKS.md has the details): the 2800 ball at 0.560-0.574 us,
-//! contact 42-43% of the step (one thread, alternating with 38adee8: 0.600-0.626 us, 44%). Per
-//! step: 1015 nodes due, 1157 pair tests, 32 projections, 7 node-face pairs in contact. The
-//! 20,000 ball at 20 us (75,607 surface nodes, 26,332 leads; per step 7,614 nodes due, 8,712
-//! tests, 402 projections, 60 pairs in contact): contact 49-50% of the step, of which node
-//! checks 40%, full builds 26-27% (92), closed cracks 14% (8,747) and their scatter 3%,
-//! incremental searches 5%, motion tracking 7%, face normals 4%.
-//!
-//! Session 11 (87b4b4f): the full builds' searches test the boxes of a node's cell without a
-//! branch per face ([`search::BucketGrid::faces_at`]): on the 2800 ball 0.25-0.26 s against
-//! 0.35-0.36 s (timers, three runs each); the contact 38.9-42.8% of the step (six runs with
-//! timers). The margin scanned again (0.05 to 0.2): the builds and the checks still trade,
-//! least at 0.07-0.1.
-//!
-//! Tried and dropped (session 13, BENCHMARKS.md): a motion bound per node (its own
-//! `|d - c|` each step plus the largest over the watched nodes, instead of the box's
-//! diagonal) cut the pair tests of the 2800 ball by 30% and left its time within noise (why
-//! was not measured; the tests saved may be cheap ones, whose face's bounds another node had
-//! already worked out that step).
-//!
-//! Tried and dropped (2026-11-27, the 20,000-element ball, 50 us, one thread, counters and
-//! timers added for the runs): a motion bound per cell of space, the cells 2.5 mean face sizes
-//! wide, each growing by the diagonal of the box of the step's displacements of its own and its
-//! 26 neighbours' watched entries (and of the corners of the faces larger than a cell whose box
-//! reaches it), so that a pair is due when its node's cell's bound has grown by its clearance.
-//! Sound for listed pairs (a listed face's box held the node at x_ref, so its corners are in the
-//! node's cell or a neighbour, or the face is a large one registered there), and with the same
-//! forces bit for bit. It cut the pair tests from 48.5 to 29.4 million and the nodes looked at
-//! from 39.7 to 32.6 million, but the contact's time only by 0.9 s of about 25 s before the cost
-//! of the cells' own pass (3.3 s as written, serial): the tests saved are the cheap ones, of
-//! faces whose bounds the step had worked out already. The full builds stay: with the rule for
-//! them made local too (a build when a cell's neighbourhood has spread by the margin) a probe
-//! counted 153 to 189 builds instead of 240 (cells 1.5 and 3 face sizes), the fragments sliding
-//! on the plate and flying apart being local motion as well. A larger margin (0.2) halves the
-//! builds (240 to 123, their time 6.5 to 4.3 s) but the checks grow more (the contact 23.0 to
-//! 24.2 s); cells of the grids a half, two thirds and a third of a box (`CELLS_PER_BOX` 1, 1.5, 3
-//! instead of 2): no gain. Keeping each node's frame with the motion bound it was worked out
-//! at, and using it while its facing clearance exceeded the motion since (sound: its normal
-//! turns by at most its own bound over that motion), left the forces the same bits but worked
-//! out 13.9 million frames instead of 14.7 million (the rest fresh, the kept one's clearance
-//! used up) for 3.7 MB more: not kept. A frame costs about 160 ns and a face's bounds about
-//! 120 ns (24.7 million over the run), together about a fifth of the contact's time.
+//! Tried on that ball and dropped, each with the same output bits (the measurements are in the
+//! history of BENCHMARKS.md):
+//! - A motion bound per node (its own displacement plus the largest of the watched nodes'),
+//!   or per cell of space 2.5 face sizes wide (its 27-cell neighbourhood's displacement box):
+//!   the pair tests fall by 30-40%, the contact's time by under 4% before the bound's own
+//!   pass. The tests saved are the cheap ones, of faces whose bounds the step had worked out
+//!   already. Full builds made by a local rule (a cell's neighbourhood spread by the margin)
+//!   would still be 153-189 instead of 240: fragments sliding and flying apart move locally
+//!   too.
+//! - A larger margin (0.2): half the full builds, but the checks grow more (the contact 23.0 to
+//!   24.2 s); [`MARGIN_FRACTION`] 0.07-0.1 is the least. Grid cells of 1, 1.5 or 3 per box
+//!   instead of 2 (`CELLS_PER_BOX`, search.rs): no gain.
+//! - Each node's frame kept with the motion bound it was worked out at, while its facing
+//!   clearance exceeds the motion since: 5% fewer frames worked out, for 3.7 MB more.
 
 pub mod bounds_cache;
 mod cand_lists;

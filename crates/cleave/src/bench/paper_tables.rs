@@ -13,7 +13,7 @@
 //!
 //! Repeats: a coarse mesh's run lasts a tenth of a second, where a page fault or a busy
 //! moment of the host is a sizeable part of it (the 256 ball's ratio read 1.36, 1.41 and 1.76
-//! in three back-to-back pairs of session 21). So each mesh runs in pairs, without then with
+//! in three back-to-back pairs of one day). So each mesh runs in pairs, without then with
 //! fracture, until its step loops have taken [`MIN_SECONDS`] (at most [`MAX_PAIRS`] pairs,
 //! always an odd number, so the medians are runs that were made). Each table shows the run of
 //! median time of its kind, and the ratio is the median of the pairs' ratios, with their

@@ -95,8 +95,11 @@ pub struct Layout {
 /// its prescribed motions (10 values each: code 0-2 a global axis, 3 a translation along d, 4
 /// a rotation about d; VAD 0 velocity / 1 displacement; SF; curve offset; d (3); 1 when the
 /// motion normal to d is held; birth and death times), the first and the number of its
-/// entries in the node list.
-pub const RB_PAR: usize = 23;
+/// entries in the node list; then the mass that no node carries (a given inertia,
+/// `*PART_INERTIA`: `cleave_core::rigid::Unlumped`; zero without one), its arm from the
+/// reference centre of mass (3), its second moment J (9, by rows), and the body's initial
+/// velocity and angular velocity (3 + 3, after its constraints: `RigidState::v0`, `omega0`).
+pub const RB_PAR: usize = 42;
 /// Values per rigid body in the state buffer `rb`: centre of mass (3), velocity of the centre
 /// (3), rotation (9), angular momentum (3), angular velocity (3), the next placement (3 + 9),
 /// the work of the body's constraints now and later (2), the previous placement (3 + 9).
@@ -325,6 +328,18 @@ impl Layout {
                 first as f64,
                 body.nodes.len() as f64,
             ]);
+            // the unlumped mass (the arm as `RigidBody::place` takes it, `centre - x_cm0`)
+            match &body.unlumped {
+                Some(u) => {
+                    par.push(u.mass);
+                    par.extend_from_slice(&sub(u.centre, body.x_cm0));
+                    par.extend(u.second_moment.iter().flatten());
+                }
+                None => par.extend_from_slice(&[0.0; 13]),
+            }
+            let st = body.initial_state(&model.x0, &model.v0, &setup.mass);
+            par.extend_from_slice(&st.v0);
+            par.extend_from_slice(&st.omega0);
             first += body.nodes.len();
             motions += n_mot;
         }
@@ -590,6 +605,20 @@ mod tests {
     use super::*;
     use cleave_core::mesh::box_model;
     use cleave_core::model::{Material, MaterialKind};
+
+    /// The shader reads `par` and `rb` with the strides written here: the two must agree.
+    #[test]
+    fn the_shader_reads_the_layout_strides() {
+        let shader = include_str!("step.wgsl");
+        for (name, value) in [
+            ("MAT_STRIDE", MAT_STRIDE),
+            ("RB_PAR", RB_PAR),
+            ("RB_STATE", RB_STATE),
+        ] {
+            let line = format!("const {name}: u32 = {value}u;");
+            assert!(shader.contains(&line), "step.wgsl lacks `{line}`");
+        }
+    }
 
     #[test]
     fn every_corner_is_gathered_once_in_element_order() {

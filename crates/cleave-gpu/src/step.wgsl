@@ -166,7 +166,7 @@ const N_CSLOT: u32 = 7u;   // the slots their points join (the list in `cix`)
 const ERODED_NOW: u32 = 8u; // 1 when an element eroded in this step (erosion_done)
 
 const MAT_STRIDE: u32 = 14u;
-const RB_PAR: u32 = 23u;
+const RB_PAR: u32 = 42u;
 const RB_STATE: u32 = 48u;
 const NOT_RIGID: u32 = 0xffffffffu;
 // emat: the material slot, and the bits of a tetrahedron, of ELFORM 13, of a rigid element
@@ -1833,6 +1833,77 @@ fn rb_inertia(bo: u32, r: M3) -> M3 {
 
 var<workgroup> rb_s: array<f64, 64>;
 
+// The arm of body block bo's unlumped mass from its reference centre of mass.
+fn rb_arm(bo: u32) -> vec3<f64> {
+    return vec3<f64>(par[bo + 24u], par[bo + 25u], par[bo + 26u]);
+}
+
+// (a - b) / h, entry by entry.
+fn rate3(a: M3, b: M3, h: f64) -> M3 {
+    return M3((a[0] - b[0]) / h, (a[1] - b[1]) / h, (a[2] - b[2]) / h);
+}
+
+// The unlumped mass of body b (a given inertia; none: zeros): its share of the leapfrog's
+// kinetic energy at t^n and its momentum at t^(n-1/2), from the placements at t^(n-1), t^n
+// and t^(n+1) (rigid.rs RigidBody::unlumped_motion): `1/2 M c'^- . c'^+ + 1/2 tr(R'^- J
+// R'^+^T)`, the rates the differences of the placements over their steps; at the first step
+// the rate before t^0 is `2 r'^0 - r'^+`, r'^0 from the initial velocities. Read by the
+// finish pass (its control block in workgroup memory), after the rigid pass placed the next
+// step.
+struct Unlumped {
+    ke: f64,
+    p: vec3<f64>,
+}
+fn rb_unlumped(b: u32) -> Unlumped {
+    let bo = prm.rb_off + RB_PAR * b;
+    let so = RB_STATE * b;
+    let m = par[bo + 23u];
+    let dt = wcf[DT];
+    var out = Unlumped(0.0lf, vec3<f64>(0.0lf, 0.0lf, 0.0lf));
+    if (m == 0.0lf || dt <= 0.0lf) {
+        return out;
+    }
+    let arm = rb_arm(bo);
+    let j = M3(vec3<f64>(par[bo + 27u], par[bo + 28u], par[bo + 29u]),
+               vec3<f64>(par[bo + 30u], par[bo + 31u], par[bo + 32u]),
+               vec3<f64>(par[bo + 33u], par[bo + 34u], par[bo + 35u]));
+    let r0 = rb_mat(so + 6u);
+    let r1 = rb_mat(so + 24u);
+    let c0 = rb_vec(so) + mat_vec3(r0, arm);
+    let c_new = (rb_vec(so + 21u) + mat_vec3(r1, arm) - c0) * (1.0lf / dt);
+    let a_new = rate3(r1, r0, dt);
+    var c_old = vec3<f64>(0.0lf, 0.0lf, 0.0lf);
+    var a_old = r0;
+    let dp = wcf[DT_PREV];
+    if (wcf[STEP] == 0.0lf || dp <= 0.0lf) {
+        let v0 = vec3<f64>(par[bo + 36u], par[bo + 37u], par[bo + 38u]);
+        let w0 = vec3<f64>(par[bo + 39u], par[bo + 40u], par[bo + 41u]);
+        let c_init = v0 + cross(w0, mat_vec3(r0, arm));
+        let w = M3(vec3<f64>(0.0lf, -w0[2], w0[1]), vec3<f64>(w0[2], 0.0lf, -w0[0]),
+                   vec3<f64>(-w0[1], w0[0], 0.0lf));
+        let a_init = mul3(w, r0);
+        c_old = c_init * 2.0lf - c_new;
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            a_old[i] = a_init[i] * 2.0lf - a_new[i];
+        }
+    } else {
+        let cp = rb_vec(so + 36u) + mat_vec3(rb_mat(so + 39u), arm);
+        c_old = (c0 - cp) * (1.0lf / dp);
+        a_old = rate3(r0, rb_mat(so + 39u), dp);
+    }
+    // tr(A J B^T) = sum over i, k of (A J)_ik B_ik
+    let aj = mul3(a_old, j);
+    var tr = 0.0lf;
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        for (var k = 0u; k < 3u; k = k + 1u) {
+            tr = tr + aj[i][k] * a_new[i][k];
+        }
+    }
+    out.ke = 0.5lf * m * dot(c_old, c_new) + 0.5lf * tr;
+    out.p = c_old * m;
+    return out;
+}
+
 // The sum of `val` over the 64 threads of the group, by a tree of fixed shape.
 fn rb_sum(l: u32, val: f64) -> f64 {
     rb_s[l] = val;
@@ -1886,8 +1957,17 @@ fn rigid(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wi
     if (!live || l != 0u) {
         return;
     }
-    let force = vec3<f64>(tot[0], tot[1], tot[2]);
-    let moment = vec3<f64>(tot[3], tot[4], tot[5]);
+    var force = vec3<f64>(tot[0], tot[1], tot[2]);
+    var moment = vec3<f64>(tot[3], tot[4], tot[5]);
+    // the body loads on the mass no node carries (a given inertia), at its centre
+    let m_u = par[bo + 23u];
+    if (m_u != 0.0lf) {
+        let x_c = rb_vec(so);
+        let c = x_c + mat_vec3(rb_mat(so + 6u), rb_arm(bo));
+        let fu = vec3<f64>(cf[G_NOW], cf[G_NOW + 1u], cf[G_NOW + 2u]) * m_u;
+        force = fu + force;
+        moment = cross(c - x_c, fu) + moment;
+    }
     let dt_mid = cf[DT_MID];
     let dt = cf[DT];
     let mass_b = par[bo];
@@ -3046,17 +3126,24 @@ fn finish(@builtin(local_invocation_id) lid: vec3<u32>) {
     if (l != 0u || !run) {
         return;
     }
-    let ke = f_tot[0];
+    var ke = f_tot[0];
     if (atomicLoad(&cu[NONFINITE]) != 0xffffffffu || !finite(ke)) {
         fail(4u);
         return;
+    }
+    // the mass of the bodies with a given inertia, which no node carries
+    var p_old = vec3<f64>(f_tot[1], f_tot[2], f_tot[3]);
+    for (var b = 0u; b < prm.n_rigid; b = b + 1u) {
+        let u = rb_unlumped(b);
+        ke = ke + u.ke;
+        p_old = p_old + u.p;
     }
     put_cf(E_KIN, ke);
     var body = 0.0lf;
     let dp = wcf[DT_PREV];
     if (prm.n_body > 0u && dp != 0.0lf) {
         let g = vec3<f64>(wcf[G_PREV], wcf[G_PREV + 1u], wcf[G_PREV + 2u]) + vec3<f64>(wcf[G_NOW], wcf[G_NOW + 1u], wcf[G_NOW + 2u]);
-        body = 0.5lf * dot(g, vec3<f64>(f_tot[1], f_tot[2], f_tot[3])) * dp;
+        body = 0.5lf * dot(g, p_old) * dp;
     }
     // the work of the rigid bodies' constraints and prescribed motions, body after body
     var rb_now = 0.0lf;

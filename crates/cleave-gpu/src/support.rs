@@ -7,7 +7,7 @@
 //! `*MAT_SIMPLIFIED_JOHNSON_COOK` (with their equations of state),
 //! `*MAT_PIECEWISE_LINEAR_PLASTICITY` (curve or table), rigid bodies (`*MAT_RIGID` parts with
 //! their extra nodes, `*CONSTRAINED_NODAL_RIGID_BODY`, their constraints and prescribed
-//! motion; not with a given inertia), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM),
+//! motion, a given inertia: `*PART_INERTIA`, `_INERTIA`), the time step (TSSFAC, DTINIT, DTMIN, ENDTIM),
 //! `*LOAD_BODY`, `*LOAD_NODE_...` and `*LOAD_SEGMENT...`, SPC and
 //! `*BOUNDARY_PRESCRIBED_MOTION_NODE`/`_SET`, up to 8 rigid walls (`*RIGIDWALL_PLANAR`, `_FINITE`, `*RIGIDWALL_GEOMETRIC_...` fixed or moving), tied contact
 //! (`*CONTACT_TIED_...`), automatic contact (`*CONTACT_AUTOMATIC_...`, `*CONTACT_ERODING_...`,
@@ -58,12 +58,6 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
         return Some(format!(
             "more than {} rigid walls (*RIGIDWALL_PLANAR)",
             crate::layout::MAX_WALLS
-        ));
-    }
-    if let Some(b) = setup.rigid.iter().find(|b| b.unlumped.is_some()) {
-        return Some(format!(
-            "a rigid body with a given inertia (*PART_INERTIA, _INERTIA; body {})",
-            b.id
         ));
     }
     for (e, shape) in setup.elem_shape.iter().enumerate() {

@@ -23,8 +23,9 @@
 //!
 //! Rigid bodies run with it when their nodes are in no group (each node a slot of its own). What
 //! the GPU does not run yet is refused ([`crate::support::unsupported`],
-//! [`crate::support::unsupported_split`]): tied contact, erosion or ELFORM 13 with separation,
-//! a rigid body bonded to a group's nodes.
+//! [`crate::support::unsupported_split`]): erosion with separation, a rigid body bonded to a
+//! group's nodes. (Tied contact and ELFORM 13 with separation the deck reader refuses, for the
+//! CPU too.)
 
 use cleave_core::element::shape::face_points;
 use cleave_core::math::Vec3;

@@ -7,8 +7,8 @@
 //! stiffness and the friction. The GPU runs the same node-to-face penalty contact with friction
 //! (closest point, least penetration, the engagement of a spring, PENOPT, the energy's
 //! trapezoid) with its own broad phase, a hashed grid rebuilt every step (contact.wgsl), and
-//! adds each node's contact force in the CPU's order (with separation, each slot's: its
-//! members' pass-nodes merged in pass-node order, then the closed cracks' pairs, where the CPU
+//! adds each node's contact force in the CPU's order (with separation, each slot's: the closed
+//! cracks' pairs, then its members' pass-nodes merged in pass-node order, where the CPU
 //! sums node by node, then per slot: the same terms in another order, round-off apart). The
 //! stable time step of the springs is the CPU's ([`Solver::contact_time_step`]), a constant.
 //!
@@ -870,7 +870,7 @@ impl ContactGpu {
 
     /// Each definition's resultants from the hits and closed cracks read back (mod.rs
     /// ContactForce: the force on the slave side, the sum of |f_n|, the pairs), summed in the
-    /// CPU's order: the pass-nodes, then the closed cracks' pairs.
+    /// CPU's order: the closed cracks' pairs, then the pass-nodes.
     pub fn resultants(
         &self,
         hits: &[f64],
@@ -883,25 +883,12 @@ impl ContactGpu {
                 ..Default::default()
             })
             .collect();
-        for (j, &(d, sign)) in self.tables.pn_def.iter().enumerate() {
-            let Some(h) = hits.get(HIT * j..HIT * (j + 1)) else {
-                break;
-            };
-            if h[0] < 0.0 || h[10] == 0.0 {
-                continue;
-            }
-            let o = &mut out[d];
-            for k in 0..3 {
-                o.force[k] += h[5 + k] * sign;
-            }
-            o.normal += h[10];
-            o.pairs += 1;
-        }
         for (k, &d) in self.tables.closures.iter().enumerate() {
             let Some(s) = clo.get(CLO * k..CLO * (k + 1)) else {
                 break;
             };
-            // closure.rs Closure::force: fn_mag n, plus the friction unless frictionless
+            // closure.rs Closure::force: fn_mag n, plus the friction unless frictionless (the
+            // closed cracks first, as the CPU adds them: mod.rs Contact::compute)
             let frictionless = self.tables.cfl[self.tables.param("CF_DEF") + 4 * d + 3] != 0.0;
             for p in 0..4 {
                 let fn_mag = s[15 + p];
@@ -918,6 +905,20 @@ impl ContactGpu {
                     o.pairs += 1;
                 }
             }
+        }
+        for (j, &(d, sign)) in self.tables.pn_def.iter().enumerate() {
+            let Some(h) = hits.get(HIT * j..HIT * (j + 1)) else {
+                break;
+            };
+            if h[0] < 0.0 || h[10] == 0.0 {
+                continue;
+            }
+            let o = &mut out[d];
+            for k in 0..3 {
+                o.force[k] += h[5 + k] * sign;
+            }
+            o.normal += h[10];
+            o.pairs += 1;
         }
         out
     }

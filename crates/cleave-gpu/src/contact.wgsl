@@ -34,8 +34,8 @@
 // element separation a coincident set's slot: positions, velocities and forces are read and
 // written there) to `fcon`, which the step (step.wgsl node_force's callers) adds to the other
 // forces. With separation the pass-nodes are the sets' leads, a face holding a copy of the
-// node's chain label is left out, and the closed cracks' pairs add their forces after the
-// pass-nodes'.
+// node's chain label is left out, and the closed cracks' pairs add their forces before the
+// pass-nodes', as on the CPU.
 //
 // The sizes (C_NN nodes, C_NF faces, C_NP pass-nodes, C_NG surface nodes, C_M cells), the
 // offsets of the tables in `ci` and `cfl` and of the grid's and hit lists' parts are the first
@@ -894,9 +894,10 @@ fn lower_bound(a: u32, b: u32, v: u32) -> u32 {
     return lo;
 }
 
-// Surface node g's contact force: the forces of the pass-nodes that act on it (its own hits,
-// and the reactions -w_a f of those that hit a face it is corner a of), added in the order of
-// the pass-nodes (the CPU's scatter order: mod.rs Contact::compute), each pass-node's own
+// Surface node g's contact force: the closed cracks' pairs at it, then the forces of the
+// pass-nodes that act on it (its own hits, and the reactions -w_a f of those that hit a face it
+// is corner a of), added in the order of the pass-nodes (the CPU's scatter order: mod.rs
+// Contact::compute, scatter_closures then scatter_pairs), each pass-node's own
 // force before its reactions, a face's corners in order; a pass-node with no force adds
 // nothing. Its own entries and its faces' lists are each in pass-node order: merged, each
 // list's place found again by a binary search (no cursor array, however many faces).
@@ -906,6 +907,26 @@ fn gather(g: u32) -> vec3<f64> {
     var ko = own.x;
     var cur = 0u;
     var f = vec3<f64>(0.0lf);
+    // first the closed cracks' pairs at the node, in the order the cracks closed: the force
+    // on b_k, its opposite on a_k (mod.rs scatter_closures)
+    for (var k = ci[CI_GCPTR + g]; k < ci[CI_GCPTR + g + 1u]; k = k + 1u) {
+        let e = ci[k];
+        let c = e >> 3u;
+        let p = (e >> 1u) & 3u;
+        let o = CLO * c;
+        let fn_mag = clo[o + 15u + p];
+        if (fn_mag > 0.0lf) {
+            var fk = vec3<f64>(clo[o + 12u], clo[o + 13u], clo[o + 14u]) * fn_mag;
+            if (!frictionless(ci[CI_CLO + 9u * c + 8u])) {
+                fk = fk + vec3<f64>(clo[o + 3u * p], clo[o + 3u * p + 1u], clo[o + 3u * p + 2u]);
+            }
+            if ((e & 1u) != 0u) {
+                f = f + fk * (-1.0lf);
+            } else {
+                f = f + fk;
+            }
+        }
+    }
     loop {
         // (the node's own pass-nodes without a force add nothing)
         while (ko < own.y && hits[HIT * ci[ko] + 10u] == 0.0lf) {
@@ -941,26 +962,6 @@ fn gather(g: u32) -> vec3<f64> {
             }
         }
         cur = next + 1u;
-    }
-    // the closed cracks' pairs at the node, in the order the cracks closed: the force on b_k,
-    // its opposite on a_k (mod.rs Contact::compute)
-    for (var k = ci[CI_GCPTR + g]; k < ci[CI_GCPTR + g + 1u]; k = k + 1u) {
-        let e = ci[k];
-        let c = e >> 3u;
-        let p = (e >> 1u) & 3u;
-        let o = CLO * c;
-        let fn_mag = clo[o + 15u + p];
-        if (fn_mag > 0.0lf) {
-            var fk = vec3<f64>(clo[o + 12u], clo[o + 13u], clo[o + 14u]) * fn_mag;
-            if (!frictionless(ci[CI_CLO + 9u * c + 8u])) {
-                fk = fk + vec3<f64>(clo[o + 3u * p], clo[o + 3u * p + 1u], clo[o + 3u * p + 2u]);
-            }
-            if ((e & 1u) != 0u) {
-                f = f + fk * (-1.0lf);
-            } else {
-                f = f + fk;
-            }
-        }
     }
     return f;
 }

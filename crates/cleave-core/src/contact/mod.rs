@@ -157,9 +157,10 @@
 //! # Determinism
 //! The per-node contact detection runs in parallel, but each chunk of nodes writes its own list
 //! of the nodes in contact (`touching.rs`; a node's nearest face, of equal gaps the lowest
-//! index, does not depend on the order its candidates are tested in); the forces are then
-//! scattered serially in a fixed order: definitions, passes, and the nodes in the order they
-//! joined the side. A full build puts each side's nodes in space order (Morton order of x_ref:
+//! index, does not depend on the order its candidates are tested in); the forces are
+//! scattered serially in a fixed order: definition by definition, the closed cracks' pairs in
+//! the order the cracks closed (on one thread while the searches and checks run on the
+//! others), then each pass's nodes in the order they joined the side. A full build puts each side's nodes in space order (Morton order of x_ref:
 //! neighbours, which share candidates, are checked one after the other, for the caches) when
 //! more than an eighth of them joined since the last ordering; the scatter order, the leads
 //! and their member chains (by model number) do not change with it. The results are
@@ -2181,6 +2182,28 @@ impl Contact {
         self.watch_new_nodes(inp.x);
         let spread = self.track(inp.x);
         self.step_closures(inp);
+        let mut out = ContactForce {
+            id: self.id,
+            ..Default::default()
+        };
+        // NOTE: the closed cracks' forces go in first, on one thread (serially, in the order
+        // the cracks closed), while the searches and the node checks run on the others; then
+        // the node-to-face pairs'. The order is the same on any number of threads.
+        let closures = std::mem::take(&mut self.closures);
+        let frictionless = self.friction.is_frictionless();
+        let ((), rebuilt) = rayon::join(
+            || scatter_closures(&closures, frictionless, acc, &mut out),
+            || self.search_and_check(inp, spread),
+        );
+        self.closures = closures;
+        self.scatter_pairs(acc, &mut out);
+        (out, rebuilt)
+    }
+
+    /// The searches this step needs (an incremental one around new faces, or a full build)
+    /// and the check of every node with a candidate due, each pass's contacts then in its
+    /// [`Touching`]; whether the candidates were rebuilt in full.
+    fn search_and_check(&mut self, inp: &StepInput, spread: f64) -> bool {
         self.chains.refresh(inp.tie);
         let mut rebuilt = self.dirty || spread > self.margin || self.motion > REBASE * self.margin;
         if !rebuilt && !self.pending.is_empty() && !self.update(inp.x, inp.tie, inp.table) {
@@ -2190,10 +2213,6 @@ impl Contact {
             self.rebuild(inp.x, inp.tie);
         }
         self.renew();
-        let mut out = ContactForce {
-            id: self.id,
-            ..Default::default()
-        };
         #[cfg(test)]
         let exhaustive = self.exhaustive;
         #[cfg(not(test))]
@@ -2206,7 +2225,7 @@ impl Contact {
             step_motion,
             ..
         } = self;
-        for (p, pass) in passes.iter_mut().enumerate() {
+        for pass in passes.iter_mut() {
             let ns = &sides[pass.node_side];
             let fs = &sides[pass.face_side];
             let Pass {
@@ -2260,11 +2279,22 @@ impl Contact {
                     }
                 });
             touching.swap();
-            // NOTE: serial scatter in the order the nodes joined the side: the sums depend
-            // neither on the threads nor on the nodes' places. Pass 0 has the slave nodes;
-            // pass 1 the master nodes, whose reactions act on the slave faces.
+        }
+        rebuilt
+    }
+
+    /// The node-to-face pairs' forces into `acc` and `out`.
+    ///
+    /// NOTE: serial, in the order the nodes joined the side: the sums depend neither on the
+    /// threads nor on the nodes' places. Pass 0 has the slave nodes; pass 1 the master nodes,
+    /// whose reactions act on the slave faces.
+    fn scatter_pairs(&mut self, acc: &mut NodalForces, out: &mut ContactForce) {
+        let Self { sides, passes, .. } = self;
+        for (p, pass) in passes.iter_mut().enumerate() {
+            let ns = &sides[pass.node_side];
+            let fs = &sides[pass.face_side];
             let sign = if p == 0 { 1.0 } else { -1.0 };
-            for (i, touch) in touching.by_rank(&ns.rank) {
+            for (i, touch) in pass.touching.by_rank(&ns.rank) {
                 let hit = &touch.hit;
                 let face = &fs.faces[hit.face as usize];
                 acc.add(ns.nodes[i], hit.f);
@@ -2276,21 +2306,28 @@ impl Contact {
                 out.pairs += 1;
             }
         }
-        // closed cracks: serial, in the order they closed
-        let frictionless = self.friction.is_frictionless();
-        for c in &self.closures {
-            for k in 0..4 {
-                if c.fn_mag[k] > 0.0 {
-                    let f = c.force(k, frictionless);
-                    acc.add(c.b[k], f);
-                    acc.add(c.a[k], scale(f, -1.0));
-                    out.force = add(out.force, f);
-                    out.normal += c.fn_mag[k];
-                    out.pairs += 1;
-                }
+    }
+}
+
+/// The closed cracks' forces ([`Closure::force`]) into `acc` and `out`: each pair's on b_k
+/// and its opposite on a_k, in the order the cracks closed.
+fn scatter_closures(
+    closures: &[Closure],
+    frictionless: bool,
+    acc: &mut NodalForces,
+    out: &mut ContactForce,
+) {
+    for c in closures {
+        for k in 0..4 {
+            if c.fn_mag[k] > 0.0 {
+                let f = c.force(k, frictionless);
+                acc.add(c.b[k], f);
+                acc.add(c.a[k], scale(f, -1.0));
+                out.force = add(out.force, f);
+                out.normal += c.fn_mag[k];
+                out.pairs += 1;
             }
         }
-        (out, rebuilt)
     }
 }
 

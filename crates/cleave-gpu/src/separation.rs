@@ -21,11 +21,13 @@
 //! halt, and their cracks close, on the host (`Solver::activate_cracks`), and the contact's
 //! tables are made again (contact.rs).
 //!
-//! Rigid bodies run with it when their nodes are in no group (each node a slot of its own). What
-//! the GPU does not run yet is refused ([`crate::support::unsupported`],
-//! [`crate::support::unsupported_split`]): erosion with separation, a rigid body bonded to a
-//! group's nodes. (Tied contact and ELFORM 13 with separation the deck reader refuses, for the
-//! CPU too.)
+//! Rigid bodies run with it when their nodes are in no group (each node a slot of its own), and
+//! erosion in the other materials: a step in which elements erode halts before the interfaces'
+//! check (HALT 5, their faces leave the contact's surfaces, the closed cracks' states taken from
+//! the GPU first), as the CPU erodes before it checks. What the GPU does not run yet is refused
+//! ([`crate::support::unsupported`], [`crate::support::unsupported_split`]): a rigid body
+//! bonded to a group's nodes. (Tied contact and ELFORM 13 with separation the deck reader
+//! refuses, for the CPU too.)
 
 use cleave_core::element::shape::face_points;
 use cleave_core::math::Vec3;

@@ -624,6 +624,12 @@ impl GpuStepper {
         if np {
             passes.extend([("np_node_p", groups_n), ("np_correct", groups_e)]);
         }
+        // a step in which elements erode halts after them (the contact's surfaces change on
+        // the host), before the interfaces' check, as on the CPU (solver.rs
+        // advance_to_half_step: erode_elements, then check_interfaces)
+        if erodes && contact.is_some() {
+            passes.push(("erosion_done", 1));
+        }
         if n_if > 0 {
             // a step in which interfaces fail halts after them; the softening faces' forces
             // and springs before the time step (which their springs bound), as on the CPU
@@ -634,9 +640,6 @@ impl GpuStepper {
             if sep.coh_cap > 0 {
                 passes.push(("cohesive", 0));
             }
-        }
-        if erodes && contact.is_some() {
-            passes.push(("erosion_done", 1));
         }
         let contact_at = passes.len();
         passes.push(("control", 1));
@@ -1017,6 +1020,9 @@ impl GpuStepper {
             .filter(|&e| ero[4 * e] != 0.0 && !solver.state.eroded[e])
             .map(|e| e as u32)
             .collect();
+        // the closed cracks' states as the GPU has them first (with element separation): the
+        // tables made again upload the host's, which are those of the last output or split
+        self.closures_from_gpu(solver, false)?;
         solver.erode_contact(&newly);
         self.remake_contact(solver, false)?;
         self.clear_halt();

@@ -14,8 +14,8 @@
 //! with friction; with element separation, the crack faces joining the surfaces and closed
 //! cracks: `crate::contact`), element erosion
 //! (every rule: FAIL, FS, PSFAIL, Johnson-Cook damage, `*MAT_ADD_EROSION`), element separation
-//! with every MODEL (with rigid bodies whose nodes are in no separation group; not with erosion
-//! or tied contact: `crate::separation`), the
+//! with every MODEL (with rigid bodies whose nodes are in no separation group, and with erosion
+//! in other materials: `crate::separation`), the
 //! energy ledger, and every output (states and histories are read back at their times).
 
 use cleave_core::element::Shape;
@@ -32,9 +32,6 @@ pub fn unsupported(model: &Model, setup: &Setup) -> Option<String> {
     }
     if !model.separations.is_empty() {
         let with = |what: &str| Some(format!("{what} together with element separation"));
-        if !model.erosion.is_empty() {
-            return with("element erosion");
-        }
         if !model.tied.is_empty() {
             return with("tied contact");
         }

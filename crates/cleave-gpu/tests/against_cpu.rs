@@ -21,6 +21,7 @@ use cleave_core::model::{
     PrescribedMotion, PressureLoad, RigidWall, Spc, Vad, WallExtent, WallMotion, WallShape,
 };
 use cleave_core::solver::{Observer, Solver};
+use cleave_core::state::RigidState;
 mod common;
 use cleave_gpu::{Gpu, GpuStepper};
 use common::{block, gpu};
@@ -468,15 +469,7 @@ fn rigid_bodies_match_the_cpu() {
             .filter(|&n| (m.x0[n as usize][2] - 0.06).abs() < 1e-9)
             .collect();
         if case.starts_with("rigid part") {
-            let mut steel = m.materials[0].clone();
-            steel.id = 2;
-            steel.kind = MaterialKind::Rigid {
-                cmo: 0,
-                con1: 0,
-                con2: 0,
-            };
-            m.materials.push(steel);
-            second_part(&mut m, |p| p.material = 1, |z| z > 0.05);
+            rigid_top(&mut m);
             let vad = if case.contains("velocity") {
                 Vad::Velocity
             } else {
@@ -609,23 +602,43 @@ fn rigid_bodies_match_the_cpu() {
             .chain(&a.omega)
             .fold(0.0f64, |m, v| m.max(v.abs()));
         assert!(speed > 1.0, "{case}: the body moves ({speed})");
-        for (x, y) in a.x_cm.iter().zip(&b.x_cm) {
-            assert!(
-                (x - y).abs() <= 1e-12 * 0.06,
-                "{case}: centre {:?} vs {:?}",
-                a.x_cm,
-                b.x_cm
-            );
-        }
-        for (x, y) in a.rot.iter().flatten().zip(b.rot.iter().flatten()) {
-            assert!(
-                (x - y).abs() <= 1e-12,
-                "{case}: rotation {:?} vs {:?}",
-                a.rot,
-                b.rot
-            );
-        }
+        same_placement(a, b, case);
         compare_runs(m, case);
+    }
+}
+
+/// The block's top layer of elements (above 5 cm) a `*MAT_RIGID` part of its own (part 1,
+/// material 1).
+fn rigid_top(m: &mut Model) {
+    let mut steel = m.materials[0].clone();
+    steel.id = 2;
+    steel.kind = MaterialKind::Rigid {
+        cmo: 0,
+        con1: 0,
+        con2: 0,
+    };
+    m.materials.push(steel);
+    second_part(m, |p| p.material = 1, |z| z > 0.05);
+}
+
+/// A rigid body's placement on the CPU (`a`) and the GPU (`b`): its centre within 1e-12 of the
+/// block's 6 cm, its rotation within 1e-12.
+fn same_placement(a: &RigidState, b: &RigidState, case: &str) {
+    for (x, y) in a.x_cm.iter().zip(&b.x_cm) {
+        assert!(
+            (x - y).abs() <= 1e-12 * 0.06,
+            "{case}: centre {:?} vs {:?}",
+            a.x_cm,
+            b.x_cm
+        );
+    }
+    for (x, y) in a.rot.iter().flatten().zip(b.rot.iter().flatten()) {
+        assert!(
+            (x - y).abs() <= 1e-12,
+            "{case}: rotation {:?} vs {:?}",
+            a.rot,
+            b.rot
+        );
     }
 }
 
@@ -644,15 +657,7 @@ fn rigid_bodies_match_the_cpu() {
 fn a_given_inertia_matches_the_cpu() {
     let mut m = block(Hourglass::Viscous);
     m.prescribed.clear();
-    let mut steel = m.materials[0].clone();
-    steel.id = 2;
-    steel.kind = MaterialKind::Rigid {
-        cmo: 0,
-        con1: 0,
-        con2: 0,
-    };
-    m.materials.push(steel);
-    second_part(&mut m, |p| p.material = 1, |z| z > 0.05);
+    rigid_top(&mut m);
     m.part_inertia.push(PartInertia {
         part: 1,
         given: GivenInertia {
@@ -686,22 +691,7 @@ fn a_given_inertia_matches_the_cpu() {
     let u = body.unlumped.as_ref().unwrap();
     assert!(norm(sub(body.x_cm0, u.centre)) > 1e-4, "{:?}", body.x_cm0);
     let (a, b) = (&c.state.rigid[0], &s.state.rigid[0]);
-    for (x, y) in a.x_cm.iter().zip(&b.x_cm) {
-        assert!(
-            (x - y).abs() <= 1e-12 * 0.06,
-            "centre {:?} vs {:?}",
-            a.x_cm,
-            b.x_cm
-        );
-    }
-    for (x, y) in a.rot.iter().flatten().zip(b.rot.iter().flatten()) {
-        assert!(
-            (x - y).abs() <= 1e-12,
-            "rotation {:?} vs {:?}",
-            a.rot,
-            b.rot
-        );
-    }
+    same_placement(a, b, "given inertia");
     // the body turned, and its given mass holds most of the kinetic energy
     assert!(a.rot[0][0] < 1.0 - 1e-4, "{:?}", a.rot);
     let ke = c.state.energy.kinetic;

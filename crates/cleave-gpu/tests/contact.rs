@@ -409,40 +409,7 @@ fn continues(name: &str, g: Gpu, m: &Model, at: f64) -> Gpu {
 /// changes the surfaces), and the block goes on against the layer below. (Measured: 2 elements
 /// erode by 2.3 us, 3 by 3.4 us; the block is in contact from 1 to 7 us.)
 fn eroding_plate() -> Model {
-    use cleave_core::erosion::{ErosionDef, ErosionRule};
-    let mut a = Assembly::new("eroding plate", 1.0);
-    let soft = a.material(steel());
-    let hard = a.material(steel());
-    let plate = a.part("plate", soft);
-    let block = a.part("block", hard);
-    let mut p = BoxMesh::new([6, 6, 3], [0.012, 0.012, 0.006]);
-    p.translate([0.0, 0.0, -0.006]);
-    let (pn, _) = a.mesh(p, |_| plate);
-    let mut b = BoxMesh::new([2, 2, 2], [0.004, 0.004, 0.004]);
-    b.translate([0.00413, 0.00371, 1e-5]);
-    let (bn, _) = a.mesh(b, |_| block);
-    let mut m = a.finish();
-    for i in bn {
-        m.v0[i as usize] = [0.0, 0.0, -300.0];
-    }
-    for i in pn {
-        let x = m.x0[i as usize];
-        if x[0] < 1e-9 || x[0] > 0.012 - 1e-9 || x[1] < 1e-9 || x[1] > 0.012 - 1e-9 {
-            m.spcs.push(cleave_core::model::Spc {
-                node: i,
-                dof: [true, true, true, false, false, false],
-            });
-        }
-    }
-    m.erosion = vec![ErosionDef {
-        material: soft,
-        rule: ErosionRule {
-            max_pressure: Some(2e9),
-            ncs: 1,
-            ..Default::default()
-        },
-    }];
-    m.control.end_time = 1.0e-5;
+    let (mut m, _) = common::block_on_an_eroding_plate("eroding plate", 2);
     m.contacts.push(def(None, 0.1, 0.1, 0.0));
     m
 }

@@ -76,3 +76,52 @@ pub fn block(hourglass: Hourglass) -> Model {
     m.control.end_time = 150.0 * dt * m.control.tssfac;
     m
 }
+
+/// A steel block (`n` x `n` x `n` elements, 4 mm on a side) at 300 m/s onto a steel plate (6 x 6 x
+/// 3 elements of 2 mm, clamped at its rim) whose elements erode at a pressure of 2 GPa
+/// (`*MAT_ADD_EROSION` MXPRES), to 10 us, without contact: the model and the block's material.
+pub fn block_on_an_eroding_plate(name: &str, n: usize) -> (Model, usize) {
+    use cleave_core::erosion::{ErosionDef, ErosionRule};
+    use cleave_core::mesh::{Assembly, BoxMesh};
+    let steel = Material {
+        id: 0,
+        density: 7800.0,
+        young: 200e9,
+        poisson: 0.3,
+        kind: MaterialKind::Elastic,
+    };
+    let mut a = Assembly::new(name, 1.0);
+    let soft = a.material(steel.clone());
+    let hard = a.material(steel);
+    let plate = a.part("plate", soft);
+    let block = a.part("block", hard);
+    let mut p = BoxMesh::new([6, 6, 3], [0.012, 0.012, 0.006]);
+    p.translate([0.0, 0.0, -0.006]);
+    let (pn, _) = a.mesh(p, |_| plate);
+    let mut b = BoxMesh::new([n, n, n], [0.004, 0.004, 0.004]);
+    b.translate([0.00413, 0.00371, 1e-5]);
+    let (bn, _) = a.mesh(b, |_| block);
+    let mut m = a.finish();
+    for i in bn {
+        m.v0[i as usize] = [0.0, 0.0, -300.0];
+    }
+    for i in pn {
+        let x = m.x0[i as usize];
+        if x[0] < 1e-9 || x[0] > 0.012 - 1e-9 || x[1] < 1e-9 || x[1] > 0.012 - 1e-9 {
+            m.spcs.push(Spc {
+                node: i,
+                dof: [true, true, true, false, false, false],
+            });
+        }
+    }
+    m.erosion = vec![ErosionDef {
+        material: soft,
+        rule: ErosionRule {
+            max_pressure: Some(2e9),
+            ncs: 1,
+            ..Default::default()
+        },
+    }];
+    m.control.end_time = 1.0e-5;
+    (m, hard)
+}

@@ -368,6 +368,9 @@ impl<'m> Solver<'m> {
     /// ([`crate::node_values`]; read them by node with [`Self::positions`]), unless a rigid
     /// body's node is in a set: the body places its node while the copies tied to it move
     /// with the set, so each copy keeps an entry of its own.
+    ///
+    /// Panics on a material that both erodes and separates, or on ELFORM 13 (the deck reader
+    /// refuses both with a message).
     pub fn attach_separation(&mut self, separation: Separation) {
         let tied = separation.sets().node_sets();
         let rigid_tied = (0..self.model.num_nodes())
@@ -386,6 +389,15 @@ impl<'m> Solver<'m> {
         assert!(
             self.nodal_pressure.is_none(),
             "ELFORM 13 tetrahedra with element separation: the deck reader refuses this model"
+        );
+        // an element either erodes or separates: the crack faces of an eroded element would
+        // join the contact with their stiffness (erosion in the other materials runs)
+        let m = self.model;
+        assert!(
+            !m.erosion
+                .iter()
+                .any(|d| m.separations.iter().any(|s| s.material == d.material)),
+            "element erosion in a separation group's material: the deck reader refuses this model"
         );
         assert_eq!(
             separation.num_failed(),

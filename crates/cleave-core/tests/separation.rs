@@ -199,6 +199,25 @@ fn separation(model: i32, sigmax: f64, gc: f64) -> SeparationDef {
     }
 }
 
+/// A material that both erodes and separates is refused when the separation is attached (the
+/// deck reader refuses such a deck with a message): the crack faces of an eroded element would
+/// join the contact with their stiffness.
+#[test]
+#[should_panic(expected = "element erosion in a separation group's material")]
+fn erosion_in_a_separating_material_is_refused() {
+    let mut m = pulled_bar(separation(1, 1e8, 0.0), 1e-5, 0.0);
+    m.erosion.push(cleave_core::erosion::ErosionDef {
+        material: 0,
+        rule: cleave_core::erosion::ErosionRule {
+            max_pressure: Some(1e9),
+            ..Default::default()
+        },
+    });
+    let split = split_model(&m);
+    let mut s = Solver::new(&split.model).unwrap();
+    s.attach_separation(Separation::new(&split).unwrap());
+}
+
 /// Mass, centroid and velocity of each fragment at t^n, largest mass first.
 fn fragment_table(s: &Solver) -> Vec<FragmentSummary> {
     let sep = s.separation().unwrap();

@@ -7,7 +7,8 @@
 //! stiffness and the friction. The GPU runs the same node-to-face penalty contact with friction
 //! (closest point, least penetration, the engagement of a spring, PENOPT, the energy's
 //! trapezoid) with its own broad phase, a hashed grid rebuilt every step (contact.wgsl), and
-//! adds each node's contact force in the CPU's order (with separation, each slot's: the closed
+//! adds each node's contact force in the CPU's order (for one definition; with several, the
+//! closed cracks' pairs of all of them come first; with separation, each slot's: the closed
 //! cracks' pairs, then its members' pass-nodes merged in pass-node order, where the CPU
 //! sums node by node, then per slot: the same terms in another order, round-off apart). The
 //! stable time step of the springs is the CPU's ([`Solver::contact_time_step`]), a constant.

@@ -22,9 +22,12 @@
 //! tables are made again (contact.rs).
 //!
 //! Rigid bodies run with it when their nodes are in no group (each node a slot of its own), and
-//! erosion in the other materials: a step in which elements erode halts before the interfaces'
-//! check (HALT 5, their faces leave the contact's surfaces, the closed cracks' states taken from
-//! the GPU first), as the CPU erodes before it checks. What the GPU does not run yet is refused
+//! erosion in the other materials (a material that both erodes and separates the deck reader
+//! refuses): with contact, a step in which elements erode halts before the interfaces' check
+//! (HALT 5, their faces leave the contact's surfaces, the closed cracks' states taken from the
+//! GPU first), in the CPU's order, which erodes before it checks (with erosion in other
+//! materials than the groups' the split reads nothing of it, so the order of the two halts of
+//! such a step does not change the results). What the GPU does not run yet is refused
 //! ([`crate::support::unsupported`], [`crate::support::unsupported_split`]): a rigid body
 //! bonded to a group's nodes. (Tied contact and ELFORM 13 with separation the deck reader
 //! refuses, for the CPU too.)

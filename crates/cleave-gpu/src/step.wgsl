@@ -13,12 +13,12 @@
 // (four more with ELFORM 13: np_theta and np_node_theta before the elements, np_node_p and
 // np_correct after), each a no-op once `halt` is set:
 //   elements (per elem)   stress update, corner forces, element time step; group partials
+//   erosion_done (1 thread, with contact and erosion)  halts the step if elements eroded
+//                         (HALT 5: the host changes the contact surfaces, runs the rest)
 //   interfaces (per interface, with separation)  the failure check; interfaces_done
 //                         (1 thread) halts the step if one failed (HALT 4: the host splits
 //                         the sets and runs the rest of the step)
 //   cohesive (per softening face, with MODELs 3 and 4)  tractions, forces, work, springs
-//   erosion_done (1 thread, with contact and erosion)  halts the step if elements eroded
-//                         (HALT 5: the host changes the contact surfaces, runs the rest)
 //   contact.wgsl's passes (with *CONTACT_AUTOMATIC_...; a bind group of their own; nine,
 //                         eleven with separation: the closed cracks' step, which halts the
 //                         step when one is released, HALT 6) each node's contact force at t^n

@@ -492,6 +492,8 @@ fn cracking_block_in_contact() -> Model {
 /// both (HALT 5, the faces of the eroded elements leaving and those they covered joining;
 /// HALT 4, the sets split and the crack faces joining), in two steps both (measured: 4
 /// elements erode, in steps 9, 10 and 13; 23 interfaces fail, in steps 10 and 13 among others).
+/// (The order of the two halts in such a step cannot show here: with erosion in another
+/// material than the group's the split reads nothing of it.)
 fn cracking_block_on_an_eroding_plate() -> Model {
     let (mut m, hard) = common::block_on_an_eroding_plate("cracking block on an eroding plate", 3);
     m.separations.push(SeparationDef {

@@ -328,18 +328,20 @@ impl Layout {
                 first as f64,
                 body.nodes.len() as f64,
             ]);
-            // the unlumped mass (the arm as `RigidBody::place` takes it, `centre - x_cm0`)
+            // the unlumped mass (the arm as `RigidBody::place` takes it, `centre - x_cm0`) and
+            // the initial velocities its first step reads; zeros without one (the shader reads
+            // none of them then, and a split's layout need not work out the body's start)
             match &body.unlumped {
                 Some(u) => {
                     par.push(u.mass);
                     par.extend_from_slice(&sub(u.centre, body.x_cm0));
                     par.extend(u.second_moment.iter().flatten());
+                    let st = body.initial_state(&model.x0, &model.v0, &setup.mass);
+                    par.extend_from_slice(&st.v0);
+                    par.extend_from_slice(&st.omega0);
                 }
-                None => par.extend_from_slice(&[0.0; 13]),
+                None => par.extend_from_slice(&[0.0; 19]),
             }
-            let st = body.initial_state(&model.x0, &model.v0, &setup.mass);
-            par.extend_from_slice(&st.v0);
-            par.extend_from_slice(&st.omega0);
             first += body.nodes.len();
             motions += n_mot;
         }

@@ -30,6 +30,7 @@ use cleave_core::solver::Solver;
 use std::hash::{BuildHasherDefault, Hasher};
 use wgpu::util::DeviceExt;
 
+use crate::by_entry::ByEntry;
 use crate::device::{Gpu, GpuError};
 
 /// The tables' look-ups (a node's lead, a face or pass-node by what it is), remade at every
@@ -180,6 +181,9 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     // where each node's position and force are: its coincident set's slot, or itself
     let slots = solver.separation().map(|s| s.sets().slots());
     let entry = |n: u32| slots.map_or(n, |s| s[n as usize]);
+    // the entries in use (the sets' slots: a split model's entries past them hold nothing, so
+    // the lists by entry below need not pass over the one per node of the arrays)
+    let ne = solver.separation().map_or(nn, |s| s.sets().num_slots());
     // faces of every side of every definition, numbered in that order; each side a tag
     let (mut face_nodes, mut face_entries, mut face_labels) = (vec![], vec![], vec![]);
     let (mut face_tag, mut fk, mut fdepth) = (vec![], vec![], vec![]);
@@ -268,16 +272,16 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     // the surface entries: every entry of a pass-node or a face, ascending; what acts on each
     // (its own pass-nodes, the corners of faces, the closed cracks' pairs: 8 k + 2 pair + 1
     // on the A side)
-    let own = ByEntry::new(nn, (0..np).map(|j| (pn[4 * j], j as u32)));
+    let own = ByEntry::new(ne, (0..np).map(|j| (pn[4 * j], j as u32)));
     // 4 f + a
     let corner = ByEntry::new(
-        nn,
+        ne,
         (face_entries.iter().enumerate()).map(|(k, &e)| (e, k as u32)),
     );
     // the force on b_k, then its opposite on a_k (mod.rs Contact::compute)
     let clo_tab = &clo_tab;
     let paired = ByEntry::new(
-        nn,
+        ne,
         (0..nc).flat_map(|c| {
             (0..4).flat_map(move |k| {
                 [
@@ -287,7 +291,7 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
             })
         }),
     );
-    let surface: Vec<u32> = (0..nn as u32)
+    let surface: Vec<u32> = (0..ne as u32)
         .filter(|&n| !own.of(n).is_empty() || !corner.of(n).is_empty())
         .collect();
     let ng = surface.len();
@@ -421,35 +425,6 @@ fn csr<'a>(ci: &mut Vec<u32>, count: usize, list: impl Fn(usize) -> &'a [u32]) -
     }
     ci[ptr + count] = ci.len() as u32;
     ptr
-}
-
-/// Values listed by entry (`n` entries), each entry's in the order given: a counting sort.
-struct ByEntry {
-    start: Vec<u32>,
-    values: Vec<u32>,
-}
-
-impl ByEntry {
-    fn new(n: usize, items: impl Iterator<Item = (u32, u32)> + Clone) -> Self {
-        let mut start = vec![0u32; n + 1];
-        for (e, _) in items.clone() {
-            start[e as usize + 1] += 1;
-        }
-        for k in 0..n {
-            start[k + 1] += start[k];
-        }
-        let mut fill = start.clone();
-        let mut values = vec![0; start[n] as usize];
-        for (e, v) in items {
-            values[fill[e as usize] as usize] = v;
-            fill[e as usize] += 1;
-        }
-        ByEntry { start, values }
-    }
-
-    fn of(&self, e: u32) -> &[u32] {
-        &self.values[self.start[e as usize] as usize..self.start[e as usize + 1] as usize]
-    }
 }
 
 /// What carries over to new tables: the hits and each surface entry's last force of the tables

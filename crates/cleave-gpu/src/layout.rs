@@ -14,8 +14,10 @@
 //!   2) and [`RIGID`] (an element of a rigid part). A slot is one material with one part's controls
 //!   (its `*HOURGLASS`, else the global cards: `cleave_core::solver::kernel_controls`), so parts
 //!   that share a material but not their hourglass control get slots of their own;
-//! - `nptr`/`ninc`: for each node, its element corners `8 e + a` in element order (the order
-//!   its forces are summed in, so the sum is the same bits every run);
+//! - `nptr`/`ninc`: for each node n, its element corners `8 e + a` in element order (the order
+//!   its forces are summed in, so the sum is the same bits every run), at
+//!   `ninc[nptr[2 n]..nptr[2 n + 1]]` (a start and an end per node, so that a split of the
+//!   coincident sets moves the lists of the sets it splits only: `crate::relayout`);
 //!
 //!   with element separation every array indexed by node is indexed by the coincident sets'
 //!   slots instead ([`Slots`]);
@@ -423,14 +425,15 @@ impl Layout {
             }
         }
         let conn: Vec<u32> = model.conn.iter().flatten().map(|&n| at(n)).collect();
-        let mut nptr = vec![0u32; nn + 1];
+        // each node's list: its start and end (a split moves lists in place, relayout.rs)
+        let mut start = vec![0u32; nn + 1];
         for &n in &conn {
-            nptr[n as usize + 1] += 1;
+            start[n as usize + 1] += 1;
         }
         for i in 0..nn {
-            nptr[i + 1] += nptr[i];
+            start[i + 1] += start[i];
         }
-        let mut fill = nptr.clone();
+        let mut fill = start.clone();
         let mut ninc = vec![0u32; 8 * model.num_elements()];
         for (e, c) in conn.chunks_exact(8).enumerate() {
             for (a, &n) in c.iter().enumerate() {
@@ -439,6 +442,7 @@ impl Layout {
                 *k += 1;
             }
         }
+        let nptr = (start.windows(2)).flat_map(|w| [w[0], w[1]]).collect();
         Self {
             par,
             body_off,
@@ -635,10 +639,10 @@ mod tests {
         let setup = Setup::new(&model).unwrap();
         let l = Layout::new(&model, &setup, &[], None);
         let nn = model.num_nodes();
-        assert_eq!(l.nptr[nn] as usize, 8 * model.num_elements());
+        assert_eq!(l.nptr[2 * nn - 1] as usize, 8 * model.num_elements());
         let mut seen = vec![false; 8 * model.num_elements()];
         for n in 0..nn {
-            let incs = &l.ninc[l.nptr[n] as usize..l.nptr[n + 1] as usize];
+            let incs = &l.ninc[l.nptr[2 * n] as usize..l.nptr[2 * n + 1] as usize];
             assert!(incs.windows(2).all(|w| w[0] < w[1]), "element order");
             for &c in incs {
                 assert_eq!(model.conn[c as usize / 8][c as usize % 8], n as u32);

@@ -13,18 +13,20 @@
 //! bits every time on the same device. An array larger than the device binds is bound in parts
 //! (`split.rs`).
 //!
-//! What runs on the GPU today is the first stage of the backend (the CPU step's parts, one by
-//! one), element separation with its cohesive laws (`separation.rs`: the sets split on the
-//! host in the step their interface fails) and automatic contact between bodies whose surfaces
-//! do not change (`contact.rs`, `contact.wgsl`); [`support::unsupported`] names what a deck asks
-//! that is not there yet, and
+//! What runs on the GPU today: the CPU step's parts, element separation with its cohesive laws
+//! (`separation.rs`: the sets split on the host in the step their interface fails, the arrays
+//! they change rewritten in place, `relayout.rs`) and automatic contact, with the faces of
+//! failed interfaces and eroded elements (`contact.rs`, `contact.wgsl`);
+//! [`support::unsupported`] names what a deck asks that is not there yet, and
 //! `cleave run --gpu` refuses such a deck with that name (exit 2), never a silent fallback to
 //! the CPU.
 
+mod by_entry;
 mod contact;
 pub mod device;
 pub mod layout;
 mod pass_times;
+mod relayout;
 mod separation;
 mod split;
 pub mod stepper;

@@ -8,8 +8,9 @@
 //! interfaces and their failure indices, releases them ([`Solver::release_interfaces`]: at
 //! most one per element, in order of failure index, as on the CPU), splits the sets, rewrites
 //! the arrays that depend on them (connectivity by slot, each slot's corners, masses,
-//! constraints, loads, the loose elements' material slots, the interface table) and runs the
-//! rest of the step on the GPU, which gathers the split sets' forces from the corner forces it
+//! constraints, loads, the loose elements' material slots, the interface table: in place, the
+//! values of the sets that split alone, `crate::relayout`) and runs the rest of the step on
+//! the GPU, which gathers the split sets' forces from the corner forces it
 //! kept. So the pieces part in the step their interface fails, as on the CPU.
 //!
 //! Cohesive laws (MODELs 3 and 4): the softening faces live on the GPU ([`Cohesive`]); each
@@ -39,10 +40,11 @@ use cleave_core::separation::interfaces::Status;
 use cleave_core::solver::{RunError, Solver};
 
 use crate::layout::{by_component, by_element, Layout, Slots};
+use crate::relayout::runs;
 use crate::stepper::{Control, GpuStepper};
 
 /// Values per interface in `ifu` (step.wgsl `IF_STRIDE`).
-const IF_STRIDE: usize = 12;
+pub(crate) const IF_STRIDE: usize = 12;
 
 /// The interface buffers (empty arrays and `n_if` 0 without separation).
 pub(crate) struct SepBuffers {
@@ -268,8 +270,9 @@ pub(crate) fn node_of_entry(solver: &Solver, k: u32) -> usize {
 impl GpuStepper {
     /// Write the arrays that depend on the coincident sets from the solver's separation as it
     /// stands: the layout by slot, the masses, positions and velocities (per slot), the
-    /// interface table; and empty the failure list.
-    pub(crate) fn upload_sets(&self, solver: &Solver, step: f64) {
+    /// interface table; and empty the failure list. The copy of the arrays a split changes in
+    /// place ([`crate::relayout::Relayout`]) is taken from them.
+    pub(crate) fn upload_sets(&mut self, solver: &Solver, step: f64) {
         let lay = Layout::new(solver.model, &solver.setup, solver.ties(), slots(solver));
         let q = &self.gpu().queue;
         let b = &self.model_bufs;
@@ -306,7 +309,67 @@ impl GpuStepper {
         let (ifu, ifs, _, _) = interface_table(solver);
         u32s(&self.sep.ifu, &ifu);
         f64s(&self.sep.ifs, &ifs);
-        u32s(&self.sep.ifl, &[0]);
+        self.upload_set_counts(solver);
+        if let Some(r) = &mut self.relayout {
+            r.reset(solver, &lay, ifu);
+        }
+    }
+
+    /// Write what a split changed in place ([`crate::relayout::Relayout::split`]; `released`: the interfaces
+    /// released in it), or when it cannot be changed in place, everything
+    /// ([`Self::upload_sets`]).
+    pub(crate) fn upload_split(&mut self, solver: &Solver, step: f64, released: &[u32]) {
+        let Some(ch) = (self.relayout.as_mut()).and_then(|r| r.split(solver, released)) else {
+            self.upload_sets(solver, step);
+            return;
+        };
+        let r = self.relayout.as_ref().expect("the arrays a split changes");
+        let q = &self.gpu().queue;
+        let b = &self.model_bufs;
+        // each array's changed values, in runs (a few unchanged values between two changed
+        // ones are written again rather than cost a write of their own)
+        const GAP: usize = 16;
+        let put = |buf: &wgpu::Buffer, data: &[u32], idx: Vec<usize>| {
+            for run in runs(idx, GAP) {
+                q.write_buffer(buf, 4 * run.start as u64, bytemuck::cast_slice(&data[run]));
+            }
+        };
+        put(&b.conn, &r.conn, ch.conn);
+        put(&b.emat, &r.emat, ch.emat);
+        put(&b.nptr, &r.nptr, ch.nptr);
+        put(&b.ninc, &r.ninc, ch.ninc);
+        put(&b.nflag, &r.nflag, ch.nflag);
+        put(&self.sep.ifu, &r.ifu, ch.ifu);
+        // the split sets' pieces: their masses, x^n (in the half of step `step`), v^(n-1/2)
+        // and v^n, the host's (a new slot's are those of the set it split from)
+        let mass = solver.slot_masses().expect("masses per slot");
+        let (x, v, vn) = (
+            solver.positions().entries(),
+            solver.half_step_velocities().entries(),
+            solver.velocities().entries(),
+        );
+        let x_at = 8 * self.x_half(step).start as u64;
+        for run in runs(ch.slots, GAP) {
+            let (at, s) = (run.start as u64, run.clone());
+            q.write_buffer(&b.mass, 8 * at, bytemuck::cast_slice(&mass[s.clone()]));
+            let flat =
+                |a: &[[f64; 3]]| -> Vec<f64> { a[s.clone()].iter().flatten().copied().collect() };
+            q.write_buffer(
+                &self.state.x,
+                x_at + 24 * at,
+                bytemuck::cast_slice(&flat(x)),
+            );
+            q.write_buffer(&self.state.v, 24 * at, bytemuck::cast_slice(&flat(v)));
+            q.write_buffer(&self.state.vn, 24 * at, bytemuck::cast_slice(&flat(vn)));
+        }
+        self.upload_set_counts(solver);
+    }
+
+    /// Write what follows the number of sets: the failure list emptied, the softening faces
+    /// (with a cohesive law), the entries in use and the node passes' groups.
+    fn upload_set_counts(&self, solver: &Solver) {
+        let q = &self.gpu().queue;
+        q.write_buffer(&self.sep.ifl, 0, bytemuck::bytes_of(&0u32));
         if self.sep.coh_cap > 0 {
             let co = Cohesive::of(solver);
             q.write_buffer(
@@ -411,7 +474,8 @@ impl GpuStepper {
                 "the GPU's interface table is out of date: {e}"
             )))
         })?;
-        self.upload_sets(solver, c.step());
+        let released: Vec<u32> = found.iter().map(|f| f.1).collect();
+        self.upload_split(solver, c.step(), &released);
         // with contact (each a no-op without): the new crack faces join the surfaces and the
         // cracks close on the host, whose closed cracks take the GPU's states first; the
         // contact's tables made again

@@ -1716,7 +1716,7 @@ fn np_theta(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
 fn np_node(n: u32, k: u32) {
     var num = 0.0lf;
     var den = 0.0lf;
-    for (var i = nptr[n]; i < nptr[n + 1u]; i = i + 1u) {
+    for (var i = nptr[2u * n]; i < nptr[2u * n + 1u]; i = i + 1u) {
         let e = ninc[i] >> 3u;
         let a = ninc[i] & 7u;
         // a tetrahedron's node once, at its corner 0, 1, 2 or 4
@@ -2685,7 +2685,7 @@ fn constrain(m: f64, w: f64, v: vec3<f64>, vn: vec3<f64>, v_new: vec3<f64>) -> C
 fn node_force(n: u32) -> vec3<f64> {
     let g = vec3<f64>(cf[G_NOW], cf[G_NOW + 1u], cf[G_NOW + 2u]);
     var f = g * mass[n];
-    for (var k = nptr[n]; k < nptr[n + 1u]; k = k + 1u) {
+    for (var k = nptr[2u * n]; k < nptr[2u * n + 1u]; k = k + 1u) {
         let c = ninc[k];
         let e = c >> 3u;
         let a = c & 7u;

@@ -179,6 +179,9 @@ pub struct GpuStepper {
     split: Vec<(String, usize)>,
     /// Automatic contact (contact.rs), when the deck has some.
     contact: Option<ContactGpu>,
+    /// With element separation: the arrays a split changes, kept to change them in place
+    /// (relayout.rs).
+    pub(crate) relayout: Option<crate::relayout::Relayout>,
     /// Each pass timed over the run, when asked ([`Self::time_passes`]).
     times: Option<PassTimes>,
     /// The halts for the host in a step ([`Self::host_halts`]): count and wall seconds.
@@ -746,6 +749,7 @@ impl GpuStepper {
                 .map(|s| (s.decl.name.clone(), s.chunks.len()))
                 .collect(),
             contact,
+            relayout: crate::relayout::Relayout::new(solver, &lay),
         })
     }
 

@@ -1395,20 +1395,25 @@ impl GpuStepper {
         self.gpu.queue.submit([enc.finish()]);
         staging.slice(..).map_async(wgpu::MapMode::Read, |_| {});
         let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
-        let all = match staging.slice(..).get_mapped_range() {
-            Ok(bytes) => bytes.to_vec(),
-            Err(_) => bytemuck::cast_slice(&vec![f64::NAN; (size.max(4) / 8) as usize]).to_vec(),
+        // (each part copied once, from the mapped range, or from NaNs where it is lost)
+        let cut = |all: &[u8]| -> Vec<Vec<u8>> {
+            let mut at = 0;
+            (parts.iter())
+                .map(|&(_, _, len)| {
+                    let part = all[at..at + len as usize].to_vec();
+                    at += len as usize;
+                    part
+                })
+                .collect()
+        };
+        let out = match staging.slice(..).get_mapped_range() {
+            Ok(all) => cut(&all),
+            Err(_) => cut(bytemuck::cast_slice(&vec![
+                f64::NAN;
+                size.div_ceil(8) as usize
+            ])),
         };
         staging.unmap();
-        let mut out = Vec::with_capacity(parts.len());
-        let mut at = 0;
-        for &(_, _, len) in parts {
-            let end = (at + len as usize).min(all.len());
-            let mut part = all[at.min(end)..end].to_vec();
-            part.resize(len as usize, 0xff);
-            out.push(part);
-            at += len as usize;
-        }
         out
     }
 
@@ -1421,8 +1426,6 @@ impl GpuStepper {
     /// Fill the host mirror's positions and velocities at step `step` from the GPU, and the
     /// softening faces' state.
     pub(crate) fn mirror_kinematics(&self, solver: &mut Solver, step: f64) {
-        let vec3s =
-            |d: Vec<f64>| -> Vec<Vec3> { d.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect() };
         // one entry per node, or per slot of the coincident sets (as many as there are now:
         // the GPU's arrays hold one per node, the entries past these unused)
         let nn = solver.positions().entries().len();
@@ -1435,8 +1438,7 @@ impl GpuStepper {
             (v, 0, bytes),
             (vn, 0, bytes),
         ]);
-        let f64s = |b: &[u8]| -> Vec<f64> { bytemuck::pod_collect_to_vec(b) };
-        let [x, v, vn] = [0, 1, 2].map(|k| vec3s(f64s(&got[k])));
+        let [x, v, vn] = [0, 1, 2].map(|k| bytemuck::pod_collect_to_vec::<u8, Vec3>(&got[k]));
         solver.set_kinematics(x, v, vn);
         if self.sep.coh_cap > 0 {
             self.import_cohesive(solver);

@@ -433,41 +433,47 @@ impl GpuStepper {
     /// the host (the CPU's rules), rewrite what the split sets change, and run the rest of the
     /// step.
     pub(crate) fn split(&mut self, solver: &mut Solver, c: &Control) -> Result<(), RunError> {
-        // what the release reads: the positions and velocities (the new slots start with their
-        // set's), with a cohesive law the stresses (the onset traction); the rest of the
-        // mirror waits for the next output
-        self.mirror_kinematics(solver, c.step());
-        // (one read-back: the failed interfaces' list, their failure indices, with a cohesive
-        // law the stresses)
+        // One read-back: what the release reads (the positions and velocities: the new slots
+        // start with their set's; with a cohesive law the stresses, the onset traction; the
+        // rest of the mirror waits for the next output), the head of the failure list and of
+        // their indices, and with contact what its remake reads
         let (ifl, ifs, sig) = (&self.sep.ifl, &self.sep.ifs, &self.state.sig);
-        let mut parts = vec![
-            (ifl, 0, ifl.size()),
-            (
-                ifs,
-                8 * u64::from(self.sep.if_index),
-                8 * u64::from(self.sep.n_if),
-            ),
-        ];
-        if self.sep.coh_cap > 0 {
+        let head = u64::from(self.sep.n_if).min(self.list_head);
+        let index_at = 8 * u64::from(self.sep.if_index);
+        let mut parts = self.kinematics_parts(solver, c.step()).to_vec();
+        parts.extend([(ifl, 0, 4 * (1 + head)), (ifs, index_at, 8 * head)]);
+        let cohesive = self.sep.coh_cap > 0;
+        if cohesive {
             parts.push((sig, 0, sig.size()));
         }
+        let contact = parts.len();
+        parts.extend(self.contact_parts());
         let got = self.download_ranges(&parts);
-        if self.sep.coh_cap > 0 {
-            let sig = by_element(&bytemuck::pod_collect_to_vec::<u8, f64>(&got[2]), 6);
+        self.take_kinematics(solver, &got[..3]);
+        if cohesive {
+            let sig = by_element(&bytemuck::pod_collect_to_vec::<u8, f64>(&got[5]), 6);
             for (e, s) in solver.state.stress.iter_mut().enumerate() {
                 s.copy_from_slice(&sig[6 * e..6 * e + 6]);
             }
         }
         c.apply(solver);
-        let list: Vec<u32> = bytemuck::pod_collect_to_vec(&got[0]);
-        let index_of: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
+        let mut list: Vec<u32> = bytemuck::pod_collect_to_vec(&got[3]);
+        let mut index_of: Vec<f64> = bytemuck::pod_collect_to_vec(&got[4]);
         // (a lost device reads back as NaNs: the count and numbers are then bounded, and
         // the next read of the control block reports the loss)
-        let count = (list[0] as usize).min(list.len() - 1);
-        let index = |i: u32| index_of.get(i as usize).copied();
-        let found: Vec<(f32, u32)> = list[1..=count]
-            .iter()
-            .map(|&i| (index(i).unwrap_or(f64::NAN) as f32, i))
+        let count = (list[0] as usize).min(self.sep.n_if as usize);
+        if count as u64 > head {
+            // the rest of a long list
+            let rest = (count as u64 - head) as usize;
+            let more = self.download_ranges(&[
+                (ifl, 4 * (1 + head), 4 * rest as u64),
+                (ifs, index_at + 8 * head, 8 * rest as u64),
+            ]);
+            list.extend(bytemuck::pod_collect_to_vec::<u8, u32>(&more[0]));
+            index_of.extend(bytemuck::pod_collect_to_vec::<u8, f64>(&more[1]));
+        }
+        let found: Vec<(f32, u32)> = (list[1..=count].iter().zip(&index_of))
+            .map(|(&i, &index)| (index as f32, i))
             .collect();
         solver.release_interfaces(&found).map_err(|e| {
             RunError::Output(std::io::Error::other(format!(
@@ -479,9 +485,11 @@ impl GpuStepper {
         // with contact (each a no-op without): the new crack faces join the surfaces and the
         // cracks close on the host, whose closed cracks take the GPU's states first; the
         // contact's tables made again
-        self.closures_from_gpu(solver, false)?;
+        if let Some(clo) = got.get(contact) {
+            self.closures_to_host(solver, clo, false)?;
+        }
         solver.activate_cracks();
-        self.remake_contact(solver, true)?;
+        self.remake_contact(solver, true, got.get(contact + 1..).unwrap_or(&[]))?;
         self.clear_halt();
         self.finish_step_after("interfaces_done");
         Ok(())

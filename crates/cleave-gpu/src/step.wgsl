@@ -2349,8 +2349,9 @@ fn control(@builtin(local_invocation_id) lid: vec3<u32>) {
 // slots (layout.rs Slots); the host keeps the sets and splits them. Per interface, in `ifu`
 // (IF_STRIDE values): its two elements, its group, 1 while intact, and the slots of its 8
 // nodes (side a's 4, then side b's, a triangle's fourth the third); in `ifs`: its strength,
-// then (from n_if) each group's MODEL and BETA, then (from if_index) the failure index of each
-// interface that reached 1 in this step. `ifl`: the number of those, then their numbers.
+// then (from n_if) each group's MODEL and BETA, then (from if_index) the failure indices of
+// the interfaces that reached 1 in this step, in the order of `ifl`: the number of those, then
+// their numbers (so the host reads the head of both, not an index per interface).
 const IF_STRIDE: u32 = 12u;
 
 // The interfaces pass: an interface whose failure index reached 1 is listed (the order of
@@ -2410,9 +2411,9 @@ fn interfaces(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_i
     }
     let index = measure / strength;
     if (index >= 1.0lf) {
-        ifs[prm.if_index + i] = index;
         let k = atomicAdd(&ifl[0], 1u);
         atomicStore(&ifl[1u + k], i);
+        ifs[prm.if_index + k] = index;
     }
 }
 

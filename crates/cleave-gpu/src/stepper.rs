@@ -182,6 +182,9 @@ pub struct GpuStepper {
     /// With element separation: the arrays a split changes, kept to change them in place
     /// (relayout.rs).
     pub(crate) relayout: Option<crate::relayout::Relayout>,
+    /// The failures of a step read back with the rest of a split's one read-back (a step in
+    /// which more fail reads the others in a second one).
+    pub(crate) list_head: u64,
     /// Each pass timed over the run, when asked ([`Self::time_passes`]).
     times: Option<PassTimes>,
     /// The halts for the host in a step ([`Self::host_halts`]): count and wall seconds.
@@ -750,7 +753,15 @@ impl GpuStepper {
                 .collect(),
             contact,
             relayout: crate::relayout::Relayout::new(solver, &lay),
+            list_head: 1024,
         })
+    }
+
+    /// Read at most `n` (at least 1) of a step's failed interfaces with the rest of a split's
+    /// read-back, the others in a second one (1024 by default; for tests of the second).
+    #[doc(hidden)]
+    pub fn set_failure_list_head(&mut self, n: u64) {
+        self.list_head = n.max(1);
     }
 
     /// The device this stepper runs on.
@@ -1019,16 +1030,20 @@ impl GpuStepper {
         let Some(ero) = self.ero.as_ref().filter(|_| self.contact.is_some()) else {
             return Ok(());
         };
-        let ero = self.download(ero);
+        // (one read-back: the erosion flags, then what the contact's remake reads)
+        let mut parts = vec![(ero, 0, ero.size())];
+        parts.extend(self.contact_parts());
+        let got = self.download_ranges(&parts);
+        let ero: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
         let newly: Vec<u32> = (0..solver.model.num_elements())
             .filter(|&e| ero[4 * e] != 0.0 && !solver.state.eroded[e])
             .map(|e| e as u32)
             .collect();
         // the closed cracks' states as the GPU has them first (with element separation): the
         // tables made again upload the host's, which are those of the last output or split
-        self.closures_from_gpu(solver, false)?;
+        self.closures_to_host(solver, &got[1], false)?;
         solver.erode_contact(&newly);
-        self.remake_contact(solver, false)?;
+        self.remake_contact(solver, false, &got[2..])?;
         self.clear_halt();
         self.finish_step_after("erosion_done");
         Ok(())
@@ -1039,31 +1054,50 @@ impl GpuStepper {
     /// contact's tables are made again with the pairs carried over, and the rest of the step
     /// runs.
     fn release_cracks(&mut self, solver: &mut Solver) -> Result<(), RunError> {
-        self.closures_from_gpu(solver, true)?;
-        self.remake_contact(solver, false)?;
+        let got = self.download_ranges(&self.contact_parts());
+        self.closures_to_host(solver, &got[0], true)?;
+        self.remake_contact(solver, false, &got[1..])?;
         self.clear_halt();
         self.finish_step_after("c_close_done");
         Ok(())
     }
 
-    /// The closed cracks' states as the GPU has them into the host's contact, those released
-    /// in this step leaving it when `released` (a halt after the cracks' pass).
-    pub(crate) fn closures_from_gpu(
+    /// What a halt reads back of the contact (none without contact), so that it joins the
+    /// halt's one read-back: the closed cracks' states, the pairs, each surface entry's last
+    /// force.
+    pub(crate) fn contact_parts(&self) -> Vec<Part<'_>> {
+        match &self.contact {
+            Some(c) => vec![
+                (&c.clo, 0, c.clo.size()),
+                (&c.hits, 0, c.hits.size()),
+                (&c.fprev, 0, c.fprev.size()),
+            ],
+            None => vec![],
+        }
+    }
+
+    /// The closed cracks' states as the GPU had them (`clo`, read back with
+    /// [`Self::contact_parts`]) into the host's contact, those released in this step leaving
+    /// it when `released` (a halt after the cracks' pass). Nothing without contact.
+    pub(crate) fn closures_to_host(
         &self,
         solver: &mut Solver,
+        clo: &[u8],
         released: bool,
     ) -> Result<(), RunError> {
         let Some(c) = &self.contact else {
             return Ok(());
         };
-        let clo: Vec<f64> = self.download(&c.clo);
+        let clo: Vec<f64> = bytemuck::pod_collect_to_vec(clo);
         (c.closures_to_host(solver, &clo, released))
             .map_err(|e| RunError::Output(std::io::Error::other(e)))
     }
 
     /// The contact's tables made again from the host's (after its surfaces, sets or closed
-    /// cracks changed), the pairs and last forces carried over; `split`: the halt of a step in
-    /// which sets split (their born slots inherit the last forces, [`ContactGpu::upload`]).
+    /// cracks changed), the pairs and last forces carried over (`got`: the pairs and the last
+    /// forces as read back, the last two of [`Self::contact_parts`]); `split`: the halt of a
+    /// step in which sets split (their born slots inherit the last forces,
+    /// [`ContactGpu::upload`]). Nothing without contact.
     /// The grid's cell is found again from the surfaces as they are, crack faces among them, at
     /// the positions the host last read (at a split this step's; after erosion or a release
     /// those of the last output or split): the cell changes the speed only, as a node finds
@@ -1072,20 +1106,17 @@ impl GpuStepper {
         &mut self,
         solver: &mut Solver,
         split: bool,
+        got: &[Vec<u8>],
     ) -> Result<(), RunError> {
         let failed = |e: String| RunError::Output(std::io::Error::other(e));
-        let Some(c) = &self.contact else {
+        let Some(c) = self.contact.as_mut() else {
             return Ok(());
         };
-        let got =
-            self.download_ranges(&[(&c.hits, 0, c.hits.size()), (&c.fprev, 0, c.fprev.size())]);
+        let [hits, fprev] = [0, 1].map(|k| {
+            got.get(k)
+                .map_or(vec![], |b| bytemuck::pod_collect_to_vec::<u8, f64>(b))
+        });
         crate::contact::settle(solver);
-        let c = self
-            .contact
-            .as_mut()
-            .ok_or_else(|| failed("no contact".into()))?;
-        let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
-        let fprev: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
         let t = crate::contact::tables(solver)
             .ok_or_else(|| failed("the solver's contact is gone".into()))?;
         // (the slots born in this step: a halt after a split; none after erosion or a release.
@@ -1378,7 +1409,7 @@ impl GpuStepper {
 
     /// Read parts of buffers back in one submission and one wait: each part a buffer, a byte
     /// offset and a byte count (multiples of 4); NaNs where the device is lost.
-    pub(crate) fn download_ranges(&self, parts: &[(&wgpu::Buffer, u64, u64)]) -> Vec<Vec<u8>> {
+    pub(crate) fn download_ranges(&self, parts: &[Part]) -> Vec<Vec<u8>> {
         let size: u64 = parts.iter().map(|p| p.2).sum();
         let staging = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("state read-back"),
@@ -1426,18 +1457,27 @@ impl GpuStepper {
     /// Fill the host mirror's positions and velocities at step `step` from the GPU, and the
     /// softening faces' state.
     pub(crate) fn mirror_kinematics(&self, solver: &mut Solver, step: f64) {
-        // one entry per node, or per slot of the coincident sets (as many as there are now:
-        // the GPU's arrays hold one per node, the entries past these unused)
+        let got = self.download_ranges(&self.kinematics_parts(solver, step));
+        self.take_kinematics(solver, &got);
+    }
+
+    /// The parts of the GPU's arrays that hold x^n at step `step`, v^(n+1/2) and v^n: one
+    /// entry per node, or per slot of the coincident sets (as many as there are now: the
+    /// GPU's arrays hold one per node, the entries past these unused).
+    pub(crate) fn kinematics_parts(&self, solver: &Solver, step: f64) -> [Part<'_>; 3] {
         let nn = solver.positions().entries().len();
         let bytes = (24 * nn as u64).min(8 * self.x_len as u64);
-        // (one read-back: x^n's half of the positions, v^(n+1/2), v^n)
         let half = self.x_half(step);
-        let (v, vn) = (&self.state.v, &self.state.vn);
-        let got = self.download_ranges(&[
+        [
             (&self.state.x, 8 * half.start as u64, bytes),
-            (v, 0, bytes),
-            (vn, 0, bytes),
-        ]);
+            (&self.state.v, 0, bytes),
+            (&self.state.vn, 0, bytes),
+        ]
+    }
+
+    /// The host mirror's positions and velocities from [`Self::kinematics_parts`] as read back
+    /// (`got`), and the softening faces' state.
+    pub(crate) fn take_kinematics(&self, solver: &mut Solver, got: &[Vec<u8>]) {
         let [x, v, vn] = [0, 1, 2].map(|k| bytemuck::pod_collect_to_vec::<u8, Vec3>(&got[k]));
         solver.set_kinematics(x, v, vn);
         if self.sep.coh_cap > 0 {
@@ -1727,6 +1767,9 @@ impl Checkpointing for NoCheckpoints<'_> {
         Ok(())
     }
 }
+
+/// A part of a buffer to read back: the buffer, a byte offset and a byte count.
+pub(crate) type Part<'a> = (&'a wgpu::Buffer, u64, u64);
 
 /// The control block as read back.
 pub(crate) struct Control {

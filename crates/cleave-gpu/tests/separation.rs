@@ -479,6 +479,36 @@ fn timing_each_pass_changes_no_result() {
 }
 
 /// The cracking block with single surface contact with friction (FS 0.3, FD 0.2).
+/// A step's failures read back in two parts (the head with the rest of the split's read-back,
+/// here one failure, then the others) give the run of one part, bit for bit; some step of this
+/// deck releases more than one interface, so the second part is read.
+#[test]
+fn a_long_failure_list_is_read_in_two_parts() {
+    let Some(g) = gpu() else {
+        return;
+    };
+    let split = split_model(&cracking_block_in_contact());
+    let every = split.model.control.end_time / 40.0;
+    let (plain, g) = run_gpu(g, &split, every);
+    let mut s = solver(&split);
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
+    st.set_failure_list_head(1);
+    let mut r = Record {
+        every,
+        next: 0.0,
+        rows: Vec::new(),
+    };
+    st.run(&mut s, &mut r).unwrap();
+    assert!(
+        r.rows == plain,
+        "reading the failures in two parts changed the run"
+    );
+    let [split, ..] = st.host_halts();
+    let failed = plain.last().unwrap().failed.len();
+    eprintln!("{failed} interfaces failed in {} splits", split.0);
+    assert!((split.0 as usize) < failed);
+}
+
 fn cracking_block_in_contact() -> Model {
     let mut m = cracking_block();
     m.contacts.push(ContactDef::single_surface_all(0.3, 0.2));

@@ -257,7 +257,10 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
                 // the faces that make its normal: none when all of them eroded (buried)
                 let first = side_start[d][ns].0;
                 let start = frame.len();
-                frame.extend(c.frame_of_lead(ns, n).iter().map(|f| first + f));
+                c.frame_of_lead(ns, n, &mut frame);
+                for f in &mut frame[start..] {
+                    *f += first;
+                }
                 frame_at.push(frame.len());
                 let buried = frame.len() == start;
                 pn.extend([entry(n), q, buried as u32, c.chain_label(n)]);
@@ -530,9 +533,9 @@ pub(crate) fn settle(solver: &mut Solver) {
 /// cell size) made the node checks 77% of a step on lavapipe.
 fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64]) -> f64 {
     let x = solver.positions();
-    let mut d: Vec<f64> = (face_nodes.chunks(4).zip(depth))
+    let mut d: Vec<f64> = (face_nodes.chunks_exact(4).zip(depth))
         .map(|(f, depth)| {
-            let p: Vec<[f64; 3]> = f.iter().map(|&n| x[n as usize]).collect();
+            let p: [[f64; 3]; 4] = std::array::from_fn(|a| x[f[a] as usize]);
             let c: [f64; 3] =
                 std::array::from_fn(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
             let r = (p.iter())
@@ -545,8 +548,8 @@ fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64]) -> f64 {
     if d.is_empty() {
         return 1.0;
     }
-    d.sort_by(f64::total_cmp);
-    d[(d.len() - 1) * 9 / 10]
+    let k = (d.len() - 1) * 9 / 10;
+    *d.select_nth_unstable_by(k, f64::total_cmp).1
 }
 
 /// The contact passes of the step, their buffers and their bind group.

@@ -67,16 +67,18 @@ impl Contact {
     }
 
     /// The faces of side `side` that shape the surface of lead `n` (its normal sums theirs, in
-    /// this order): those of its coincident set's members along the member chain, as
-    /// [`Contact::faces_of_node`] gives each (mod.rs `Side::frame`).
-    pub fn frame_of_lead(&self, side: usize, n: u32) -> Vec<u32> {
+    /// this order), appended to `out`: those of its coincident set's members along the member
+    /// chain, or of the node alone when untied, each node's faces that have not eroded (mod.rs
+    /// `Side::frame`).
+    pub fn frame_of_lead(&self, side: usize, n: u32, out: &mut Vec<u32>) {
         let s = &self.sides[side];
+        let live = |f: &u32| s.faces[*f as usize].depth > 0.0;
         match s.local.get(n as usize) {
-            Some(&i) if (i as usize) < s.group.len() => (s.members(i))
-                .flat_map(|k| s.node_faces.of(k))
-                .filter(|&f| s.faces[f as usize].depth > 0.0)
-                .collect(),
-            _ => self.faces_of_node(side, n),
+            Some(&i) if (i as usize) < s.group.len() => {
+                out.extend((s.members(i)).flat_map(|k| s.node_faces.of(k)).filter(live))
+            }
+            Some(&i) if i != NONE => out.extend(s.node_faces.of(i).filter(live)),
+            _ => {}
         }
     }
 
@@ -135,18 +137,6 @@ impl Contact {
                 }
             })
             .collect()
-    }
-
-    /// The faces of side `side` (indices into [`Contact::faces`]) that shape the surface at
-    /// model node `n` (its normal sums theirs, in this order); empty when `n` is not on it.
-    pub fn faces_of_node(&self, side: usize, n: u32) -> Vec<u32> {
-        let s = &self.sides[side];
-        match s.local.get(n as usize) {
-            Some(&i) if i != NONE => (s.node_faces.of(i))
-                .filter(|&f| s.faces[f as usize].depth > 0.0)
-                .collect(),
-            _ => Vec::new(),
-        }
     }
 }
 

@@ -252,6 +252,51 @@ impl Relayout {
     }
 }
 
+/// Writes of many small ranges of buffers through one staging buffer: the values put one after
+/// another, then a copy for each range, in one submission. (A `Queue::write_buffer` for each
+/// range makes a staging buffer for each.)
+#[derive(Default)]
+pub(crate) struct Writes<'a> {
+    data: Vec<u8>,
+    /// (target, byte offset in it, byte offset in `data`, bytes)
+    copies: Vec<(&'a wgpu::Buffer, u64, u64, u64)>,
+}
+
+impl<'a> Writes<'a> {
+    /// Write `values` into `buf` at byte `offset` (a multiple of 4, as the values' size).
+    pub fn put<T: bytemuck::Pod>(&mut self, buf: &'a wgpu::Buffer, offset: u64, values: &[T]) {
+        let bytes: &[u8] = bytemuck::cast_slice(values);
+        if bytes.is_empty() {
+            return;
+        }
+        debug_assert!(offset % 4 == 0 && bytes.len() % 4 == 0);
+        debug_assert!(offset + bytes.len() as u64 <= buf.size());
+        let at = self.data.len() as u64;
+        self.data.extend_from_slice(bytes);
+        self.copies.push((buf, offset, at, bytes.len() as u64));
+    }
+
+    /// Submit the writes (after the queue's writes before them).
+    pub fn submit(self, gpu: &crate::device::Gpu) {
+        if self.copies.is_empty() {
+            return;
+        }
+        use wgpu::util::DeviceExt;
+        let staging = gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("split writes"),
+                contents: &self.data,
+                usage: wgpu::BufferUsages::COPY_SRC,
+            });
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        for (buf, offset, at, len) in self.copies {
+            enc.copy_buffer_to_buffer(&staging, at, buf, offset, len);
+        }
+        gpu.queue.submit([enc.finish()]);
+    }
+}
+
 /// The runs of `idx` (indices into an array, any order, repeats allowed) to write: sorted, and
 /// those less than `gap` apart joined (one write of a few values between two changed ones
 /// costs less than a second write).

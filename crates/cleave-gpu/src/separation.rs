@@ -40,7 +40,7 @@ use cleave_core::separation::interfaces::Status;
 use cleave_core::solver::{RunError, Solver};
 
 use crate::layout::{by_component, by_element, Layout, Slots};
-use crate::relayout::runs;
+use crate::relayout::{runs, Writes};
 use crate::stepper::{Control, GpuStepper};
 
 /// Values per interface in `ifu` (step.wgsl `IF_STRIDE`).
@@ -324,22 +324,24 @@ impl GpuStepper {
             return;
         };
         let r = self.relayout.as_ref().expect("the arrays a split changes");
-        let q = &self.gpu().queue;
         let b = &self.model_bufs;
         // each array's changed values, in runs (a few unchanged values between two changed
-        // ones are written again rather than cost a write of their own)
+        // ones are written again rather than cost a copy of their own), all in one staging
+        // buffer: a write of its own for each run made a staging buffer for each
         const GAP: usize = 16;
-        let put = |buf: &wgpu::Buffer, data: &[u32], idx: Vec<usize>| {
+        let mut w = Writes::default();
+        for (buf, data, idx) in [
+            (&b.conn, &r.conn, ch.conn),
+            (&b.emat, &r.emat, ch.emat),
+            (&b.nptr, &r.nptr, ch.nptr),
+            (&b.ninc, &r.ninc, ch.ninc),
+            (&b.nflag, &r.nflag, ch.nflag),
+            (&self.sep.ifu, &r.ifu, ch.ifu),
+        ] {
             for run in runs(idx, GAP) {
-                q.write_buffer(buf, 4 * run.start as u64, bytemuck::cast_slice(&data[run]));
+                w.put(buf, 4 * run.start as u64, &data[run]);
             }
-        };
-        put(&b.conn, &r.conn, ch.conn);
-        put(&b.emat, &r.emat, ch.emat);
-        put(&b.nptr, &r.nptr, ch.nptr);
-        put(&b.ninc, &r.ninc, ch.ninc);
-        put(&b.nflag, &r.nflag, ch.nflag);
-        put(&self.sep.ifu, &r.ifu, ch.ifu);
+        }
         // the split sets' pieces: their masses, x^n (in the half of step `step`), v^(n-1/2)
         // and v^n, the host's (a new slot's are those of the set it split from)
         let mass = solver.slot_masses().expect("masses per slot");
@@ -350,18 +352,13 @@ impl GpuStepper {
         );
         let x_at = 8 * self.x_half(step).start as u64;
         for run in runs(ch.slots, GAP) {
-            let (at, s) = (run.start as u64, run.clone());
-            q.write_buffer(&b.mass, 8 * at, bytemuck::cast_slice(&mass[s.clone()]));
-            let flat =
-                |a: &[[f64; 3]]| -> Vec<f64> { a[s.clone()].iter().flatten().copied().collect() };
-            q.write_buffer(
-                &self.state.x,
-                x_at + 24 * at,
-                bytemuck::cast_slice(&flat(x)),
-            );
-            q.write_buffer(&self.state.v, 24 * at, bytemuck::cast_slice(&flat(v)));
-            q.write_buffer(&self.state.vn, 24 * at, bytemuck::cast_slice(&flat(vn)));
+            let at = run.start as u64;
+            w.put(&b.mass, 8 * at, &mass[run.clone()]);
+            w.put(&self.state.x, x_at + 24 * at, &x[run.clone()]);
+            w.put(&self.state.v, 24 * at, &v[run.clone()]);
+            w.put(&self.state.vn, 24 * at, &vn[run]);
         }
+        w.submit(self.gpu());
         self.upload_set_counts(solver);
     }
 

@@ -269,7 +269,7 @@ impl<'a> Writes<'a> {
         if bytes.is_empty() {
             return;
         }
-        debug_assert!(offset % 4 == 0 && bytes.len() % 4 == 0);
+        debug_assert!(offset.is_multiple_of(4) && bytes.len().is_multiple_of(4));
         debug_assert!(offset + bytes.len() as u64 <= buf.size());
         let at = self.data.len() as u64;
         self.data.extend_from_slice(bytes);

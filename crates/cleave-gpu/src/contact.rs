@@ -513,13 +513,18 @@ fn carry_pairs(
 }
 
 /// Bring the host's contact up to its coincident sets as they are now (the chains of closed
-/// cracks, the sets' leads: [`ContactSet::settle`]) before its tables are read.
-pub(crate) fn settle(solver: &mut Solver) {
+/// cracks, the sets' leads: [`ContactSet::settle`]) before its tables are read; `split`: in the
+/// halt of a split, where only the copies of the faces activated in it are regrouped
+/// ([`ContactSet::settle_split`]).
+pub(crate) fn settle(solver: &mut Solver, split: bool) {
     let tie: Vec<u32> = (solver.separation())
         .map(|s| s.sets().node_sets().to_vec())
         .unwrap_or_default();
     if let Some(cs) = solver.contact_mut() {
-        cs.settle(&tie);
+        match split {
+            true => cs.settle_split(&tie),
+            false => cs.settle(&tie),
+        }
     }
 }
 
@@ -710,7 +715,7 @@ impl ContactGpu {
         solver: &mut Solver,
         [cf, cu, x, v]: [&wgpu::Buffer; 4],
     ) -> Result<Option<Self>, GpuError> {
-        settle(solver);
+        settle(solver, false);
         let Some(t) = tables(solver) else {
             return Ok(None);
         };

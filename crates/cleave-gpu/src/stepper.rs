@@ -1116,7 +1116,7 @@ impl GpuStepper {
             got.get(k)
                 .map_or(vec![], |b| bytemuck::pod_collect_to_vec::<u8, f64>(b))
         });
-        crate::contact::settle(solver);
+        crate::contact::settle(solver, split);
         let t = crate::contact::tables(solver)
             .ok_or_else(|| failed("the solver's contact is gone".into()))?;
         // (the slots born in this step: a halt after a split; none after erosion or a release.
@@ -1208,7 +1208,7 @@ impl GpuStepper {
             // tables; the pairs checked against them before the device is changed
             let remade = match self.ero.is_some() || self.sep.n_if > 0 {
                 true => {
-                    crate::contact::settle(solver);
+                    crate::contact::settle(solver, false);
                     Some(
                         crate::contact::tables(solver)
                             .ok_or("the GPU state's model has no contact")?,

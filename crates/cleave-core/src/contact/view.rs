@@ -147,9 +147,25 @@ impl ContactSet<'_> {
     /// the checks itself: what the CPU's searches keep for their next call (faces pending a
     /// search, nodes whose normal changed) is dropped.
     pub fn settle(&mut self, tie: &[u32]) {
+        self.settle_where(tie, false);
+    }
+
+    /// [`Self::settle`] after a split whose failed interfaces' faces were activated
+    /// ([`ContactSet::activate_cracks`]) and nothing else changed since the last settle: only
+    /// the copies of those faces' nodes are regrouped, as the CPU's step regroups them
+    /// (mod.rs `Contact::regroup_pending`), not every node.
+    pub fn settle_split(&mut self, tie: &[u32]) {
+        self.settle_where(tie, true);
+    }
+
+    fn settle_where(&mut self, tie: &[u32], split: bool) {
         for c in &mut self.contacts {
             c.chains.refresh(tie);
-            c.regroup(tie);
+            if split {
+                c.regroup_pending(tie, &self.table.model().conn);
+            } else {
+                c.regroup(tie);
+            }
             c.pending.clear();
             for side in &mut c.sides {
                 side.renewed.clear();

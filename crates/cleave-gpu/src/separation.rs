@@ -41,7 +41,7 @@ use cleave_core::solver::{RunError, Solver};
 
 use crate::layout::{by_component, by_element, Layout, Slots};
 use crate::relayout::{runs, Writes};
-use crate::stepper::{Control, GpuStepper};
+use crate::stepper::{Control, GpuStepper, Part};
 
 /// Values per interface in `ifu` (step.wgsl `IF_STRIDE`).
 pub(crate) const IF_STRIDE: usize = 12;
@@ -315,8 +315,9 @@ impl GpuStepper {
         }
     }
 
-    /// Write what a split changed in place ([`crate::relayout::Relayout::split`]; `released`: the interfaces
-    /// released in it), or when it cannot be changed in place, everything
+    /// Write what a split changed in place ([`crate::relayout::Relayout::split`]; `released`:
+    /// the interfaces listed as failed in it, the released among them), or when it cannot be
+    /// changed in place, everything
     /// ([`Self::upload_sets`]).
     pub(crate) fn upload_split(&mut self, solver: &Solver, step: f64, released: &[u32]) {
         let Some(ch) = (self.relayout.as_mut()).and_then(|r| r.split(solver, released)) else {
@@ -397,18 +398,24 @@ impl GpuStepper {
         );
     }
 
-    /// Take up the softening faces' state from the GPU into the host's separation (their
-    /// largest openings, last openings and forces; the fully open ones marked free).
-    pub(crate) fn import_cohesive(&self, solver: &mut Solver) {
-        let Some(sep) = solver.separation_mut() else {
-            return;
-        };
-        // (the rows of the softening faces the host knows, alone)
+    /// The rows of the softening faces the host knows in `ifs` (with a cohesive law; none
+    /// without), to read back with the kinematics.
+    pub(crate) fn cohesive_part(&self, solver: &Solver) -> Option<Part<'_>> {
+        let sep = solver.separation().filter(|_| self.sep.coh_cap > 0)?;
         let ifs = &self.sep.ifs;
         let from = 8 * u64::from(self.sep.c_coh);
         let rows = (8 * CO_STRIDE * sep.cohesive_faces().len()) as u64;
-        let got = self.download_ranges(&[(ifs, from, rows.min(ifs.size() - from))]);
-        let coh: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
+        Some((ifs, from, rows.min(ifs.size() - from)))
+    }
+
+    /// Take up the softening faces' state read back (`rows`, [`Self::cohesive_part`]) into the
+    /// host's separation (their largest openings, last openings and forces; the fully open ones
+    /// marked free).
+    pub(crate) fn import_cohesive(&self, solver: &mut Solver, rows: &[u8]) {
+        let Some(sep) = solver.separation_mut() else {
+            return;
+        };
+        let coh: Vec<f64> = bytemuck::pod_collect_to_vec(rows);
         let mut open = Vec::new();
         for (k, c) in sep.cohesive_faces_mut().iter_mut().enumerate() {
             let row = &coh[CO_STRIDE * k..CO_STRIDE * (k + 1)];
@@ -437,7 +444,8 @@ impl GpuStepper {
         let (ifl, ifs, sig) = (&self.sep.ifl, &self.sep.ifs, &self.state.sig);
         let head = u64::from(self.sep.n_if).min(self.list_head);
         let index_at = 8 * u64::from(self.sep.if_index);
-        let mut parts = self.kinematics_parts(solver, c.step()).to_vec();
+        let mut parts = self.kinematics_parts(solver, c.step());
+        let k = parts.len();
         parts.extend([(ifl, 0, 4 * (1 + head)), (ifs, index_at, 8 * head)]);
         let cohesive = self.sep.coh_cap > 0;
         if cohesive {
@@ -446,16 +454,16 @@ impl GpuStepper {
         let contact = parts.len();
         parts.extend(self.contact_parts());
         let got = self.download_ranges(&parts);
-        self.take_kinematics(solver, &got[..3]);
+        self.take_kinematics(solver, &got[..k]);
         if cohesive {
-            let sig = by_element(&bytemuck::pod_collect_to_vec::<u8, f64>(&got[5]), 6);
+            let sig = by_element(&bytemuck::pod_collect_to_vec::<u8, f64>(&got[k + 2]), 6);
             for (e, s) in solver.state.stress.iter_mut().enumerate() {
                 s.copy_from_slice(&sig[6 * e..6 * e + 6]);
             }
         }
         c.apply(solver);
-        let mut list: Vec<u32> = bytemuck::pod_collect_to_vec(&got[3]);
-        let mut index_of: Vec<f64> = bytemuck::pod_collect_to_vec(&got[4]);
+        let mut list: Vec<u32> = bytemuck::pod_collect_to_vec(&got[k]);
+        let mut index_of: Vec<f64> = bytemuck::pod_collect_to_vec(&got[k + 1]);
         // (a lost device reads back as NaNs: the count and numbers are then bounded, and
         // the next read of the control block reports the loss)
         let count = (list[0] as usize).min(self.sep.n_if as usize);

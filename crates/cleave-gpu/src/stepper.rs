@@ -1055,8 +1055,10 @@ impl GpuStepper {
     /// runs.
     fn release_cracks(&mut self, solver: &mut Solver) -> Result<(), RunError> {
         let got = self.download_ranges(&self.contact_parts());
-        self.closures_to_host(solver, &got[0], true)?;
-        self.remake_contact(solver, false, &got[1..])?;
+        if let Some(clo) = got.first() {
+            self.closures_to_host(solver, clo, true)?;
+            self.remake_contact(solver, false, &got[1..])?;
+        }
         self.clear_halt();
         self.finish_step_after("c_close_done");
         Ok(())
@@ -1461,27 +1463,30 @@ impl GpuStepper {
         self.take_kinematics(solver, &got);
     }
 
-    /// The parts of the GPU's arrays that hold x^n at step `step`, v^(n+1/2) and v^n: one
-    /// entry per node, or per slot of the coincident sets (as many as there are now: the
-    /// GPU's arrays hold one per node, the entries past these unused).
-    pub(crate) fn kinematics_parts(&self, solver: &Solver, step: f64) -> [Part<'_>; 3] {
+    /// The parts of the GPU's arrays that hold x^n at step `step`, v^(n+1/2) and v^n (one
+    /// entry per node, or per slot of the coincident sets: as many as there are now, the
+    /// GPU's arrays hold one per node, the entries past these unused), and with a cohesive law
+    /// the softening faces' rows.
+    pub(crate) fn kinematics_parts(&self, solver: &Solver, step: f64) -> Vec<Part<'_>> {
         let nn = solver.positions().entries().len();
         let bytes = (24 * nn as u64).min(8 * self.x_len as u64);
         let half = self.x_half(step);
-        [
+        let mut parts = vec![
             (&self.state.x, 8 * half.start as u64, bytes),
             (&self.state.v, 0, bytes),
             (&self.state.vn, 0, bytes),
-        ]
+        ];
+        parts.extend(self.cohesive_part(solver));
+        parts
     }
 
-    /// The host mirror's positions and velocities from [`Self::kinematics_parts`] as read back
-    /// (`got`), and the softening faces' state.
+    /// The host mirror's positions and velocities, and the softening faces' state, from
+    /// [`Self::kinematics_parts`] as read back (`got`).
     pub(crate) fn take_kinematics(&self, solver: &mut Solver, got: &[Vec<u8>]) {
         let [x, v, vn] = [0, 1, 2].map(|k| bytemuck::pod_collect_to_vec::<u8, Vec3>(&got[k]));
         solver.set_kinematics(x, v, vn);
-        if self.sep.coh_cap > 0 {
-            self.import_cohesive(solver);
+        if let Some(rows) = got.get(3) {
+            self.import_cohesive(solver, rows);
         }
     }
 

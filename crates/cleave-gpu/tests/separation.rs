@@ -478,7 +478,6 @@ fn timing_each_pass_changes_no_result() {
     }
 }
 
-/// The cracking block with single surface contact with friction (FS 0.3, FD 0.2).
 /// A step's failures read back in two parts (the head with the rest of the split's read-back,
 /// here one failure, then the others) give the run of one part, bit for bit; some step of this
 /// deck releases more than one interface, so the second part is read.
@@ -509,6 +508,7 @@ fn a_long_failure_list_is_read_in_two_parts() {
     assert!((split.0 as usize) < failed);
 }
 
+/// The cracking block with single surface contact with friction (FS 0.3, FD 0.2).
 fn cracking_block_in_contact() -> Model {
     let mut m = cracking_block();
     m.contacts.push(ContactDef::single_surface_all(0.3, 0.2));

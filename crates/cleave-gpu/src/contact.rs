@@ -513,16 +513,17 @@ fn carry_pairs(
 }
 
 /// Bring the host's contact up to its coincident sets as they are now (the chains of closed
-/// cracks, the sets' leads: [`ContactSet::settle`]) before its tables are read; `split`: in the
-/// halt of a split, where only the copies of the faces activated in it are regrouped
-/// ([`ContactSet::settle_split`]).
-pub(crate) fn settle(solver: &mut Solver, split: bool) {
+/// cracks, the sets' leads: [`ContactSet::settle`]) before its tables are read; `halt`: in a
+/// halt of the step (a split, a crack's release, an erosion), where only the copies of the
+/// faces activated since the last settle are regrouped ([`ContactSet::settle_pending`]); not
+/// when a restart file's state is taken up.
+pub(crate) fn settle(solver: &mut Solver, halt: bool) {
     let tie: Vec<u32> = (solver.separation())
         .map(|s| s.sets().node_sets().to_vec())
         .unwrap_or_default();
     if let Some(cs) = solver.contact_mut() {
-        match split {
-            true => cs.settle_split(&tie),
+        match halt {
+            true => cs.settle_pending(&tie),
             false => cs.settle(&tie),
         }
     }

@@ -1118,7 +1118,7 @@ impl GpuStepper {
             got.get(k)
                 .map_or(vec![], |b| bytemuck::pod_collect_to_vec::<u8, f64>(b))
         });
-        crate::contact::settle(solver, split);
+        crate::contact::settle(solver, true);
         let t = crate::contact::tables(solver)
             .ok_or_else(|| failed("the solver's contact is gone".into()))?;
         // (the slots born in this step: a halt after a split; none after erosion or a release.

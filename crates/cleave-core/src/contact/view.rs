@@ -150,11 +150,12 @@ impl ContactSet<'_> {
         self.settle_where(tie, false);
     }
 
-    /// [`Self::settle`] after a split whose failed interfaces' faces were activated
-    /// ([`ContactSet::activate_cracks`]) and nothing else changed since the last settle: only
-    /// the copies of those faces' nodes are regrouped, as the CPU's step regroups them
-    /// (mod.rs `Contact::regroup_pending`), not every node.
-    pub fn settle_split(&mut self, tie: &[u32]) {
+    /// [`Self::settle`] where the ties changed since the last settle only as the CPU's step
+    /// knows them to (at a split, whose failed interfaces' faces were activated,
+    /// [`ContactSet::activate_cracks`]; not at all at a crack's release or an erosion): only the
+    /// copies of the nodes of the faces activated since are regrouped, as the CPU's step
+    /// regroups them (mod.rs `Contact::regroup_pending`), not every node.
+    pub fn settle_pending(&mut self, tie: &[u32]) {
         self.settle_where(tie, true);
     }
 

@@ -258,13 +258,16 @@ impl Relayout {
 }
 
 /// Writes of many small ranges of buffers through one staging buffer: the values put one after
-/// another, then a copy for each range, in one submission. (A `Queue::write_buffer` for each
-/// range makes a staging buffer for each.)
+/// another, then a copy for each range, in one submission (a `Queue::write_buffer` for each
+/// range makes a staging buffer for each); and copies of ranges within a buffer.
 #[derive(Default)]
 pub(crate) struct Writes<'a> {
     data: Vec<u8>,
     /// (target, byte offset in it, byte offset in `data`, bytes)
     copies: Vec<(&'a wgpu::Buffer, u64, u64, u64)>,
+    /// Copies within a buffer, through a scratch buffer (a buffer is not copied to itself):
+    /// (buffer, from, to, bytes), done in order before the writes.
+    relays: Vec<(&'a wgpu::Buffer, u64, u64, u64)>,
 }
 
 impl<'a> Writes<'a> {
@@ -281,22 +284,44 @@ impl<'a> Writes<'a> {
         self.copies.push((buf, offset, at, bytes.len() as u64));
     }
 
-    /// Submit the writes (after the queue's writes before them).
+    /// Copy `len` bytes of `buf` at byte `from` to byte `to` of it (multiples of 4), on the
+    /// device, before the writes (and each after the relays put before it).
+    pub fn relay(&mut self, buf: &'a wgpu::Buffer, from: u64, to: u64, len: u64) {
+        self.relays.push((buf, from, to, len));
+    }
+
+    /// Submit the relays, then the writes (after the queue's writes before them).
     pub fn submit(self, gpu: &crate::device::Gpu) {
-        if self.copies.is_empty() {
+        if self.copies.is_empty() && self.relays.is_empty() {
             return;
         }
         use wgpu::util::DeviceExt;
-        let staging = gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("split writes"),
-                contents: &self.data,
-                usage: wgpu::BufferUsages::COPY_SRC,
-            });
         let mut enc = gpu.device.create_command_encoder(&Default::default());
-        for (buf, offset, at, len) in self.copies {
-            enc.copy_buffer_to_buffer(&staging, at, buf, offset, len);
+        if !self.relays.is_empty() {
+            let scratch = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("split relays"),
+                size: self.relays.iter().map(|r| r.3).sum(),
+                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut at = 0;
+            for (buf, from, to, len) in self.relays {
+                enc.copy_buffer_to_buffer(buf, from, &scratch, at, len);
+                enc.copy_buffer_to_buffer(&scratch, at, buf, to, len);
+                at += len;
+            }
+        }
+        if !self.copies.is_empty() {
+            let staging = gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("split writes"),
+                    contents: &self.data,
+                    usage: wgpu::BufferUsages::COPY_SRC,
+                });
+            for (buf, offset, at, len) in self.copies {
+                enc.copy_buffer_to_buffer(&staging, at, buf, offset, len);
+            }
         }
         gpu.queue.submit([enc.finish()]);
     }

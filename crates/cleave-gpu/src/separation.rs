@@ -317,10 +317,37 @@ impl GpuStepper {
 
     /// Write what a split changed in place ([`crate::relayout::Relayout::split`]; `released`:
     /// the interfaces listed as failed in it, the released among them), or when it cannot be
-    /// changed in place, everything
-    /// ([`Self::upload_sets`]).
-    pub(crate) fn upload_split(&mut self, solver: &Solver, step: f64, released: &[u32]) {
+    /// changed in place, everything ([`Self::upload_sets`]). The new slots' positions and
+    /// velocities are their sets', copied on the device; `fresh`: the host's mirror holds this
+    /// step's (read back for a cohesive law), else it is read back first when everything is
+    /// written.
+    pub(crate) fn upload_split(
+        &mut self,
+        solver: &mut Solver,
+        step: f64,
+        released: &[u32],
+        fresh: bool,
+    ) {
+        let born: Vec<(u32, u32)> = solver
+            .separation()
+            .map_or(vec![], |s| s.sets().born().to_vec());
+        let x_at = 8 * self.x_half(step).start as u64;
+        let mut w = Writes::default();
+        for &(new, from) in &born {
+            let (new, from) = (24 * u64::from(new), 24 * u64::from(from));
+            for (buf, at) in [
+                (&self.state.x, x_at),
+                (&self.state.v, 0),
+                (&self.state.vn, 0),
+            ] {
+                w.relay(buf, at + from, at + new, 24);
+            }
+        }
         let Some(ch) = (self.relayout.as_mut()).and_then(|r| r.split(solver, released)) else {
+            w.submit(self.gpu());
+            if !fresh {
+                self.mirror_kinematics(solver, step);
+            }
             self.upload_sets(solver, step);
             return;
         };
@@ -330,7 +357,6 @@ impl GpuStepper {
         // ones are written again rather than cost a copy of their own), all in one staging
         // buffer: a write of its own for each run made a staging buffer for each
         const GAP: usize = 16;
-        let mut w = Writes::default();
         for (buf, data, idx) in [
             (&b.conn, &r.conn, ch.conn),
             (&b.emat, &r.emat, ch.emat),
@@ -343,21 +369,11 @@ impl GpuStepper {
                 w.put(buf, 4 * run.start as u64, &data[run]);
             }
         }
-        // the split sets' pieces: their masses, x^n (in the half of step `step`), v^(n-1/2)
-        // and v^n, the host's (a new slot's are those of the set it split from)
+        // the split sets' pieces' masses (their positions and velocities are on the device:
+        // those of the slots they keep, and of the new ones copied above)
         let mass = solver.slot_masses().expect("masses per slot");
-        let (x, v, vn) = (
-            solver.positions().entries(),
-            solver.half_step_velocities().entries(),
-            solver.velocities().entries(),
-        );
-        let x_at = 8 * self.x_half(step).start as u64;
         for run in runs(ch.slots, GAP) {
-            let at = run.start as u64;
-            w.put(&b.mass, 8 * at, &mass[run.clone()]);
-            w.put(&self.state.x, x_at + 24 * at, &x[run.clone()]);
-            w.put(&self.state.v, 24 * at, &v[run.clone()]);
-            w.put(&self.state.vn, 24 * at, &vn[run]);
+            w.put(&b.mass, 8 * run.start as u64, &mass[run]);
         }
         w.submit(self.gpu());
         self.upload_set_counts(solver);
@@ -437,24 +453,31 @@ impl GpuStepper {
     /// the host (the CPU's rules), rewrite what the split sets change, and run the rest of the
     /// step.
     pub(crate) fn split(&mut self, solver: &mut Solver, c: &Control) -> Result<(), RunError> {
-        // One read-back: what the release reads (the positions and velocities: the new slots
-        // start with their set's; with a cohesive law the stresses, the onset traction; the
-        // rest of the mirror waits for the next output), the head of the failure list and of
-        // their indices, and with contact what its remake reads
+        // One read-back: the head of the failure list and of their indices; what the release
+        // reads with a cohesive law (the positions, velocities and stresses: the onset
+        // traction and opening; without one it reads none, the new slots get their sets'
+        // positions and velocities on the device, and the host's mirror waits for the next
+        // output, the contact's grid cell taken from the positions it holds, which changes the
+        // speed only); with contact what its remake reads
         let (ifl, ifs, sig) = (&self.sep.ifl, &self.sep.ifs, &self.state.sig);
         let head = u64::from(self.sep.n_if).min(self.list_head);
         let index_at = 8 * u64::from(self.sep.if_index);
-        let mut parts = self.kinematics_parts(solver, c.step());
+        let cohesive = self.sep.coh_cap > 0;
+        let mut parts = match cohesive {
+            true => self.kinematics_parts(solver, c.step()),
+            false => vec![],
+        };
         let k = parts.len();
         parts.extend([(ifl, 0, 4 * (1 + head)), (ifs, index_at, 8 * head)]);
-        let cohesive = self.sep.coh_cap > 0;
         if cohesive {
             parts.push((sig, 0, sig.size()));
         }
         let contact = parts.len();
         parts.extend(self.contact_parts());
         let got = self.download_ranges(&parts);
-        self.take_kinematics(solver, &got[..k]);
+        if cohesive {
+            self.take_kinematics(solver, &got[..k]);
+        }
         if cohesive {
             let sig = by_element(&bytemuck::pod_collect_to_vec::<u8, f64>(&got[k + 2]), 6);
             for (e, s) in solver.state.stress.iter_mut().enumerate() {
@@ -486,7 +509,7 @@ impl GpuStepper {
             )))
         })?;
         let released: Vec<u32> = found.iter().map(|f| f.1).collect();
-        self.upload_split(solver, c.step(), &released);
+        self.upload_split(solver, c.step(), &released, cohesive);
         // with contact (each a no-op without): the new crack faces join the surfaces and the
         // cracks close on the host, whose closed cracks take the GPU's states first; the
         // contact's tables made again

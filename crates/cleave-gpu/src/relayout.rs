@@ -356,7 +356,8 @@ mod tests {
     use cleave_core::separation::split::split_model;
 
     /// A steel block (3 x 3 x 6 elements) clamped at its foot, its top driven down, sheared by
-    /// its initial velocity and a body load (the GPU tests' cracking block), every element in a MODEL 2 group of 250 MPa: interfaces fail
+    /// its initial velocity and a body load (the GPU tests' cracking block, `tests/common`,
+    /// written again: a unit test cannot reach the integration tests' helpers), every element in a MODEL 2 group of 250 MPa: interfaces fail
     /// over the run, some at the top, whose nodes carry a prescribed motion.
     fn cracking_block() -> cleave_core::model::Model {
         let steel = Material {

@@ -115,15 +115,28 @@ fn run_cpu(split: &SplitModel, every: f64) -> Vec<Row> {
 }
 
 fn run_gpu(g: Gpu, split: &SplitModel, every: f64) -> (Vec<Row>, Gpu) {
+    let (rows, st, _, ()) = run_gpu_after(g, split, every, |_| ());
+    (rows, st.into_gpu())
+}
+
+/// A GPU run of `split` with its stepper set by `set` first: the rows, the stepper and the
+/// solver after the run, and what `set` gave.
+fn run_gpu_after<'a, R>(
+    g: Gpu,
+    split: &'a SplitModel,
+    every: f64,
+    set: impl FnOnce(&mut GpuStepper) -> R,
+) -> (Vec<Row>, GpuStepper, Solver<'a>, R) {
     let mut s = solver(split);
     let mut st = GpuStepper::new(g, &mut s).unwrap();
+    let got = set(&mut st);
     let mut r = Record {
         every,
         next: 0.0,
         rows: Vec::new(),
     };
     st.run(&mut s, &mut r).unwrap();
-    (r.rows, st.into_gpu())
+    (r.rows, st, s, got)
 }
 
 /// Largest |a - b| over the largest |a|.
@@ -441,16 +454,8 @@ fn timing_each_pass_changes_no_result() {
     let split = split_model(&cracking_block_in_contact());
     let every = split.model.control.end_time / 40.0;
     let (plain, g) = run_gpu(g, &split, every);
-    let mut s = solver(&split);
-    let mut st = GpuStepper::new(g, &mut s).unwrap();
-    let timed = st.time_passes(true);
-    let mut r = Record {
-        every,
-        next: 0.0,
-        rows: Vec::new(),
-    };
-    st.run(&mut s, &mut r).unwrap();
-    assert!(r.rows == plain, "timing the passes changed the run");
+    let (rows, st, s, timed) = run_gpu_after(g, &split, every, |st| st.time_passes(true));
+    assert!(rows == plain, "timing the passes changed the run");
     let last = plain.last().unwrap();
     assert!(
         last.failed.len() >= 20 && last.cracks.1 > 0,
@@ -489,17 +494,9 @@ fn a_long_failure_list_is_read_in_two_parts() {
     let split = split_model(&cracking_block_in_contact());
     let every = split.model.control.end_time / 40.0;
     let (plain, g) = run_gpu(g, &split, every);
-    let mut s = solver(&split);
-    let mut st = GpuStepper::new(g, &mut s).unwrap();
-    st.set_failure_list_head(1);
-    let mut r = Record {
-        every,
-        next: 0.0,
-        rows: Vec::new(),
-    };
-    st.run(&mut s, &mut r).unwrap();
+    let (rows, st, ..) = run_gpu_after(g, &split, every, |st| st.set_failure_list_head(1));
     assert!(
-        r.rows == plain,
+        rows == plain,
         "reading the failures in two parts changed the run"
     );
     let [split, ..] = st.host_halts();

@@ -105,8 +105,10 @@ pub(crate) struct Tables {
     /// again: (pass, lead node); (definition, side, element, local face).
     pub pn_key: Vec<(u32, u32)>,
     pub face_key: Vec<(u32, u32, u32, u8)>,
-    /// Each pass-node's coincident set on its side, along the member chain (its lead first).
-    pub members: Vec<Vec<u32>>,
+    /// Each pass-node's coincident set on its side, along the member chain (its lead first):
+    /// pass-node j's at `members[members_at[j]..members_at[j + 1]]` ([`Tables::members_of`]).
+    pub members: Vec<u32>,
+    pub members_at: Vec<u32>,
     /// The lead of each node of a pass's node side, by (pass, node): as many entries as the
     /// sides have nodes (not the model).
     pub lead_of: HashMap<(u32, u32), u32>,
@@ -122,6 +124,11 @@ pub(crate) struct Tables {
 }
 
 impl Tables {
+    /// Pass-node j's coincident set on its side, along the member chain (its lead first).
+    pub fn members_of(&self, j: usize) -> &[u32] {
+        &self.members[self.members_at[j] as usize..self.members_at[j + 1] as usize]
+    }
+
     /// The value of parameter `name` ([`PARAMS`]).
     pub fn param(&self, name: &str) -> usize {
         let k = PARAMS.iter().position(|&p| p == name).expect("a parameter");
@@ -241,14 +248,21 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
     let (mut pn, mut pass_tab, mut kn, mut pn_def) = (vec![], vec![], vec![], vec![]);
     // (each pass-node's faces in one list: `frame[frame_at[j]..frame_at[j + 1]]`)
     let (mut frame, mut frame_at) = (vec![], vec![0]);
-    let (mut pn_key, mut members) = (vec![], vec![]);
-    let mut lead_of = HashMap::default();
+    let (mut pn_key, mut members, mut members_at) = (vec![], vec![], vec![0]);
+    let side_nodes: usize = (cs.contacts().iter())
+        .flat_map(|c| {
+            c.pass_sides()
+                .into_iter()
+                .map(|(ns, _)| c.side_nodes(ns).len())
+        })
+        .sum();
+    let mut lead_of = HashMap::with_capacity_and_hasher(side_nodes, Default::default());
     for (d, c) in cs.contacts().iter().enumerate() {
         for (p, (ns, fs)) in c.pass_sides().into_iter().enumerate() {
             let q = pass_tab.len() as u32 / 2;
             pass_tab.extend([side_start[d][fs].1, d as u32]);
             let sign = if p == 0 { 1.0 } else { -1.0 };
-            for n in c.nodes_in_scatter_order(ns) {
+            for &n in c.side_nodes(ns) {
                 if let Some(l) = c.lead_of(ns, n) {
                     lead_of.insert((q, n), l);
                 }
@@ -267,7 +281,8 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
                 kn.push(cs.node_stiffness(n));
                 pn_def.push((d, sign));
                 pn_key.push((q, n));
-                members.push(c.members_of_lead(ns, n));
+                c.members_of_lead(ns, n, &mut members);
+                members_at.push(members.len() as u32);
             }
         }
     }
@@ -409,6 +424,7 @@ pub(crate) fn tables(solver: &Solver) -> Option<Tables> {
         pn_key,
         face_key,
         members,
+        members_at,
         lead_of,
         surface,
         closures,
@@ -456,7 +472,8 @@ fn carry_pairs(
     let pn_was: HashMap<_, usize> = (old.pn_key.iter().enumerate())
         .map(|(j, &k)| (k, j))
         .collect();
-    for (jn, (&(q, _), members)) in t.pn_key.iter().zip(&t.members).enumerate() {
+    for (jn, &(q, _)) in t.pn_key.iter().enumerate() {
+        let members = t.members_of(jn);
         // a lead carries on its set's contact: that of the lead before of its first
         // member (along the chain) that was on the side (mod.rs Contact::regroup_where)
         let Some(&j) = (members.iter())
@@ -934,6 +951,7 @@ mod tests {
     /// along the chain), with faces `faces` (element numbers) and surface entries `surface`.
     fn pass_tables(sets: &[&[u32]], faces: &[u32], surface: &[u32]) -> Tables {
         let mut t = Tables {
+            members_at: vec![0],
             faces: faces.len(),
             pass_nodes: sets.len(),
             surface_nodes: surface.len(),
@@ -943,7 +961,8 @@ mod tests {
         };
         for set in sets {
             t.pn_key.push((0, set[0]));
-            t.members.push(set.to_vec());
+            t.members.extend_from_slice(set);
+            t.members_at.push(t.members.len() as u32);
             for &m in *set {
                 t.lead_of.insert((0, m), set[0]);
             }

@@ -42,15 +42,10 @@ impl Contact {
             .collect()
     }
 
-    /// The nodes of side `side` in the order their forces are scattered (the order they
-    /// joined the side).
-    pub fn nodes_in_scatter_order(&self, side: usize) -> Vec<u32> {
-        let s = &self.sides[side];
-        let mut by_rank: Vec<(u32, u32)> = (s.nodes.iter().zip(&s.rank))
-            .map(|(&n, &r)| (r, n))
-            .collect();
-        by_rank.sort_unstable();
-        by_rank.into_iter().map(|(_, n)| n).collect()
+    /// The nodes of side `side` (model numbers), in the side's own order (not the scatter
+    /// order: [`Self::leads_in_scatter_order`]).
+    pub fn side_nodes(&self, side: usize) -> &[u32] {
+        &self.sides[side].nodes
     }
 
     /// The leads of side `side`'s coincident sets (every node when the model is not split) in
@@ -96,14 +91,15 @@ impl Contact {
     }
 
     /// Lead `n` and the other members of its coincident set on side `side`, along the member
-    /// chain (the lead, then by descending model number; mod.rs `Side::next`).
-    pub fn members_of_lead(&self, side: usize, n: u32) -> Vec<u32> {
+    /// chain (the lead, then by descending model number; mod.rs `Side::next`), appended to
+    /// `out`.
+    pub fn members_of_lead(&self, side: usize, n: u32, out: &mut Vec<u32>) {
         let s = &self.sides[side];
         match s.local.get(n as usize) {
             Some(&i) if (i as usize) < s.group.len() => {
-                s.members(i).map(|k| s.nodes[k as usize]).collect()
+                out.extend(s.members(i).map(|k| s.nodes[k as usize]))
             }
-            _ => vec![n],
+            _ => out.push(n),
         }
     }
 

@@ -23,12 +23,11 @@
 //! a load, a pressure segment or a prescribed motion (whose blocks in `par` are ordered by slot)
 //! is not done in place ([`Relayout::split`] gives `None`): the layout is then made afresh.
 
-use cleave_core::separation::interfaces::Status;
 use cleave_core::solver::Solver;
 
 use crate::by_entry::ByEntry;
 use crate::layout::{by_component, Layout, Slots};
-use crate::separation::IF_STRIDE;
+use crate::separation::{interface_row, IF_STRIDE};
 
 /// The arrays a split changes, as the device holds them, and what a split reads to change them.
 pub(crate) struct Relayout {
@@ -242,14 +241,10 @@ impl Relayout {
         }
         rows.sort_unstable();
         rows.dedup();
-        let faces = sep.faces();
         for &i in &rows {
-            let (i, f) = (i as usize, &faces[i as usize]);
+            let i = i as usize;
             let row = &mut self.ifu[IF_STRIDE * i..IF_STRIDE * (i + 1)];
-            row[3] = (sep.status(i) == Status::Intact) as u32;
-            for (v, &m) in row[4..].iter_mut().zip(&f.nodes) {
-                *v = slot[m as usize];
-            }
+            interface_row(sep, slot, i, row);
             ch.ifu.extend(IF_STRIDE * i..IF_STRIDE * (i + 1));
         }
         self.slots = sets.num_slots();
@@ -352,7 +347,7 @@ mod tests {
         BodyLoad, Material, MaterialKind, MotionDof, MotionTarget, PrescribedMotion, SeparationDef,
         Spc, Vad, Window,
     };
-    use cleave_core::separation::interfaces::Separation;
+    use cleave_core::separation::interfaces::{Separation, Status};
     use cleave_core::separation::split::split_model;
 
     /// A steel block (3 x 3 x 6 elements) clamped at its foot, its top driven down, sheared by

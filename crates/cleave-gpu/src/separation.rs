@@ -36,7 +36,7 @@
 use cleave_core::element::shape::face_points;
 use cleave_core::math::Vec3;
 use cleave_core::separation::cohesive::Envelope;
-use cleave_core::separation::interfaces::Status;
+use cleave_core::separation::interfaces::{Separation, Status};
 use cleave_core::solver::{RunError, Solver};
 
 use crate::layout::{by_component, by_element, Layout, Slots};
@@ -237,15 +237,12 @@ pub(crate) fn interface_table(solver: &Solver) -> (Vec<u32>, Vec<f64>, u32, u32)
     let slots = sep.sets().slots();
     let mut ifu = Vec::with_capacity(IF_STRIDE * n);
     let mut ifs = Vec::with_capacity(3 * n);
-    for (i, face) in sep.faces()[..n].iter().enumerate() {
-        let intact = sep.status(i) == Status::Intact;
-        ifu.extend_from_slice(&[
-            face.elems[0],
-            face.elems[1],
-            u32::from(face.group),
-            intact as u32,
-        ]);
-        ifu.extend(face.nodes.iter().map(|&k| slots[k as usize]));
+    ifu.resize(IF_STRIDE * n, 0);
+    for (i, (face, row)) in (sep.faces()[..n].iter())
+        .zip(ifu.chunks_exact_mut(IF_STRIDE))
+        .enumerate()
+    {
+        interface_row(sep, slots, i, row);
         ifs.push(face.strength);
     }
     for d in &solver.model.separations {
@@ -254,6 +251,22 @@ pub(crate) fn interface_table(solver: &Solver) -> (Vec<u32>, Vec<f64>, u32, u32)
     let if_index = ifs.len() as u32;
     ifs.resize(ifs.len() + n, 0.0);
     (ifu, ifs, n as u32, if_index)
+}
+
+/// Interface `i`'s row of `ifu` (`IF_STRIDE` values) as the separation stands, `slots` its
+/// sets' slot of each node: its elements, group, 1 while intact, the slots of its 8 nodes.
+pub(crate) fn interface_row(sep: &Separation, slots: &[u32], i: usize, row: &mut [u32]) {
+    let face = &sep.faces()[i];
+    let intact = sep.status(i) == Status::Intact;
+    row[..4].copy_from_slice(&[
+        face.elems[0],
+        face.elems[1],
+        u32::from(face.group),
+        intact as u32,
+    ]);
+    for (v, &k) in row[4..].iter_mut().zip(&face.nodes) {
+        *v = slots[k as usize];
+    }
 }
 
 /// The node of entry `k` of the GPU's node arrays: `k` itself, or with separation the first

@@ -23,6 +23,7 @@
 
 mod by_entry;
 mod contact;
+mod contact_tables;
 pub mod device;
 pub mod layout;
 mod pass_times;

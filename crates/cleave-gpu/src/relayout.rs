@@ -339,7 +339,7 @@ pub(crate) fn runs(mut idx: Vec<usize>, gap: usize) -> Vec<std::ops::Range<usize
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use cleave_core::curve::Curve;
     use cleave_core::mesh::box_model;
@@ -354,7 +354,7 @@ mod tests {
     /// its initial velocity and a body load (the GPU tests' cracking block, `tests/common`,
     /// written again: a unit test cannot reach the integration tests' helpers), every element in a MODEL 2 group of 250 MPa: interfaces fail
     /// over the run, some at the top, whose nodes carry a prescribed motion.
-    fn cracking_block() -> cleave_core::model::Model {
+    pub(crate) fn cracking_block() -> cleave_core::model::Model {
         let steel = Material {
             id: 1,
             density: 7850.0,

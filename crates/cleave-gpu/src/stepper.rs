@@ -788,6 +788,7 @@ impl GpuStepper {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("steps"),
             });
+        self.clear_contact(&mut enc);
         if let Some(times) = &self.times {
             self.record_timed(&mut enc, times, staging, &self.pipelines, 0, steps);
             self.copy_control(&mut enc, staging);
@@ -809,6 +810,14 @@ impl GpuStepper {
         enc.finish()
     }
 
+    /// The contact's zeroing of its grid after new tables, if due ([`ContactGpu::clear`]):
+    /// first in every encoder that records passes.
+    fn clear_contact(&self, enc: &mut wgpu::CommandEncoder) {
+        if let Some(c) = &self.contact {
+            c.clear(enc);
+        }
+    }
+
     /// Submit the passes of the step in flight that come after `after` (an entry point); the
     /// queue runs them before anything submitted later.
     pub(crate) fn finish_step_after(&mut self, after: &str) {
@@ -821,6 +830,7 @@ impl GpuStepper {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("the rest of a step"),
             });
+        self.clear_contact(&mut enc);
         if let Some(times) = &self.times {
             // (its times are taken with the next batch's, which the queue runs after it)
             let rest = &self.pipelines[k + 1..];
@@ -1015,8 +1025,7 @@ impl GpuStepper {
         }
         if let Some(c) = &self.contact {
             // the pairs and last forces (their tables made again from the solver's state)
-            let got =
-                self.download_ranges(&[(&c.hits, 0, c.hits.size()), (&c.fprev, 0, c.fprev.size())]);
+            let got = self.download_ranges(&[c.hits(), c.fprev()]);
             put(&got[0]);
             put(&got[1]);
         }
@@ -1069,11 +1078,7 @@ impl GpuStepper {
     /// force.
     pub(crate) fn contact_parts(&self) -> Vec<Part<'_>> {
         match &self.contact {
-            Some(c) => vec![
-                (&c.clo, 0, c.clo.size()),
-                (&c.hits, 0, c.hits.size()),
-                (&c.fprev, 0, c.fprev.size()),
-            ],
+            Some(c) => vec![c.clo(), c.hits(), c.fprev()],
             None => vec![],
         }
     }
@@ -1119,8 +1124,8 @@ impl GpuStepper {
                 .map_or(vec![], |b| bytemuck::pod_collect_to_vec::<u8, f64>(b))
         });
         crate::contact::settle(solver, true);
-        let t = crate::contact::tables(solver)
-            .ok_or_else(|| failed("the solver's contact is gone".into()))?;
+        let t =
+            (c.tables_now(solver)).ok_or_else(|| failed("the solver's contact is gone".into()))?;
         // (the slots born in this step: a halt after a split; none after erosion or a release.
         // A split halt whose failure list read back empty splits nothing, and then no entry
         // leaves the surface: the older births `born` still lists are not read)
@@ -1211,10 +1216,7 @@ impl GpuStepper {
             let remade = match self.ero.is_some() || self.sep.n_if > 0 {
                 true => {
                     crate::contact::settle(solver, false);
-                    Some(
-                        crate::contact::tables(solver)
-                            .ok_or("the GPU state's model has no contact")?,
-                    )
+                    Some((c.tables_now(solver)).ok_or("the GPU state's model has no contact")?)
                 }
                 false => None,
             };
@@ -1233,7 +1235,7 @@ impl GpuStepper {
             if let Some(t) = remade {
                 c.upload(&self.gpu, t, None).map_err(|e| e.to_string())?;
             }
-            for (data, buf) in pairs.iter().zip([&c.hits, &c.fprev]) {
+            for (data, (buf, _, _)) in pairs.iter().zip([c.hits(), c.fprev()]) {
                 self.gpu.queue.write_buffer(buf, 0, data);
             }
         }
@@ -1352,6 +1354,7 @@ impl GpuStepper {
         // no output time inside the profiled steps
         self.set_stop_time(f64::MAX);
         let mut enc = self.gpu.device.create_command_encoder(&Default::default());
+        self.clear_contact(&mut enc);
         self.record_timed(&mut enc, &times, 0, &self.pipelines, 0, steps);
         self.copy_control(&mut enc, 0);
         self.gpu.queue.submit([enc.finish()]);
@@ -1547,8 +1550,7 @@ impl GpuStepper {
         }
         if let Some(ct) = &self.contact {
             // the closed cracks' states (for a restart file) and the resultants
-            let got =
-                self.download_ranges(&[(&ct.hits, 0, ct.hits.size()), (&ct.clo, 0, ct.clo.size())]);
+            let got = self.download_ranges(&[ct.hits(), ct.clo()]);
             let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
             let clo: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
             ct.closures_to_host(solver, &clo, false)

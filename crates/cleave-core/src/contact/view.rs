@@ -67,12 +67,18 @@ impl Contact {
     /// `Side::frame`).
     pub fn frame_of_lead(&self, side: usize, n: u32, out: &mut Vec<u32>) {
         let s = &self.sides[side];
-        let live = |f: &u32| s.faces[*f as usize].depth > 0.0;
-        match s.local.get(n as usize) {
-            Some(&i) if (i as usize) < s.group.len() => {
-                out.extend((s.members(i)).flat_map(|k| s.node_faces.of(k)).filter(live))
+        // (loops, not an extend of a flat_map: no size hint, and this runs for every lead
+        // whenever the GPU's tables are made)
+        let mut put = |k: u32| {
+            for f in s.node_faces.of(k) {
+                if s.faces[f as usize].depth > 0.0 {
+                    out.push(f);
+                }
             }
-            Some(&i) if i != NONE => out.extend(s.node_faces.of(i).filter(live)),
+        };
+        match s.local.get(n as usize) {
+            Some(&i) if (i as usize) < s.group.len() => s.members(i).for_each(put),
+            Some(&i) if i != NONE => put(i),
             _ => {}
         }
     }

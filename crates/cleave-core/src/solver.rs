@@ -192,8 +192,14 @@ pub trait Observer {
 /// Why a run stopped early.
 #[derive(Debug)]
 pub enum RunError {
+    /// The model's numerics failed (an inverted element, a non-finite value, ...).
     Solver(SolverError),
+    /// The output could not be written.
     Output(std::io::Error),
+    /// The device another stepper runs the step on failed (a GPU lost or reporting an
+    /// error), or its state no longer agrees with the host's: neither the model's fault nor
+    /// the output's.
+    Device(String),
 }
 
 /// The solver: model, derived setup, state and scratch.

@@ -1,6 +1,7 @@
 //! Finding a GPU that computes in f64.
 
 use std::fmt;
+use std::sync::{Arc, Mutex};
 
 /// Why the GPU step cannot run a deck.
 #[derive(Debug, Clone, PartialEq)]
@@ -11,6 +12,8 @@ pub enum GpuError {
     Unsupported(String),
     /// An array of the model is larger than the device binds at once.
     TooLarge(String),
+    /// The device failed while the step was made (lost, or an error it reported).
+    Failed(String),
 }
 
 impl fmt::Display for GpuError {
@@ -21,6 +24,7 @@ impl fmt::Display for GpuError {
                 write!(f, "--gpu does not run {m} yet; run this deck without --gpu")
             }
             GpuError::TooLarge(m) => write!(f, "--gpu: {m}"),
+            GpuError::Failed(m) => write!(f, "--gpu: the GPU failed: {m}"),
         }
     }
 }
@@ -39,6 +43,11 @@ pub struct Gpu {
     /// their names in step.wgsl: for the tests of the splitting (split.rs) on devices that
     /// bind few arrays (lavapipe: 32, of which the step uses 31). Empty by default.
     pub force_split: Vec<(String, u64)>,
+    /// The first failure the device reported: an error no call caught (wgpu's default
+    /// handler panics on it), or the device lost (its driver reset it, or it was destroyed).
+    /// A lost device reads back nothing, so the stepper asks here after each read-back and
+    /// stops the run with this message ([`Gpu::failure`]).
+    failed: Arc<Mutex<Option<String>>>,
 }
 
 impl Gpu {
@@ -92,6 +101,28 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(|e| GpuError::NoDevice(format!("cannot open {}: {e}", names[0])))?;
+        let failed = Arc::new(Mutex::new(None));
+        let keep = |f: &Arc<Mutex<Option<String>>>| {
+            let f = f.clone();
+            move |what: String| {
+                if let Ok(mut f) = f.lock() {
+                    f.get_or_insert(what);
+                }
+            }
+        };
+        let on_error = keep(&failed);
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            on_error(format!("the device reported an error: {e}"));
+        }));
+        let on_lost = keep(&failed);
+        device.set_device_lost_callback(move |reason, msg| {
+            let msg = if msg.is_empty() {
+                msg
+            } else {
+                format!(": {msg}")
+            };
+            on_lost(format!("the device was lost ({reason:?}{msg})"));
+        });
         Ok(Self {
             device,
             queue,
@@ -99,7 +130,17 @@ impl Gpu {
             limits,
             timestamps,
             force_split: vec![],
+            failed,
         })
+    }
+
+    /// The first failure the device reported, if any: after it, nothing it computes or reads
+    /// back can be trusted.
+    pub fn failure(&self) -> Option<String> {
+        self.failed.lock().map_or_else(
+            |_| Some("the device's error record was poisoned".into()),
+            |f| f.clone(),
+        )
     }
 
     /// "NAME (backend, driver)".

@@ -500,8 +500,9 @@ impl GpuStepper {
         c.apply(solver);
         let mut list: Vec<u32> = bytemuck::pod_collect_to_vec(&got[k]);
         let mut index_of: Vec<f64> = bytemuck::pod_collect_to_vec(&got[k + 1]);
-        // (a lost device reads back as NaNs: the count and numbers are then bounded, and
-        // the next read of the control block reports the loss)
+        // (a lost device reads back as NaNs: the count and numbers are then bounded, and the
+        // loss is reported where they do not make sense, or at the next read of the control
+        // block)
         let count = (list[0] as usize).min(self.sep.n_if as usize);
         if count as u64 > head {
             // the rest of a long list
@@ -516,11 +517,9 @@ impl GpuStepper {
         let found: Vec<(f32, u32)> = (list[1..=count].iter().zip(&index_of))
             .map(|(&i, &index)| (index as f32, i))
             .collect();
-        solver.release_interfaces(&found).map_err(|e| {
-            RunError::Output(std::io::Error::other(format!(
-                "the GPU's interface table is out of date: {e}"
-            )))
-        })?;
+        if let Err(e) = solver.release_interfaces(&found) {
+            return Err(self.internal(solver, format!("its interface table is out of date: {e}")));
+        }
         let released: Vec<u32> = found.iter().map(|f| f.1).collect();
         self.upload_split(solver, c.step(), &released, cohesive);
         // with contact (each a no-op without): the new crack faces join the surfaces and the

@@ -718,6 +718,9 @@ impl GpuStepper {
         if erodes {
             persistent.push((ero.clone(), Stored::AsIs));
         }
+        if let Some(m) = gpu.failure() {
+            return Err(GpuError::Failed(m));
+        }
         Ok(Self {
             pipelines,
             commit,
@@ -816,6 +819,23 @@ impl GpuStepper {
         if let Some(c) = &self.contact {
             c.clear(enc);
         }
+    }
+
+    /// The run's error when the device failed (lost, or an error it reported: [`Gpu::failure`]),
+    /// at the time and step the host last read.
+    pub(crate) fn failed(&self, solver: &Solver) -> Option<RunError> {
+        let m = self.gpu.failure()?;
+        Some(RunError::Device(format!(
+            "the GPU run stopped after t = {:e} (step {}, the last the host read): {m}",
+            solver.state.t, solver.state.step
+        )))
+    }
+
+    /// The run's error when the device's state disagrees with the host's (`what`): that of a
+    /// failed device when it failed ([`Self::failed`]; what it read back is then garbage).
+    pub(crate) fn internal(&self, solver: &Solver, what: String) -> RunError {
+        self.failed(solver)
+            .unwrap_or_else(|| RunError::Device(format!("the GPU run stopped: {what}")))
     }
 
     /// Submit the passes of the step in flight that come after `after` (an entry point); the
@@ -1096,8 +1116,7 @@ impl GpuStepper {
             return Ok(());
         };
         let clo: Vec<f64> = bytemuck::pod_collect_to_vec(clo);
-        (c.closures_to_host(solver, &clo, released))
-            .map_err(|e| RunError::Output(std::io::Error::other(e)))
+        (c.closures_to_host(solver, &clo, released)).map_err(|e| self.internal(solver, e))
     }
 
     /// The contact's tables made again from the host's (after its surfaces, sets or closed
@@ -1115,7 +1134,16 @@ impl GpuStepper {
         split: bool,
         got: &[Vec<u8>],
     ) -> Result<(), RunError> {
-        let failed = |e: String| RunError::Output(std::io::Error::other(e));
+        (self.remake_tables(solver, split, got)).map_err(|e| self.internal(solver, e))
+    }
+
+    /// [`Self::remake_contact`], its errors as text.
+    fn remake_tables(
+        &mut self,
+        solver: &mut Solver,
+        split: bool,
+        got: &[Vec<u8>],
+    ) -> Result<(), String> {
         let Some(c) = self.contact.as_mut() else {
             return Ok(());
         };
@@ -1124,8 +1152,7 @@ impl GpuStepper {
                 .map_or(vec![], |b| bytemuck::pod_collect_to_vec::<u8, f64>(b))
         });
         crate::contact::settle(solver, true);
-        let t =
-            (c.tables_now(solver)).ok_or_else(|| failed("the solver's contact is gone".into()))?;
+        let t = (c.tables_now(solver)).ok_or("the solver's contact is gone")?;
         // (the slots born in this step: a halt after a split; none after erosion or a release.
         // A split halt whose failure list read back empty splits nothing, and then no entry
         // leaves the surface: the older births `born` still lists are not read)
@@ -1133,8 +1160,7 @@ impl GpuStepper {
             (Some(sep), true) => sep.sets().born(),
             _ => &[],
         };
-        c.upload(&self.gpu, t, Some((&hits, &fprev, born)))
-            .map_err(|e| failed(e.to_string()))
+        (c.upload(&self.gpu, t, Some((&hits, &fprev, born)))).map_err(|e| e.to_string())
     }
 
     /// Contact on surfaces that elements erode from: the host changes them (HALT 5).
@@ -1293,8 +1319,12 @@ impl GpuStepper {
         self.copy_control(&mut enc, 0);
         q.submit([enc.finish()]);
         let c = self.read_control(0);
+        if let Some(m) = self.gpu.failure() {
+            return Err(format!("the GPU failed: {m}"));
+        }
         self.mirror(solver, &c).map_err(|e| match e {
             RunError::Output(e) => e.to_string(),
+            RunError::Device(m) => m,
             e => format!("{e:?}"),
         })
     }
@@ -1553,8 +1583,7 @@ impl GpuStepper {
             let got = self.download_ranges(&[ct.hits(), ct.clo()]);
             let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
             let clo: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
-            ct.closures_to_host(solver, &clo, false)
-                .map_err(|e| RunError::Output(std::io::Error::other(e)))?;
+            (ct.closures_to_host(solver, &clo, false)).map_err(|e| self.internal(solver, e))?;
             let ids = solver
                 .contact()
                 .map(|cs| cs.forces().iter().map(|f| f.id).collect::<Vec<_>>());
@@ -1620,6 +1649,9 @@ impl GpuStepper {
             }
             let (staging, started, recorded, start, first) = in_flight.remove(0);
             let c = self.read_control(staging);
+            if let Some(e) = self.failed(solver) {
+                return Err(e);
+            }
             // (the steps it ran: those its count grew by, less the step halted before it, and
             // the one it halted in)
             let grew = c.step() - start - f64::from(u8::from(first));
@@ -1680,6 +1712,10 @@ impl GpuStepper {
                 }
                 h => {
                     self.mirror(solver, &c)?;
+                    // (what a device that failed meanwhile read back is not written out)
+                    if let Some(e) = self.failed(solver) {
+                        return Err(e);
+                    }
                     solver.set_finished(h == 2);
                     obs.observe(solver).map_err(RunError::Output)?;
                     let t = solver.state.t;

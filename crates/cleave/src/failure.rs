@@ -46,10 +46,12 @@ impl From<cleave_io::deck::DeckError> for Failure {
 
 impl From<cleave_gpu::GpuError> for Failure {
     /// A feature or size the GPU step does not take is bad input for `--gpu` (exit 2); no
-    /// usable GPU is the machine's (exit 1).
+    /// usable GPU, or one that failed, is the machine's (exit 1).
     fn from(e: cleave_gpu::GpuError) -> Self {
         match e {
-            cleave_gpu::GpuError::NoDevice(_) => Failure::Other(e.to_string()),
+            cleave_gpu::GpuError::NoDevice(_) | cleave_gpu::GpuError::Failed(_) => {
+                Failure::Other(e.to_string())
+            }
             _ => Failure::Input(e.to_string()),
         }
     }

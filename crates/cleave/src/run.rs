@@ -351,5 +351,9 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             Err(f)
         }
         Err(RunError::Output(e)) => Err(io_failure("cannot write output in", &dir, e)),
+        Err(RunError::Device(m)) => Err(Failure::Other(format!(
+            "{m}; the output up to this point is in {}",
+            dir.display()
+        ))),
     }
 }

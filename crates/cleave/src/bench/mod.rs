@@ -37,6 +37,7 @@ fn run_failure(e: RunError) -> Failure {
     match e {
         RunError::Solver(e) => Failure::from(e),
         RunError::Output(e) => Failure::Other(e.to_string()),
+        RunError::Device(m) => Failure::Other(m),
     }
 }
 

@@ -1,0 +1,52 @@
+//! A device that fails in the middle of a run (lost: its driver reset it, or it was
+//! destroyed) stops the run with an error that says so, at the last time the host read; it
+//! neither panics (wgpu's default error handler would) nor hands the observer what a lost
+//! device reads back.
+
+mod common;
+
+use cleave_core::model::Hourglass;
+use cleave_core::solver::{Observer, RunError, Solver};
+use cleave_gpu::GpuStepper;
+use common::{block, gpu};
+
+/// Takes output every microsecond and destroys the device at the second output.
+struct Destroy {
+    dev: wgpu::Device,
+    times: Vec<f64>,
+}
+
+impl Observer for Destroy {
+    fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
+        self.times.push(s.state.t);
+        if self.times.len() == 2 {
+            self.dev.destroy();
+        }
+        Ok(())
+    }
+    fn next_due(&self) -> f64 {
+        1e-6 * self.times.len() as f64
+    }
+}
+
+#[test]
+fn a_device_lost_mid_run_stops_it_with_a_clear_error() {
+    let Some(g) = gpu() else { return };
+    let dev = g.device.clone();
+    let m = block(Hourglass::Viscous);
+    let mut s = Solver::new(&m).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
+    let mut obs = Destroy { dev, times: vec![] };
+    let r = st.run(&mut s, &mut obs);
+    let Err(RunError::Device(msg)) = r else {
+        panic!("the run goes on or fails otherwise: {r:?}");
+    };
+    assert!(msg.contains("the device was lost"), "{msg}");
+    // no output after the loss, and the host's state that of the last output
+    assert_eq!(obs.times.len(), 2);
+    assert_eq!(s.state.t, obs.times[1]);
+    assert!(
+        msg.contains(&format!("after t = {:e}", obs.times[1])),
+        "{msg}"
+    );
+}

@@ -554,6 +554,21 @@ impl<'m> Solver<'m> {
         self.contact.as_mut()
     }
 
+    /// Bring the contact's bookkeeping up to the coincident sets as they are now, for a stepper
+    /// that runs the checks itself ([`ContactSet::settle`]; `pending`: only the copies of the
+    /// faces activated since the last settle regrouped, [`ContactSet::settle_pending`]).
+    /// Nothing without contact.
+    pub fn settle_contact(&mut self, pending: bool) {
+        let Some(c) = &mut self.contact else {
+            return;
+        };
+        let tie = (self.separation.as_ref()).map_or(&[][..], |s| s.sets().node_sets());
+        match pending {
+            true => c.settle_pending(tie),
+            false => c.settle(tie),
+        }
+    }
+
     /// True once the state at the end time has been computed and observed.
     pub fn is_finished(&self) -> bool {
         self.finished

@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use cleave_core::contact::ContactSet;
 use cleave_core::mesh::{Assembly, BoxMesh};
-use cleave_core::model::{ContactDef, ContactSurface, Material, MaterialKind, SeparationDef};
+use cleave_core::model::{ContactDef, Material, MaterialKind, SeparationDef};
 use cleave_core::separation::interfaces::Separation;
 use cleave_core::separation::split::split_model;
 use cleave_core::solver::Solver;
@@ -81,16 +81,7 @@ fn the_steady_step_allocates_nothing() {
         bond: 1,
         strength: Default::default(),
     });
-    m.contacts.push(ContactDef {
-        id: 1,
-        single_surface: true,
-        one_way: false,
-        slave: ContactSurface::All,
-        master: None,
-        fs: 0.3,
-        fd: 0.2,
-        dc: 0.0,
-    });
+    m.contacts.push(ContactDef::single_surface_all(0.3, 0.2));
     let split = split_model(&m);
     let mut s = Solver::new(&split.model).unwrap();
     s.attach_separation(Separation::new(&split).unwrap());

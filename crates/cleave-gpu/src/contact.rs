@@ -1,7 +1,7 @@
 //! Automatic contact on the GPU (`contact.wgsl`): the tables its passes read, its buffers and
 //! pipelines, and the resultants for `rcforc.csv`.
 //!
-//! The host solver's [`ContactSet`](cleave_core::contact::ContactSet) (cleave-core contact/) gives the surfaces: each
+//! The host solver's [`ContactSet`] (cleave-core contact/) gives the surfaces: each
 //! definition's sides (faces, with their stiffness and depth), its passes, the order the CPU
 //! scatters the nodes' forces in, the faces that make each node's normal, the nodes'
 //! stiffness and the friction. The GPU runs the same node-to-face penalty contact with friction
@@ -22,6 +22,8 @@
 //! faces that hold a copy chained to the node, and steps the closed cracks (contact.wgsl
 //! c_close); a step in which one is released halts (HALT 6) for the host to let it go
 //! (`GpuStepper::release_cracks`).
+//!
+//! [`ContactSet`]: cleave_core::contact::ContactSet
 
 use cleave_core::contact::view::CLOSURE_STATE;
 use cleave_core::contact::ContactForce;
@@ -48,20 +50,12 @@ pub(crate) const PASSES: [&str; 11] = [
 ];
 
 /// Bring the host's contact up to its coincident sets as they are now (the chains of closed
-/// cracks, the sets' leads: [`ContactSet::settle`](cleave_core::contact::ContactSet::settle)) before its tables are read; `halt`: in a
+/// cracks, the sets' leads: [`Solver::settle_contact`]) before its tables are read; `halt`: in a
 /// halt of the step (a split, a crack's release, an erosion), where only the copies of the
-/// faces activated since the last settle are regrouped ([`ContactSet::settle_pending`](cleave_core::contact::ContactSet::settle_pending)); not
-/// when a restart file's state is taken up.
+/// faces activated since the last settle are regrouped; not when a restart file's state is
+/// taken up.
 pub(crate) fn settle(solver: &mut Solver, halt: bool) {
-    let tie: Vec<u32> = (solver.separation())
-        .map(|s| s.sets().node_sets().to_vec())
-        .unwrap_or_default();
-    if let Some(cs) = solver.contact_mut() {
-        match halt {
-            true => cs.settle_pending(&tie),
-            false => cs.settle(&tie),
-        }
-    }
+    solver.settle_contact(halt);
 }
 
 /// The contact passes of the step, their buffers and their bind group.
@@ -79,15 +73,21 @@ pub(crate) struct ContactGpu {
     v: wgpu::Buffer,
     /// Each node's contact force of the step (3 per model node), read by the step's shader.
     pub fcon: wgpu::Buffer,
-    /// The tables' buffers (bound in `bind_group`): the tables, the pairs (hits, HIT values per pass-node) and the
-    /// last step's contact force of each surface node (3 each) that carry over to the next
-    /// step, the grid's, the work arrays, the closed cracks' states ([`CLO`] values each).
+    /// The tables' buffers (bound in `bind_group`): the tables, the pairs (hits, HIT values
+    /// per pass-node) and the last step's contact force of each surface node (3 each) that
+    /// carry over to the next step, the grid's, the work arrays, the closed cracks' states
+    /// ([`CLO`] values each).
     b: Buffers,
     /// The present tables, the arrays of the ones before (to be filled again) and the work
     /// arrays that make them.
     tables: Tables,
     spare: Tables,
     scratch: Scratch,
+    /// For tests: a value written all over the grid and the work arrays whenever new tables
+    /// are written into their buffers (what the tables before may have left there), and how
+    /// many times it was ([`ContactGpu::clear`] must zero them before the contact's passes).
+    pub poison: Option<u32>,
+    pub poisoned: u64,
 }
 
 /// The step's shader text that reads the contact forces: with contact, `fcon` at binding
@@ -169,7 +169,7 @@ struct Buffers {
 impl Buffers {
     /// Tables `t` (with their closed cracks' states) with pairs `h` and last forces `fp` on
     /// the device, in these buffers where they fit; true when a buffer was made anew.
-    fn fit(&mut self, gpu: &Gpu, t: &Tables, h: &[f64], fp: &[f64]) -> bool {
+    fn fit(&mut self, gpu: &Gpu, t: &Tables, h: &[f64], fp: &[f64], poison: Option<u32>) -> bool {
         // (a binding is never empty)
         let none = [0.0f64; CLO];
         let clo_values = if t.clo.is_empty() {
@@ -197,12 +197,20 @@ impl Buffers {
             match self.bufs.get(k) {
                 Some(b) if b.size() >= bytes => match contents(k) {
                     Some(c) => gpu.queue.write_buffer(b, 0, c),
-                    None => self.to_clear.set(true),
+                    None => {
+                        if let Some(p) = poison {
+                            let words = vec![p; b.size() as usize / 4];
+                            gpu.queue.write_buffer(b, 0, bytemuck::cast_slice(&words));
+                        }
+                        self.to_clear.set(true)
+                    }
                 },
                 _ => {
+                    // (the limit may be odd, 2^31 - 1 on an H100: a binding's size must be a
+                    // multiple of 4)
                     let room = (bytes + bytes / 4)
                         .next_multiple_of(8)
-                        .min(limit)
+                        .min(limit & !7)
                         .max(bytes);
                     let b = gpu.device.create_buffer(&wgpu::BufferDescriptor {
                         label: Some(label),
@@ -322,7 +330,7 @@ impl ContactGpu {
         check_sizes(gpu, &t, x)?;
         let (h, fp) = t.no_pairs();
         let mut b = Buffers::default();
-        b.fit(gpu, &t, &h, &fp);
+        b.fit(gpu, &t, &h, &fp, None);
         let bind_group = b.bind(gpu, &layout, [cf, x, v, cu], &fcon);
         Ok(Some(Self {
             passes: passes.into(),
@@ -338,6 +346,8 @@ impl ContactGpu {
             tables: t,
             spare: Tables::default(),
             scratch,
+            poison: None,
+            poisoned: 0,
         }))
     }
 
@@ -365,7 +375,8 @@ impl ContactGpu {
                 }
             }
         }
-        if self.b.fit(gpu, &t, &h, &fp) {
+        self.poisoned += u64::from(self.poison.is_some());
+        if self.b.fit(gpu, &t, &h, &fp, self.poison) {
             let step = [&self.cf, &self.x, &self.v, &self.cu];
             self.bind_group = self.b.bind(gpu, &self.layout, step, &self.fcon);
         }
@@ -379,9 +390,13 @@ impl ContactGpu {
     pub fn hits(&self) -> Part<'_> {
         (&self.b.bufs[HITS], 0, self.tables.pair_bytes()[0])
     }
+
+    /// The surface entries' last forces on the device ([`Self::hits`]).
     pub fn fprev(&self) -> Part<'_> {
         (&self.b.bufs[FPREV], 0, self.tables.pair_bytes()[1])
     }
+
+    /// The closed cracks' states on the device ([`Self::hits`]).
     pub fn clo(&self) -> Part<'_> {
         (&self.b.bufs[CLOS], 0, self.tables.closure_bytes())
     }
@@ -404,7 +419,10 @@ impl ContactGpu {
     }
 
     /// The closed cracks' states `clo` (as read back) into the host's contact of `solver`,
-    /// the cracks flagged released leaving it when `released` ([`ContactSet::closures_stepped`](cleave_core::contact::ContactSet::closures_stepped)).
+    /// the cracks flagged released leaving it when `released`
+    /// ([`ContactSet::closures_stepped`]).
+    ///
+    /// [`ContactSet::closures_stepped`]: cleave_core::contact::ContactSet::closures_stepped
     pub fn closures_to_host(
         &self,
         solver: &mut Solver,
@@ -503,7 +521,7 @@ pub(crate) fn shader_source() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cleave_core::model::{ContactDef, ContactSurface, Material, MaterialKind};
+    use cleave_core::model::{ContactDef, Material, MaterialKind};
     use wgpu::naga;
 
     /// A 2 x 2 x 2 block with single surface contact: its tables, and the shader made of them
@@ -518,16 +536,7 @@ mod tests {
             kind: MaterialKind::Elastic,
         };
         let mut m = cleave_core::mesh::box_model([2, 2, 2], [1.0, 1.0, 1.0], steel, 1.0);
-        m.contacts.push(ContactDef {
-            id: 1,
-            single_surface: true,
-            one_way: false,
-            slave: ContactSurface::All,
-            master: None,
-            fs: 0.1,
-            fd: 0.1,
-            dc: 0.0,
-        });
+        m.contacts.push(ContactDef::single_surface_all(0.1, 0.1));
         let mut s = Solver::new(&m).unwrap();
         s.attach_contact(cleave_core::contact::ContactSet::new(&m, None).unwrap());
         let t = tables(&s, &mut Scratch::default(), Tables::default()).unwrap();

@@ -40,7 +40,7 @@
 // The sizes (C_NN nodes, C_NF faces, C_NP pass-nodes, C_NG surface nodes, C_M cells), the
 // offsets of the tables in `ci` and `cfl` and of the grid's and hit lists' parts are the first
 // values of `ci`, read into private variables by `params()` first thing in every entry point
-// (the host declares them before this text, contact.rs PARAMS): the tables are rebuilt when
+// (the host declares them before this text, contact_tables.rs PARAMS): the tables are rebuilt when
 // the surfaces or sets change (elements erode, interfaces fail, closed cracks are released)
 // without compiling the shader again.
 //
@@ -82,7 +82,7 @@ const NEWTON_TOL: f64 = 1e-11lf;
 const GAP_TOL: f64 = 1e-9lf;
 const FACING: f64 = 0.2lf;
 // a face whose sphere's box spans more than SPAN cells along an axis (hi - lo >= SPAN) goes
-// to the `big` list: at most SPAN^3 = 27 cells a face in the grid (contact.rs CELLS)
+// to the `big` list: at most SPAN^3 = 27 cells a face in the grid (contact_tables.rs CELLS)
 const SPAN: f64 = 3.0lf;
 
 // A hit, HIT values per pass-node: the face (-1: none), the weights w_a of its corners at the

@@ -1,15 +1,17 @@
 //! The tables contact.wgsl reads, made on the host from the solver's contact definitions, and
-//! the pairs carried over when they are made again (at a split, a crack's release, an erosion).
+//! the pairs carried over when they are made again (at a split, a crack's release, an
+//! erosion).
 //!
 //! A split remakes them from the host's contact as it then is, and that is most steps of a
-//! breaking ball, so they are made without allocating and without hashing: the arrays of the
-//! tables before and the work arrays ([`Scratch`]) are kept and refilled, each node's lists
-//! are written into `ci` where they go (a counting sort by entry), a face's closed crack is
-//! found through an array by element face, and the carried pairs through an array by node
-//! and by each face's place in its side (faces only join the end of a side, so a face keeps
-//! its place there until the side is made again after an erosion; a hash map by what the face
-//! is catches that case). The tables are those made afresh, value for value: a restarted run
-//! makes them afresh and gives the same bits.
+//! breaking ball, so they are made without hashing and with few allocations (the host
+//! contact's lists of leads and closed cracks): the arrays of the tables before and the work
+//! arrays ([`Scratch`]) are kept and refilled, each entry's lists are written into `ci` where
+//! they go (a counting sort by entry), a face's closed crack is found through an array by
+//! element face, and the carried pairs through an array by node and by each face's place in
+//! its side (faces only join the end of a side, and an eroded face stays in its place with no
+//! stiffness and depth, so a face keeps its place; a hash map by what the face is would catch
+//! tables whose sides were made otherwise, none today). The tables are those made afresh,
+//! value for value: a restarted run makes them afresh and gives the same bits.
 
 use cleave_core::contact::view::CLOSURE_STATE;
 use cleave_core::contact::ContactSet;
@@ -17,8 +19,8 @@ use cleave_core::model::PenaltyRule;
 use cleave_core::solver::Solver;
 use std::hash::{BuildHasherDefault, Hasher};
 
-/// The look-up of a face by what it is, when a side was made again (erosion): keyed by small
-/// integers, looked up only (never iterated, so its order cannot reach a result), hashed by a
+/// The look-up of a face by what it is, when its place in its side misses ([`FaceMap`]): keyed
+/// by small integers, looked up only (never iterated, so its order cannot reach a result), hashed by a
 /// multiply-xor of each integer (std's SipHash, made for keys an adversary chooses, is slower).
 type HashMap<K, V> = std::collections::HashMap<K, V, BuildHasherDefault<IntHasher>>;
 
@@ -199,7 +201,7 @@ pub(crate) struct Scratch {
     count: [Vec<u32>; 3],
     surface_at: Vec<u32>,
     /// The pass-node of the tables before that each node was a member of, by pass and node
-    /// (NONE elsewhere, and again after each use).
+    /// (NONE elsewhere, and again after each use): 4 bytes per pass and model node.
     member_of: Vec<u32>,
 }
 
@@ -637,9 +639,10 @@ pub(crate) fn carry_pairs(
 }
 
 /// The faces of tables `old` in the numbering of tables `new`, by what they are. A side's
-/// faces only join its end, so a face keeps its place in its side: that place is tried first,
-/// and a map by what the faces are is made only when it misses (a side made again after an
-/// erosion).
+/// faces only join its end (an eroded face keeps its place, with no stiffness and depth), so a
+/// face keeps its place in its side: that place is tried first, and a map by what the faces
+/// are is made only when it misses (tables whose sides were made otherwise: none today, kept
+/// so that such a change stays correct).
 struct FaceMap<'a> {
     old: &'a Tables,
     new: &'a Tables,
@@ -778,20 +781,11 @@ mod tests {
     #[test]
     fn tables_made_in_used_arrays_are_those_made_afresh() {
         use cleave_core::contact::ContactSet;
-        use cleave_core::model::{ContactDef, ContactSurface};
+        use cleave_core::model::ContactDef;
         use cleave_core::separation::interfaces::Separation;
         use cleave_core::separation::split::split_model;
         let mut m = crate::relayout::tests::cracking_block();
-        m.contacts.push(ContactDef {
-            id: 1,
-            single_surface: true,
-            one_way: false,
-            slave: ContactSurface::All,
-            master: None,
-            fs: 0.1,
-            fd: 0.1,
-            dc: 0.0,
-        });
+        m.contacts.push(ContactDef::single_surface_all(0.1, 0.1));
         let split = split_model(&m);
         let mut s = Solver::new(&split.model).unwrap();
         s.attach_separation(Separation::new(&split).unwrap());
@@ -823,7 +817,10 @@ mod tests {
             }
             s.update_positions().unwrap();
         }
-        eprintln!("{failed} interfaces failed, {compared} tables compared, {} faces from {faces_at_start}", now.faces);
+        let faces = now.faces;
+        eprintln!(
+            "{failed} failed, {compared} tables compared, {faces} faces from {faces_at_start}"
+        );
         assert!(compared >= 5 && now.faces > faces_at_start);
     }
 

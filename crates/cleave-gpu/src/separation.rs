@@ -369,7 +369,7 @@ impl GpuStepper {
         // each array's changed values, in runs (a few unchanged values between two changed
         // ones are written again rather than cost a copy of their own), all in one staging
         // buffer: a write of its own for each run made a staging buffer for each
-        const GAP: usize = 16;
+        const GAP: usize = 1024;
         for (buf, data, idx) in [
             (&b.conn, &r.conn, ch.conn),
             (&b.emat, &r.emat, ch.emat),

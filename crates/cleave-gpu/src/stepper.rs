@@ -760,6 +760,21 @@ impl GpuStepper {
         })
     }
 
+    /// For tests: write `value` all over the contact's grid and work arrays whenever new
+    /// tables are written into their buffers ([`ContactGpu::poison`]); returns how many times
+    /// it was so far. A run gives the same bits with it as without when the grid is zeroed
+    /// before the contact's next pass, wherever that pass is recorded.
+    #[doc(hidden)]
+    pub fn poison_contact_grid(&mut self, value: Option<u32>) -> u64 {
+        match &mut self.contact {
+            Some(c) => {
+                c.poison = value;
+                c.poisoned
+            }
+            None => 0,
+        }
+    }
+
     /// Read at most `n` (at least 1) of a step's failed interfaces with the rest of a split's
     /// read-back, the others in a second one (1024 by default; for tests of the second).
     #[doc(hidden)]

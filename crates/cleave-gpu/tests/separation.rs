@@ -505,6 +505,28 @@ fn a_long_failure_list_is_read_in_two_parts() {
     assert!((split.0 as usize) < failed);
 }
 
+/// New contact tables (at each split and crack release) are written into the buffers of the
+/// ones before, whose grid and work arrays hold what the last step left at the old tables'
+/// offsets; they are zeroed by the first commands recorded after, before any contact pass
+/// (`ContactGpu::clear`). Poisoned at every such write (7 in every word: counts that must not
+/// start from it), the cracking block in contact gives the same rows bit for bit.
+#[test]
+fn the_contact_grid_is_zeroed_after_new_tables() {
+    let Some(g) = gpu() else {
+        return;
+    };
+    let split = split_model(&cracking_block_in_contact());
+    let every = split.model.control.end_time / 40.0;
+    let (plain, g) = run_gpu(g, &split, every);
+    let (rows, mut st, ..) = run_gpu_after(g, &split, every, |st| {
+        st.poison_contact_grid(Some(7));
+    });
+    let poisoned = st.poison_contact_grid(None);
+    eprintln!("the grid poisoned {poisoned} times");
+    assert!(poisoned >= 10);
+    assert!(rows == plain, "a poisoned grid changed the run");
+}
+
 /// The cracking block with single surface contact with friction (FS 0.3, FD 0.2).
 fn cracking_block_in_contact() -> Model {
     let mut m = cracking_block();

@@ -804,8 +804,13 @@ impl<'m> Solver<'m> {
                     None => *ids,
                 };
                 let at = if per_slot { &to } else { ids };
-                let xe: [Vec3; 8] = std::array::from_fn(|a| x[at[a] as usize]);
-                let ve: [Vec3; 8] = std::array::from_fn(|a| v[at[a] as usize]);
+                // (filled in place: `from_fn` built each on the stack and copied it, a call
+                // to memcpy per array and element)
+                let (mut xe, mut ve) = ([[0.0; 3]; 8], [[0.0; 3]; 8]);
+                for a in 0..8 {
+                    xe[a] = x[at[a] as usize];
+                    ve[a] = v[at[a] as usize];
+                }
                 let mut fe = [[0.0; 3]; 8];
                 // ELFORM 2 elements were stepped before the pass (`step_sri_elements`)
                 let step = match sri.and_then(|s| s.position(e)) {

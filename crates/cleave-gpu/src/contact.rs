@@ -84,10 +84,9 @@ pub(crate) struct ContactGpu {
     spare: Tables,
     scratch: Scratch,
     /// For tests: a value written all over the grid and the work arrays whenever new tables
-    /// are written into their buffers (what the tables before may have left there), and how
-    /// many times it was ([`ContactGpu::clear`] must zero them before the contact's passes).
+    /// are written into their buffers (what the tables before may have left there;
+    /// [`ContactGpu::clear`] must zero them before the contact's passes).
     pub poison: Option<u32>,
-    pub poisoned: u64,
 }
 
 /// The step's shader text that reads the contact forces: with contact, `fcon` at binding
@@ -164,6 +163,8 @@ const LABELS: [&str; 8] = [
 struct Buffers {
     bufs: Vec<wgpu::Buffer>,
     to_clear: std::cell::Cell<bool>,
+    /// For tests: the buffers written all over with [`ContactGpu::poison`] so far.
+    poisoned: u64,
 }
 
 impl Buffers {
@@ -201,6 +202,7 @@ impl Buffers {
                         if let Some(p) = poison {
                             let words = vec![p; b.size() as usize / 4];
                             gpu.queue.write_buffer(b, 0, bytemuck::cast_slice(&words));
+                            self.poisoned += 1;
                         }
                         self.to_clear.set(true)
                     }
@@ -347,7 +349,6 @@ impl ContactGpu {
             spare: Tables::default(),
             scratch,
             poison: None,
-            poisoned: 0,
         }))
     }
 
@@ -375,7 +376,6 @@ impl ContactGpu {
                 }
             }
         }
-        self.poisoned += u64::from(self.poison.is_some());
         if self.b.fit(gpu, &t, &h, &fp, self.poison) {
             let step = [&self.cf, &self.x, &self.v, &self.cu];
             self.bind_group = self.b.bind(gpu, &self.layout, step, &self.fcon);
@@ -406,6 +406,11 @@ impl ContactGpu {
     /// records the contact's passes.
     pub fn clear(&self, enc: &mut wgpu::CommandEncoder) {
         self.b.clear(enc);
+    }
+
+    /// For tests: the buffers written all over with [`Self::poison`] so far.
+    pub fn poisoned(&self) -> u64 {
+        self.b.poisoned
     }
 
     /// The present tables.

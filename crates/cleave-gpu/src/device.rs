@@ -43,11 +43,12 @@ pub struct Gpu {
     /// their names in step.wgsl: for the tests of the splitting (split.rs) on devices that
     /// bind few arrays (lavapipe: 32, of which the step uses 31). Empty by default.
     pub force_split: Vec<(String, u64)>,
-    /// The first failure the device reported: an error no call caught (wgpu's default
-    /// handler panics on it), or the device lost (its driver reset it, or it was destroyed).
-    /// A lost device reads back nothing, so the stepper asks here after each read-back and
-    /// stops the run with this message ([`Gpu::failure`]).
-    failed: Arc<Mutex<Option<String>>>,
+    /// The failures the device reported: the first error no call caught (wgpu's default
+    /// handler panics on it), and the loss of the device (its driver reset it, or it was
+    /// destroyed), which comes after the errors of the calls it fails. A lost device reads
+    /// back nothing, so the stepper asks after each read-back and stops the run with the
+    /// loss, or else the error ([`Gpu::failure`]).
+    failed: Arc<Mutex<Failures>>,
 }
 
 impl Gpu {
@@ -101,27 +102,27 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(|e| GpuError::NoDevice(format!("cannot open {}: {e}", names[0])))?;
-        let failed = Arc::new(Mutex::new(None));
-        let keep = |f: &Arc<Mutex<Option<String>>>| {
-            let f = f.clone();
-            move |what: String| {
-                if let Ok(mut f) = f.lock() {
-                    f.get_or_insert(what);
-                }
-            }
-        };
-        let on_error = keep(&failed);
+        let failed: Arc<Mutex<Failures>> = Arc::default();
+        let on_error = failed.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
-            on_error(format!("the device reported an error: {e}"));
+            record(
+                &on_error,
+                false,
+                format!("the device reported an error: {e}"),
+            );
         }));
-        let on_lost = keep(&failed);
+        let on_lost = failed.clone();
         device.set_device_lost_callback(move |reason, msg| {
             let msg = if msg.is_empty() {
                 msg
             } else {
                 format!(": {msg}")
             };
-            on_lost(format!("the device was lost ({reason:?}{msg})"));
+            record(
+                &on_lost,
+                true,
+                format!("the device was lost ({reason:?}{msg})"),
+            );
         });
         Ok(Self {
             device,
@@ -134,13 +135,23 @@ impl Gpu {
         })
     }
 
-    /// The first failure the device reported, if any: after it, nothing it computes or reads
-    /// back can be trusted.
+    /// The device's loss, or else the first error it reported, if any: after either, nothing
+    /// it computes or reads back can be trusted.
     pub fn failure(&self) -> Option<String> {
         self.failed.lock().map_or_else(
             |_| Some("the device's error record was poisoned".into()),
-            |f| f.clone(),
+            |f| f.lost.clone().or_else(|| f.error.clone()),
         )
+    }
+
+    /// Wait until the device has done the work submitted. A device lost in the wait makes wgpu
+    /// panic (wgpu 30's `Device::poll` has no error for a lost device in a fence wait): that
+    /// panic is caught here and kept as the device's loss ([`Gpu::failure`]), without the
+    /// panic hook's message (the hook is wrapped once to stay silent for it).
+    pub fn wait(&self) {
+        wait_with(&self.failed, || {
+            let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+        });
     }
 
     /// "NAME (backend, driver)".
@@ -149,5 +160,75 @@ impl Gpu {
             "{} ({:?}, {} {})",
             self.info.name, self.info.backend, self.info.driver, self.info.driver_info
         )
+    }
+}
+
+/// What [`Gpu::failure`] reports.
+#[derive(Default)]
+struct Failures {
+    /// The first error no call caught.
+    error: Option<String>,
+    /// The device's loss.
+    lost: Option<String>,
+}
+
+/// Keep `what` as the device's loss (`lost`) or, if it is the first, its error.
+fn record(failed: &Mutex<Failures>, lost: bool, what: String) {
+    if let Ok(mut f) = failed.lock() {
+        match lost {
+            true => f.lost.get_or_insert(what),
+            false => f.error.get_or_insert(what),
+        };
+    }
+}
+
+thread_local! {
+    /// Whether this thread is in [`wait_with`] (the panic hook then stays silent).
+    static WAITING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Run `wait`; a panic in it is kept in `failed` as the device's loss instead.
+fn wait_with(failed: &Mutex<Failures>, wait: impl FnOnce()) {
+    static QUIET: std::sync::Once = std::sync::Once::new();
+    QUIET.call_once(|| {
+        let hook = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !WAITING.with(|w| w.get()) {
+                hook(info);
+            }
+        }));
+    });
+    WAITING.with(|w| w.set(true));
+    let got = std::panic::catch_unwind(std::panic::AssertUnwindSafe(wait));
+    WAITING.with(|w| w.set(false));
+    if let Err(p) = got {
+        let why = (p.downcast_ref::<String>().map(String::as_str))
+            .or_else(|| p.downcast_ref::<&str>().copied())
+            .unwrap_or("no message");
+        let what = format!("the device was lost while the host waited for it ({why})");
+        record(failed, true, what);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A wait that panics (as wgpu's poll does for a device lost in it) is kept as the loss,
+    /// which wins over an error reported before; a wait that returns records nothing.
+    #[test]
+    fn a_panic_in_a_wait_is_kept_as_the_device_lost() {
+        let failed = Mutex::new(Failures::default());
+        wait_with(&failed, || {});
+        assert!(failed.lock().unwrap().lost.is_none());
+        record(&failed, false, "an error".into());
+        wait_with(&failed, || panic!("Error in Device::poll: lost"));
+        let f = failed.lock().unwrap();
+        assert_eq!(f.error.as_deref(), Some("an error"));
+        let lost = f.lost.as_deref().unwrap();
+        assert!(
+            lost.contains("waited") && lost.contains("Device::poll: lost"),
+            "{lost}"
+        );
     }
 }

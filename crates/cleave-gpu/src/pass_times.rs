@@ -126,7 +126,7 @@ impl PassTimes {
         }
         let bytes = 16 * passes.len() as u64;
         s.read.slice(..bytes).map_async(wgpu::MapMode::Read, |_| {});
-        let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        gpu.wait();
         if let Ok(view) = s.read.slice(..bytes).get_mapped_range() {
             let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&view);
             for (k, &p) in passes.iter().enumerate() {

@@ -761,15 +761,15 @@ impl GpuStepper {
     }
 
     /// For tests: write `value` all over the contact's grid and work arrays whenever new
-    /// tables are written into their buffers ([`ContactGpu::poison`]); returns how many times
-    /// it was so far. A run gives the same bits with it as without when the grid is zeroed
-    /// before the contact's next pass, wherever that pass is recorded.
+    /// tables are written into their buffers ([`ContactGpu::poison`]); returns how many
+    /// buffers were so far. A run gives the same bits with it as without when the grid is
+    /// zeroed before the contact's next pass, wherever that pass is recorded.
     #[doc(hidden)]
     pub fn poison_contact_grid(&mut self, value: Option<u32>) -> u64 {
         match &mut self.contact {
             Some(c) => {
                 c.poison = value;
-                c.poisoned
+                c.poisoned()
             }
             None => 0,
         }
@@ -1405,6 +1405,9 @@ impl GpuStepper {
         self.gpu.queue.submit([enc.finish()]);
         let c = self.read_control(0);
         times.collect(&self.gpu, 0, steps);
+        if self.gpu.failure().is_some() {
+            return None;
+        }
         c.apply(solver);
         if c.halt() != 0 {
             return None;
@@ -1431,7 +1434,7 @@ impl GpuStepper {
         let s = &self.ctl_staging[staging];
         s.slice(..).map_async(wgpu::MapMode::Read, |_| {});
         // a lost device surfaces as a mapping error just below
-        let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        self.gpu.wait();
         let c = {
             let view = s.slice(..).get_mapped_range();
             match view {
@@ -1475,7 +1478,7 @@ impl GpuStepper {
         }
         self.gpu.queue.submit([enc.finish()]);
         staging.slice(..).map_async(wgpu::MapMode::Read, |_| {});
-        let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        self.gpu.wait();
         // (each part copied once, from the mapped range, or from NaNs where it is lost)
         let cut = |all: &[u8]| -> Vec<Vec<u8>> {
             let mut at = 0;
@@ -1606,8 +1609,22 @@ impl GpuStepper {
                 cs.set_forces(&ct.resultants(&hits, &clo, ids.into_iter()));
             }
         }
+        // (the time and energies stay those of the last read when the device failed in it)
+        if let Some(e) = self.failed(solver) {
+            return Err(e);
+        }
         c.apply(solver);
         Ok(())
+    }
+
+    /// Hand `obs` the state to write to a restart file ([`Self::save`]), unless the device
+    /// failed meanwhile: what it read back then is not written over the last good file.
+    fn checkpoint(&self, solver: &Solver, obs: &mut dyn Checkpointing) -> Result<(), RunError> {
+        let state = self.save(solver);
+        if let Some(e) = self.failed(solver) {
+            return Err(e);
+        }
+        obs.checkpoint(solver, state).map_err(RunError::Output)
     }
 
     /// Run to the end time, showing the state to `obs` at the times it is due
@@ -1739,8 +1756,7 @@ impl GpuStepper {
                         // a restart file due at the end time is written, as on the CPU (a
                         // run may go on from it to a later end time)
                         if due {
-                            obs.checkpoint(solver, self.save(solver))
-                                .map_err(RunError::Output)?;
+                            self.checkpoint(solver, obs)?;
                         }
                         return Ok(());
                     }
@@ -1750,8 +1766,7 @@ impl GpuStepper {
                         stopping = true;
                     }
                     if stopping || due {
-                        obs.checkpoint(solver, self.save(solver))
-                            .map_err(RunError::Output)?;
+                        self.checkpoint(solver, obs)?;
                         if stopping {
                             return Ok(());
                         }

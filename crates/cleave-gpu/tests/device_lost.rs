@@ -7,7 +7,7 @@ mod common;
 
 use cleave_core::model::Hourglass;
 use cleave_core::solver::{Observer, RunError, Solver};
-use cleave_gpu::GpuStepper;
+use cleave_gpu::{Checkpointing, GpuStepper};
 use common::{block, gpu};
 
 /// Takes output every microsecond and destroys the device at the second output.
@@ -49,4 +49,51 @@ fn a_device_lost_mid_run_stops_it_with_a_clear_error() {
         msg.contains(&format!("after t = {:e}", obs.times[1])),
         "{msg}"
     );
+}
+
+/// [`Destroy`] with a restart file due at every output: the one of the output at which the
+/// device is destroyed is not handed over (it would hold what a lost device reads back).
+struct DestroyAndKeep {
+    inner: Destroy,
+    kept: Vec<f64>,
+}
+
+impl Observer for DestroyAndKeep {
+    fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
+        self.inner.observe(s)
+    }
+    fn next_due(&self) -> f64 {
+        self.inner.next_due()
+    }
+}
+
+impl Checkpointing for DestroyAndKeep {
+    fn checkpoint_due(&self) -> f64 {
+        1e-6 * self.kept.len() as f64
+    }
+    fn stop_asked(&mut self) -> bool {
+        false
+    }
+    fn checkpoint(&mut self, s: &Solver, _: Vec<u8>) -> std::io::Result<()> {
+        self.kept.push(s.state.t);
+        Ok(())
+    }
+}
+
+#[test]
+fn no_restart_file_is_handed_over_after_the_device_is_lost() {
+    let Some(g) = gpu() else { return };
+    let dev = g.device.clone();
+    let m = block(Hourglass::Viscous);
+    let mut s = Solver::new(&m).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
+    let mut obs = DestroyAndKeep {
+        inner: Destroy { dev, times: vec![] },
+        kept: vec![],
+    };
+    let r = st.run_checkpointed(&mut s, &mut obs);
+    assert!(matches!(r, Err(RunError::Device(_))), "{r:?}");
+    assert_eq!(obs.inner.times.len(), 2);
+    // the restart file of the first output only
+    assert_eq!(obs.kept, vec![obs.inner.times[0]]);
 }

@@ -522,7 +522,7 @@ fn the_contact_grid_is_zeroed_after_new_tables() {
         st.poison_contact_grid(Some(7));
     });
     let poisoned = st.poison_contact_grid(None);
-    eprintln!("the grid poisoned {poisoned} times");
+    eprintln!("{poisoned} buffers of the grid and work arrays poisoned");
     assert!(poisoned >= 10);
     assert!(rows == plain, "a poisoned grid changed the run");
 }

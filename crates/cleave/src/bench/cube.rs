@@ -92,6 +92,12 @@ pub fn bench_cube(a: &BenchArgs) -> Result<(), Failure> {
         step0 = warm;
         // the same steps with every pass returning at once: what the dispatches cost
         let idle = g.idle_step_seconds(a.steps as usize);
+        // (a device that failed in any of it gave no figure worth printing)
+        if let Some(m) = g.gpu().failure() {
+            return Err(Failure::Other(format!(
+                "the GPU failed in the benchmark: {m}"
+            )));
+        }
         gpu_lines.push(format!(
             "  idle step {:.1} us ({} steps in one submission, every pass dispatched and returning at its halt test)",
             1e6 * idle,

@@ -25,7 +25,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 type HashMap<K, V> = std::collections::HashMap<K, V, BuildHasherDefault<IntHasher>>;
 
 #[derive(Default)]
-pub(crate) struct IntHasher(u64);
+struct IntHasher(u64);
 
 impl Hasher for IntHasher {
     fn finish(&self) -> u64 {

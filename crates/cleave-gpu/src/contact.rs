@@ -49,15 +49,6 @@ pub(crate) const PASSES: [&str; 11] = [
     "c_energy",
 ];
 
-/// Bring the host's contact up to its coincident sets as they are now (the chains of closed
-/// cracks, the sets' leads: [`Solver::settle_contact`]) before its tables are read; `halt`: in a
-/// halt of the step (a split, a crack's release, an erosion), where only the copies of the
-/// faces activated since the last settle are regrouped; not when a restart file's state is
-/// taken up.
-pub(crate) fn settle(solver: &mut Solver, halt: bool) {
-    solver.settle_contact(halt);
-}
-
 /// The contact passes of the step, their buffers and their bind group.
 pub(crate) struct ContactGpu {
     /// The passes ([`PASSES`]) and the groups each runs over the present tables.
@@ -282,7 +273,9 @@ impl ContactGpu {
         solver: &mut Solver,
         [cf, cu, x, v]: [&wgpu::Buffer; 4],
     ) -> Result<Option<Self>, GpuError> {
-        settle(solver, false);
+        // the host's contact brought up to its coincident sets (the chains of closed cracks,
+        // the sets' leads) before its tables are read
+        solver.settle_contact(false);
         let mut scratch = Scratch::default();
         let Some(t) = tables(solver, &mut scratch, Tables::default()) else {
             return Ok(None);

@@ -211,7 +211,7 @@ pub(crate) struct Scratch {
 /// coincident sets' slots (where the GPU keeps their positions and gathers their forces), only
 /// each set's lead is checked (with its set's normal), and a node is not checked against a face
 /// that holds a node of its chain ([`cleave_core::contact::Contact::chain_label`]); the host's
-/// contact must be settled ([`ContactSet::settle`]).
+/// contact must be settled ([`Solver::settle_contact`]).
 pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Option<Tables> {
     let cs: &ContactSet = solver.contact()?;
     if cs.is_empty() {
@@ -790,7 +790,7 @@ mod tests {
         let mut s = Solver::new(&split.model).unwrap();
         s.attach_separation(Separation::new(&split).unwrap());
         s.attach_contact(ContactSet::new(&split.model, Some(&split.origin)).unwrap());
-        crate::contact::settle(&mut s, false);
+        s.settle_contact(false);
         let mut scratch = Scratch::default();
         let (mut now, mut spare) = (Tables::default(), Tables::default());
         let (mut failed, mut compared, faces_at_start) = (0, 0, tables_afresh(&s).faces);
@@ -799,7 +799,7 @@ mod tests {
             let f = s.separation().unwrap().num_failed();
             if f != failed {
                 failed = f;
-                crate::contact::settle(&mut s, true);
+                s.settle_contact(true);
                 let t = tables(&s, &mut scratch, spare).unwrap();
                 let want = tables_afresh(&s);
                 assert_eq!(t.ci, want.ci);

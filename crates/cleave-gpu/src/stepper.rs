@@ -1166,7 +1166,8 @@ impl GpuStepper {
             got.get(k)
                 .map_or(vec![], |b| bytemuck::pod_collect_to_vec::<u8, f64>(b))
         });
-        crate::contact::settle(solver, true);
+        // (in a halt: only the copies of the faces activated since the last settle regroup)
+        solver.settle_contact(true);
         let t = (c.tables_now(solver)).ok_or("the solver's contact is gone")?;
         // (the slots born in this step: a halt after a split; none after erosion or a release.
         // A split halt whose failure list read back empty splits nothing, and then no entry
@@ -1256,7 +1257,7 @@ impl GpuStepper {
             // tables; the pairs checked against them before the device is changed
             let remade = match self.ero.is_some() || self.sep.n_if > 0 {
                 true => {
-                    crate::contact::settle(solver, false);
+                    solver.settle_contact(false);
                     Some((c.tables_now(solver)).ok_or("the GPU state's model has no contact")?)
                 }
                 false => None,

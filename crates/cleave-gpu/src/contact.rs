@@ -32,6 +32,7 @@ use cleave_core::solver::Solver;
 use crate::contact_tables::{carry_pairs, tables, Scratch};
 pub(crate) use crate::contact_tables::{Carry, Tables, CLO, HIT, PARAMS};
 use crate::device::{Gpu, GpuError};
+use crate::relayout::Writes;
 use crate::stepper::Part;
 
 /// The passes of contact.wgsl, in the order they run.
@@ -356,18 +357,28 @@ impl ContactGpu {
     /// force of the tables before, as read back, and the slots born in this step with the
     /// slot each split from) carried over to the new numbering ([`carry_pairs`]); new ones
     /// start from none.
-    pub fn upload(&mut self, gpu: &Gpu, t: Tables, carry: Option<Carry>) -> Result<(), GpuError> {
+    pub fn upload(
+        &mut self,
+        gpu: &Gpu,
+        t: Tables,
+        carry: Option<Carry>,
+        w: Option<&mut Writes>,
+    ) -> Result<(), GpuError> {
         check_sizes(gpu, &t, &self.x)?;
         let (mut h, mut fp) = t.no_pairs();
         if let Some(carry) = carry {
-            // an entry that left the surface gathers no force from now on
+            // an entry that left the surface gathers no force from now on (through `w`, with
+            // the halt's other writes, or through writes of their own)
             let left = carry_pairs(&self.tables, &t, carry, &mut h, &mut fp, &mut self.scratch);
+            let mut own = Writes::default();
+            let w = w.unwrap_or(&mut own);
             for e in left {
                 let at = 24 * u64::from(e);
                 if at + 24 <= self.fcon.size() {
-                    gpu.queue.write_buffer(&self.fcon, at, &[0u8; 24]);
+                    w.put(&self.fcon, at, &[0.0f64; 3]);
                 }
             }
+            own.submit(gpu);
         }
         if self.b.fit(gpu, &t, &h, &fp, self.poison) {
             let step = [&self.cf, &self.x, &self.v, &self.cu];

@@ -253,21 +253,24 @@ impl Relayout {
 }
 
 /// Writes of many small ranges of buffers through one staging buffer: the values put one after
-/// another, then a copy for each range, in one submission (a `Queue::write_buffer` for each
-/// range makes a staging buffer for each); and copies of ranges within a buffer.
+/// another, then a copy for each range, recorded in one command encoder (a `Queue::write_buffer`
+/// for each range makes a staging buffer for each); and copies of ranges within a buffer. The
+/// buffers are held by handle, so a step's writes can be gathered while the stepper changes and
+/// recorded at the head of the submission that runs the rest of the step
+/// (`GpuStepper::finish_step_after`).
 #[derive(Default)]
-pub(crate) struct Writes<'a> {
+pub(crate) struct Writes {
     data: Vec<u8>,
     /// (target, byte offset in it, byte offset in `data`, bytes)
-    copies: Vec<(&'a wgpu::Buffer, u64, u64, u64)>,
+    copies: Vec<(wgpu::Buffer, u64, u64, u64)>,
     /// Copies within a buffer, through a scratch buffer (a buffer is not copied to itself):
     /// (buffer, from, to, bytes), done in order before the writes.
-    relays: Vec<(&'a wgpu::Buffer, u64, u64, u64)>,
+    relays: Vec<(wgpu::Buffer, u64, u64, u64)>,
 }
 
-impl<'a> Writes<'a> {
+impl Writes {
     /// Write `values` into `buf` at byte `offset` (a multiple of 4, as the values' size).
-    pub fn put<T: bytemuck::Pod>(&mut self, buf: &'a wgpu::Buffer, offset: u64, values: &[T]) {
+    pub fn put<T: bytemuck::Pod>(&mut self, buf: &wgpu::Buffer, offset: u64, values: &[T]) {
         let bytes: &[u8] = bytemuck::cast_slice(values);
         if bytes.is_empty() {
             return;
@@ -276,22 +279,20 @@ impl<'a> Writes<'a> {
         debug_assert!(offset + bytes.len() as u64 <= buf.size());
         let at = self.data.len() as u64;
         self.data.extend_from_slice(bytes);
-        self.copies.push((buf, offset, at, bytes.len() as u64));
+        self.copies
+            .push((buf.clone(), offset, at, bytes.len() as u64));
     }
 
     /// Copy `len` bytes of `buf` at byte `from` to byte `to` of it (multiples of 4), on the
     /// device, before the writes (and each after the relays put before it).
-    pub fn relay(&mut self, buf: &'a wgpu::Buffer, from: u64, to: u64, len: u64) {
-        self.relays.push((buf, from, to, len));
+    pub fn relay(&mut self, buf: &wgpu::Buffer, from: u64, to: u64, len: u64) {
+        self.relays.push((buf.clone(), from, to, len));
     }
 
-    /// Submit the relays, then the writes (after the queue's writes before them).
-    pub fn submit(self, gpu: &crate::device::Gpu) {
-        if self.copies.is_empty() && self.relays.is_empty() {
-            return;
-        }
+    /// Record the relays, then the writes, in `enc` (they run after the queue's writes made
+    /// before the submission of `enc`).
+    pub fn record(self, gpu: &crate::device::Gpu, enc: &mut wgpu::CommandEncoder) {
         use wgpu::util::DeviceExt;
-        let mut enc = gpu.device.create_command_encoder(&Default::default());
         if !self.relays.is_empty() {
             let scratch = gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("split relays"),
@@ -301,8 +302,8 @@ impl<'a> Writes<'a> {
             });
             let mut at = 0;
             for (buf, from, to, len) in self.relays {
-                enc.copy_buffer_to_buffer(buf, from, &scratch, at, len);
-                enc.copy_buffer_to_buffer(&scratch, at, buf, to, len);
+                enc.copy_buffer_to_buffer(&buf, from, &scratch, at, len);
+                enc.copy_buffer_to_buffer(&scratch, at, &buf, to, len);
                 at += len;
             }
         }
@@ -315,9 +316,19 @@ impl<'a> Writes<'a> {
                     usage: wgpu::BufferUsages::COPY_SRC,
                 });
             for (buf, offset, at, len) in self.copies {
-                enc.copy_buffer_to_buffer(&staging, at, buf, offset, len);
+                enc.copy_buffer_to_buffer(&staging, at, &buf, offset, len);
             }
         }
+    }
+
+    /// Submit the relays, then the writes (after the queue's writes before them), in a
+    /// submission of their own.
+    pub fn submit(self, gpu: &crate::device::Gpu) {
+        if self.copies.is_empty() && self.relays.is_empty() {
+            return;
+        }
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        self.record(gpu, &mut enc);
         gpu.queue.submit([enc.finish()]);
     }
 }

@@ -322,7 +322,9 @@ impl GpuStepper {
         let (ifu, ifs, _, _) = interface_table(solver);
         u32s(&self.sep.ifu, &ifu);
         f64s(&self.sep.ifs, &ifs);
-        self.upload_set_counts(solver);
+        let mut w = Writes::default();
+        self.upload_set_counts(solver, &mut w);
+        w.submit(self.gpu());
         if let Some(r) = &mut self.relayout {
             r.reset(solver, &lay, ifu);
         }
@@ -333,19 +335,20 @@ impl GpuStepper {
     /// changed in place, everything ([`Self::upload_sets`]). The new slots' positions and
     /// velocities are their sets', copied on the device; `fresh`: the host's mirror holds this
     /// step's (read back for a cohesive law), else it is read back first when everything is
-    /// written.
+    /// written. What a split changes in place is put in `w`, for the submission of the rest of
+    /// the step; otherwise `w` is submitted first.
     pub(crate) fn upload_split(
         &mut self,
         solver: &mut Solver,
         step: f64,
         released: &[u32],
         fresh: bool,
+        w: &mut Writes,
     ) {
         let born: Vec<(u32, u32)> = solver
             .separation()
             .map_or(vec![], |s| s.sets().born().to_vec());
         let x_at = 8 * self.x_half(step).start as u64;
-        let mut w = Writes::default();
         for &(new, from) in &born {
             let (new, from) = (24 * u64::from(new), 24 * u64::from(from));
             for (buf, at) in [
@@ -357,7 +360,7 @@ impl GpuStepper {
             }
         }
         let Some(ch) = (self.relayout.as_mut()).and_then(|r| r.split(solver, released)) else {
-            w.submit(self.gpu());
+            std::mem::take(w).submit(self.gpu());
             if !fresh {
                 self.mirror_kinematics(solver, step);
             }
@@ -388,43 +391,35 @@ impl GpuStepper {
         for run in runs(ch.slots, GAP) {
             w.put(&b.mass, 8 * run.start as u64, &mass[run]);
         }
-        w.submit(self.gpu());
-        self.upload_set_counts(solver);
+        self.upload_set_counts(solver, w);
     }
 
     /// Write what follows the number of sets: the failure list emptied, the softening faces
-    /// (with a cohesive law), the entries in use and the node passes' groups.
-    fn upload_set_counts(&self, solver: &Solver) {
-        let q = &self.gpu().queue;
-        q.write_buffer(&self.sep.ifl, 0, bytemuck::bytes_of(&0u32));
+    /// (with a cohesive law), the entries in use and the node passes' groups, into `w`.
+    fn upload_set_counts(&self, solver: &Solver, w: &mut Writes) {
+        w.put(&self.sep.ifl, 0, &[0u32]);
         if self.sep.coh_cap > 0 {
             let co = Cohesive::of(solver);
-            q.write_buffer(
-                &self.sep.ifs,
-                8 * u64::from(self.sep.c_coh),
-                bytemuck::cast_slice(&co.coh),
+            w.put(&self.sep.ifs, 8 * u64::from(self.sep.c_coh), &co.coh);
+            w.put(&self.sep.ifu, 4 * u64::from(self.sep.c_ptr), &co.cix);
+            w.put(&self.sep.coh_groups, 0, &co.groups());
+            w.put(
+                &self.cu,
+                (4 * crate::stepper::cu::N_COH) as u64,
+                &[co.faces],
             );
-            q.write_buffer(
-                &self.sep.ifu,
-                4 * u64::from(self.sep.c_ptr),
-                bytemuck::cast_slice(&co.cix),
+            w.put(
+                &self.cu,
+                (4 * crate::stepper::cu::N_CSLOT) as u64,
+                &[co.slots],
             );
-            q.write_buffer(&self.sep.coh_groups, 0, bytemuck::cast_slice(&co.groups()));
-            let cu =
-                |k: usize, v: u32| q.write_buffer(&self.cu, (4 * k) as u64, bytemuck::bytes_of(&v));
-            cu(crate::stepper::cu::N_COH, co.faces);
-            cu(crate::stepper::cu::N_CSLOT, co.slots);
         }
-        q.write_buffer(
+        w.put(
             &self.cf,
             (crate::stepper::cf::SLOTS * 8) as u64,
-            bytemuck::bytes_of(&entries(solver)),
+            &[entries(solver)],
         );
-        q.write_buffer(
-            &self.node_groups,
-            0,
-            bytemuck::cast_slice(&node_grid(solver)),
-        );
+        w.put(&self.node_groups, 0, &node_grid(solver));
     }
 
     /// The rows of the softening faces the host knows in `ifs` (with a cohesive law; none
@@ -521,7 +516,10 @@ impl GpuStepper {
             return Err(self.internal(solver, format!("its interface table is out of date: {e}")));
         }
         let released: Vec<u32> = found.iter().map(|f| f.1).collect();
-        self.upload_split(solver, c.step(), &released, cohesive);
+        // what the split changes, written at the head of the submission of the rest of the
+        // step (one staging buffer and one submission for the whole halt)
+        let mut w = Writes::default();
+        self.upload_split(solver, c.step(), &released, cohesive, &mut w);
         // with contact (each a no-op without): the new crack faces join the surfaces and the
         // cracks close on the host, whose closed cracks take the GPU's states first; the
         // contact's tables made again
@@ -529,9 +527,10 @@ impl GpuStepper {
             self.closures_to_host(solver, clo, false)?;
         }
         solver.activate_cracks();
-        self.remake_contact(solver, true, got.get(contact + 1..).unwrap_or(&[]))?;
-        self.clear_halt();
-        self.finish_step_after("interfaces_done");
+        let carried = got.get(contact + 1..).unwrap_or(&[]);
+        self.remake_contact(solver, true, carried, Some(&mut w))?;
+        self.clear_halt_into(&mut w);
+        self.finish_step_after("interfaces_done", w);
         Ok(())
     }
 }

@@ -21,6 +21,7 @@ use crate::contact::ContactGpu;
 use crate::device::{Gpu, GpuError};
 use crate::layout::{by_component, by_element, Layout, RB_STATE};
 use crate::pass_times::PassTimes;
+use crate::relayout::Writes;
 use crate::separation::{kinematics, SepBuffers};
 
 /// The groups of `groups` threads' dispatch: (x, y), a second dimension past the per-dimension
@@ -853,10 +854,13 @@ impl GpuStepper {
             .unwrap_or_else(|| RunError::Device(format!("the GPU run stopped: {what}")))
     }
 
-    /// Submit the passes of the step in flight that come after `after` (an entry point); the
-    /// queue runs them before anything submitted later.
-    pub(crate) fn finish_step_after(&mut self, after: &str) {
+    /// Submit the passes of the step in flight that come after `after` (an entry point), the
+    /// host's writes of the halt `w` recorded first in the same submission (one staging buffer
+    /// and one submission for a halt's writes: a `Queue::write_buffer` makes a staging buffer
+    /// each); the queue runs them before anything submitted later.
+    pub(crate) fn finish_step_after(&mut self, after: &str, w: Writes) {
         let Some(k) = self.pipelines.iter().position(|p| p.name == after) else {
+            w.submit(&self.gpu);
             return;
         };
         let mut enc = self
@@ -865,6 +869,7 @@ impl GpuStepper {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("the rest of a step"),
             });
+        w.record(&self.gpu, &mut enc);
         self.clear_contact(&mut enc);
         if let Some(times) = &self.times {
             // (its times are taken with the next batch's, which the queue runs after it)
@@ -961,6 +966,12 @@ impl GpuStepper {
             (cf::HALTED * 8) as u64,
             bytemuck::bytes_of(&0.0f64),
         );
+    }
+
+    /// [`Self::clear_halt`]'s writes, into `w` (for a halt whose other writes go there too).
+    pub(crate) fn clear_halt_into(&self, w: &mut Writes) {
+        w.put(&self.cu, (cu::HALT * 4) as u64, &[0u32]);
+        w.put(&self.cf, (cf::HALTED * 8) as u64, &[0.0f64]);
     }
 
     /// The bind group of pass `p`: the step's, or the contact's for its passes.
@@ -1087,9 +1098,10 @@ impl GpuStepper {
         // tables made again upload the host's, which are those of the last output or split
         self.closures_to_host(solver, &got[1], false)?;
         solver.erode_contact(&newly);
-        self.remake_contact(solver, false, &got[2..])?;
-        self.clear_halt();
-        self.finish_step_after("erosion_done");
+        let mut w = Writes::default();
+        self.remake_contact(solver, false, &got[2..], Some(&mut w))?;
+        self.clear_halt_into(&mut w);
+        self.finish_step_after("erosion_done", w);
         Ok(())
     }
 
@@ -1099,12 +1111,13 @@ impl GpuStepper {
     /// runs.
     fn release_cracks(&mut self, solver: &mut Solver) -> Result<(), RunError> {
         let got = self.download_ranges(&self.contact_parts());
+        let mut w = Writes::default();
         if let Some(clo) = got.first() {
             self.closures_to_host(solver, clo, true)?;
-            self.remake_contact(solver, false, &got[1..])?;
+            self.remake_contact(solver, false, &got[1..], Some(&mut w))?;
         }
-        self.clear_halt();
-        self.finish_step_after("c_close_done");
+        self.clear_halt_into(&mut w);
+        self.finish_step_after("c_close_done", w);
         Ok(())
     }
 
@@ -1148,8 +1161,9 @@ impl GpuStepper {
         solver: &mut Solver,
         split: bool,
         got: &[Vec<u8>],
+        w: Option<&mut Writes>,
     ) -> Result<(), RunError> {
-        (self.remake_tables(solver, split, got)).map_err(|e| self.internal(solver, e))
+        (self.remake_tables(solver, split, got, w)).map_err(|e| self.internal(solver, e))
     }
 
     /// [`Self::remake_contact`], its errors as text.
@@ -1158,6 +1172,7 @@ impl GpuStepper {
         solver: &mut Solver,
         split: bool,
         got: &[Vec<u8>],
+        w: Option<&mut Writes>,
     ) -> Result<(), String> {
         let Some(c) = self.contact.as_mut() else {
             return Ok(());
@@ -1176,7 +1191,7 @@ impl GpuStepper {
             (Some(sep), true) => sep.sets().born(),
             _ => &[],
         };
-        (c.upload(&self.gpu, t, Some((&hits, &fprev, born)))).map_err(|e| e.to_string())
+        (c.upload(&self.gpu, t, Some((&hits, &fprev, born)), w)).map_err(|e| e.to_string())
     }
 
     /// Contact on surfaces that elements erode from: the host changes them (HALT 5).
@@ -1275,7 +1290,8 @@ impl GpuStepper {
                 }
             }
             if let Some(t) = remade {
-                c.upload(&self.gpu, t, None).map_err(|e| e.to_string())?;
+                c.upload(&self.gpu, t, None, None)
+                    .map_err(|e| e.to_string())?;
             }
             for (data, (buf, _, _)) in pairs.iter().zip([c.hits(), c.fprev()]) {
                 self.gpu.queue.write_buffer(buf, 0, data);

@@ -99,6 +99,10 @@ pub(crate) mod cu {
 const CTL_BYTES: u64 = (cf::LEN * 8 + cu::LEN * 4) as u64;
 /// Threads of a group in the per-element and per-node kernels.
 pub(crate) const GROUP: usize = 64;
+
+/// Most bytes [`GpuStepper::download_ranges`] reads back through one staging buffer (256 MiB: the
+/// mirror of a few million elements' state in a few reads, not one buffer of its whole size).
+const READ_BACK: u64 = 1 << 28;
 /// The most groups one dispatch dimension takes (WebGPU's guaranteed limit).
 const MAX_DIM: usize = 65535;
 
@@ -186,6 +190,9 @@ pub struct GpuStepper {
     /// The failures of a step read back with the rest of a split's one read-back (a step in
     /// which more fail reads the others in a second one).
     pub(crate) list_head: u64,
+    /// For tests: the device is destroyed as the read of the mirror this many reads on starts
+    /// (0: never; [`Self::lose_device_in_mirror`]).
+    lose_in_mirror: std::cell::Cell<u32>,
     /// Each pass timed over the run, when asked ([`Self::time_passes`]).
     times: Option<PassTimes>,
     /// The halts for the host in a step ([`Self::host_halts`]): count and wall seconds.
@@ -758,6 +765,7 @@ impl GpuStepper {
             contact,
             relayout: crate::relayout::Relayout::new(solver, &lay),
             list_head: 1024,
+            lose_in_mirror: std::cell::Cell::new(0),
         })
     }
 
@@ -781,6 +789,13 @@ impl GpuStepper {
     #[doc(hidden)]
     pub fn set_failure_list_head(&mut self, n: u64) {
         self.list_head = n.max(1);
+    }
+
+    /// For tests: destroy the device just before the `k`-th read of the host's mirror from now
+    /// (1: the next; 0: never), so the read itself finds it lost.
+    #[doc(hidden)]
+    pub fn lose_device_in_mirror(&mut self, k: u32) {
+        self.lose_in_mirror.set(k);
     }
 
     /// The device this stepper runs on.
@@ -1467,19 +1482,28 @@ impl GpuStepper {
         c
     }
 
-    /// Read one state array back (`n` f64).
-    pub(crate) fn download(&self, buf: &wgpu::Buffer) -> Vec<f64> {
-        bytemuck::pod_collect_to_vec(&self.download_bytes(buf))
-    }
-
-    /// Read one buffer back as bytes (NaNs where the device is lost).
-    pub(crate) fn download_bytes(&self, buf: &wgpu::Buffer) -> Vec<u8> {
-        self.download_ranges(&[(buf, 0, buf.size())]).remove(0)
-    }
-
     /// Read parts of buffers back in one submission and one wait: each part a buffer, a byte
-    /// offset and a byte count (multiples of 4); NaNs where the device is lost.
+    /// offset and a byte count (multiples of 4); NaNs where the device is lost. Parts that
+    /// together exceed [`READ_BACK`] bytes are read in consecutive groups of at most that (a
+    /// part larger alone), one submission and wait each.
     pub(crate) fn download_ranges(&self, parts: &[Part]) -> Vec<Vec<u8>> {
+        let mut out = Vec::with_capacity(parts.len());
+        let mut start = 0;
+        while start < parts.len() {
+            let mut end = start + 1;
+            let mut size = parts[start].2;
+            while end < parts.len() && size + parts[end].2 <= READ_BACK {
+                size += parts[end].2;
+                end += 1;
+            }
+            out.extend(self.download_group(&parts[start..end]));
+            start = end;
+        }
+        out
+    }
+
+    /// [`Self::download_ranges`] of parts read in one staging buffer.
+    fn download_group(&self, parts: &[Part]) -> Vec<Vec<u8>> {
         let size: u64 = parts.iter().map(|p| p.2).sum();
         let staging = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("state read-back"),
@@ -1558,14 +1582,46 @@ impl GpuStepper {
         }
     }
 
-    /// Fill the host mirror of the state from the GPU.
+    /// Fill the host mirror of the state from the GPU, all of it read in one submission and
+    /// wait ([`Self::download_ranges`]); a device that failed in the read leaves the mirror as
+    /// it was (the last good read) and stops the run.
     pub(crate) fn mirror(&self, solver: &mut Solver, c: &Control) -> Result<(), RunError> {
-        self.mirror_kinematics(solver, c.step());
+        fn whole(b: &wgpu::Buffer) -> Part<'_> {
+            (b, 0, b.size())
+        }
+        let mut parts = self.kinematics_parts(solver, c.step());
+        let k = parts.len();
+        let st = &self.state;
+        parts.extend([&st.sig, &st.hist, &st.hg, &st.bq].map(whole));
+        let ero_at = parts.len();
+        parts.extend(self.ero.as_ref().map(whole));
+        let rb_at = parts.len();
+        if !solver.state.rigid.is_empty() {
+            parts.push(whole(&self.rb));
+        }
+        let contact_at = parts.len();
+        if let Some(ct) = &self.contact {
+            parts.extend([ct.hits(), ct.clo()]);
+        }
+        match self.lose_in_mirror.get() {
+            0 => {}
+            1 => {
+                self.lose_in_mirror.set(0);
+                self.gpu.device.destroy();
+            }
+            k => self.lose_in_mirror.set(k - 1),
+        }
+        let got = self.download_ranges(&parts);
+        if let Some(e) = self.failed(solver) {
+            return Err(e);
+        }
+        let f64s = |k: usize| bytemuck::pod_collect_to_vec::<u8, f64>(&got[k]);
+        self.take_kinematics(solver, &got[..k]);
         let ne = solver.model.num_elements();
-        let sig = by_element(&self.download(&self.state.sig), 6);
-        let hist = self.download(&self.state.hist);
-        let hg = by_element(&self.download(&self.state.hg), 12);
-        let bq = self.download(&self.state.bq);
+        let sig = by_element(&f64s(k), 6);
+        let hist = f64s(k + 1);
+        let hg = by_element(&f64s(k + 2), 12);
+        let bq = f64s(k + 3);
         // Johnson-Cook keeps its temperature rise, ln J and energy in the back stress slots
         let jc: Vec<bool> = (solver.setup.elem_mat.iter())
             .map(|&m| {
@@ -1588,8 +1644,8 @@ impl GpuStepper {
             st.hg[e].copy_from_slice(&hg[12 * e..12 * e + 12]);
             st.bulk_q[e] = bq[e];
         }
-        if let Some(buf) = &self.ero {
-            let ero = self.download(buf);
+        if self.ero.is_some() {
+            let ero = f64s(ero_at);
             for e in 0..ne {
                 st.eroded[e] = ero[4 * e] != 0.0;
                 st.hist[e].work = ero[4 * e + 1];
@@ -1599,7 +1655,7 @@ impl GpuStepper {
             }
         }
         if !st.rigid.is_empty() {
-            let rb = self.download(&self.rb);
+            let rb = f64s(rb_at);
             let v3 = |o: usize| [rb[o], rb[o + 1], rb[o + 2]];
             let m3 = |o: usize| [v3(o), v3(o + 3), v3(o + 6)];
             for (b, r) in st.rigid.iter_mut().enumerate() {
@@ -1615,9 +1671,7 @@ impl GpuStepper {
         }
         if let Some(ct) = &self.contact {
             // the closed cracks' states (for a restart file) and the resultants
-            let got = self.download_ranges(&[ct.hits(), ct.clo()]);
-            let hits: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
-            let clo: Vec<f64> = bytemuck::pod_collect_to_vec(&got[1]);
+            let (hits, clo) = (f64s(contact_at), f64s(contact_at + 1));
             (ct.closures_to_host(solver, &clo, false)).map_err(|e| self.internal(solver, e))?;
             let ids = solver
                 .contact()
@@ -1625,10 +1679,6 @@ impl GpuStepper {
             if let (Some(ids), Some(cs)) = (ids, solver.contact_mut()) {
                 cs.set_forces(&ct.resultants(&hits, &clo, ids.into_iter()));
             }
-        }
-        // (the time and energies stay those of the last read when the device failed in it)
-        if let Some(e) = self.failed(solver) {
-            return Err(e);
         }
         c.apply(solver);
         Ok(())

@@ -97,3 +97,47 @@ fn no_restart_file_is_handed_over_after_the_device_is_lost() {
     // the restart file of the first output only
     assert_eq!(obs.kept, vec![obs.inner.times[0]]);
 }
+
+/// Takes output every microsecond and keeps the host's positions at each.
+struct Keep {
+    times: Vec<f64>,
+    x: Vec<Vec<[f64; 3]>>,
+}
+
+impl Observer for Keep {
+    fn observe(&mut self, s: &Solver) -> std::io::Result<()> {
+        self.times.push(s.state.t);
+        self.x.push(s.positions().iter().copied().collect());
+        Ok(())
+    }
+    fn next_due(&self) -> f64 {
+        1e-6 * self.times.len() as f64
+    }
+}
+
+/// A device lost during the read of the host's mirror (destroyed as the read starts): nothing
+/// of what it read back reaches the host, whose state stays that of the last output (finite
+/// positions, the same bits), and the run stops with the device's error.
+#[test]
+fn a_device_lost_in_the_mirrors_read_leaves_the_host_state_of_the_last_output() {
+    let Some(g) = gpu() else { return };
+    let m = block(Hourglass::Viscous);
+    let mut s = Solver::new(&m).unwrap();
+    let mut st = GpuStepper::new(g, &mut s).unwrap();
+    st.lose_device_in_mirror(3);
+    let mut obs = Keep {
+        times: vec![],
+        x: vec![],
+    };
+    let r = st.run(&mut s, &mut obs);
+    let Err(RunError::Device(msg)) = r else {
+        panic!("the run goes on or fails otherwise: {r:?}");
+    };
+    assert!(msg.contains("the device was lost"), "{msg}");
+    assert!(obs.times.len() >= 2, "{:?}", obs.times);
+    let last = obs.x.last().unwrap();
+    assert_eq!(s.state.t, *obs.times.last().unwrap());
+    let now: Vec<[f64; 3]> = s.positions().iter().copied().collect();
+    assert!(now.iter().flatten().all(|v| v.is_finite()));
+    assert_eq!(&now, last);
+}

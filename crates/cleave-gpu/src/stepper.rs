@@ -1057,11 +1057,14 @@ impl GpuStepper {
             out.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
             out.extend_from_slice(bytes);
         };
-        // every array in one read-back; the control block (the first) gives the step whose
-        // half of the positions is x^n
-        let parts: Vec<_> = (self.persistent.iter())
+        // every array in one read-back (with contact, its pairs and last forces last); the
+        // control block (the first) gives the step whose half of the positions is x^n
+        let mut parts: Vec<_> = (self.persistent.iter())
             .map(|(b, _)| (b, 0, b.size()))
             .collect();
+        if let Some(c) = &self.contact {
+            parts.extend([c.hits(), c.fprev()]);
+        }
         let got = self.download_ranges(&parts);
         let step = f64::from_le_bytes(
             got[0][8 * cf::STEP..8 * cf::STEP + 8]
@@ -1084,11 +1087,11 @@ impl GpuStepper {
         if self.sep.n_if > 0 || self.contact_erodes() {
             put(&solver.save_state());
         }
-        if let Some(c) = &self.contact {
+        if self.contact.is_some() {
             // the pairs and last forces (their tables made again from the solver's state)
-            let got = self.download_ranges(&[c.hits(), c.fprev()]);
-            put(&got[0]);
-            put(&got[1]);
+            let n = self.persistent.len();
+            put(&got[n]);
+            put(&got[n + 1]);
         }
         out
     }

@@ -103,6 +103,10 @@ pub(crate) const GROUP: usize = 64;
 /// Most bytes [`GpuStepper::download_ranges`] reads back through one staging buffer (256 MiB: the
 /// mirror of a few million elements' state in a few reads, not one buffer of its whole size).
 const READ_BACK: u64 = 1 << 28;
+
+/// Largest read-back buffer kept from one read to the next (4 MiB: a split's read of a large
+/// breaking model, not the mirror of a large state).
+const KEEP_READ_BACK: u64 = 1 << 22;
 /// The most groups one dispatch dimension takes (WebGPU's guaranteed limit).
 const MAX_DIM: usize = 65535;
 
@@ -193,6 +197,8 @@ pub struct GpuStepper {
     /// For tests: the device is destroyed as the read of the mirror this many reads on starts
     /// (0: never; [`Self::lose_device_in_mirror`]).
     lose_in_mirror: std::cell::Cell<u32>,
+    /// The read-back buffer kept between reads ([`Self::download_ranges`]).
+    read_back: std::cell::RefCell<Option<wgpu::Buffer>>,
     /// Each pass timed over the run, when asked ([`Self::time_passes`]).
     times: Option<PassTimes>,
     /// The halts for the host in a step ([`Self::host_halts`]): count and wall seconds.
@@ -766,6 +772,7 @@ impl GpuStepper {
             relayout: crate::relayout::Relayout::new(solver, &lay),
             list_head: 1024,
             lose_in_mirror: std::cell::Cell::new(0),
+            read_back: Default::default(),
         })
     }
 
@@ -1411,10 +1418,15 @@ impl GpuStepper {
         secs
     }
 
-    /// Bytes of the buffers this stepper keeps on the device (the model, the state and the
-    /// scratch arrays of the passes).
+    /// Bytes of the buffers this stepper keeps on the device (the model, the state, the
+    /// scratch arrays of the passes and the read-back buffer kept between reads).
     pub fn device_bytes(&self) -> u64 {
-        self.device_bytes + self.contact.as_ref().map_or(0, ContactGpu::bytes)
+        let read_back = self
+            .read_back
+            .borrow()
+            .as_ref()
+            .map_or(0, wgpu::Buffer::size);
+        self.device_bytes + self.contact.as_ref().map_or(0, ContactGpu::bytes) + read_back
     }
 
     /// Take `steps` steps with each pass in a compute pass of its own, timed by the device's
@@ -1505,14 +1517,28 @@ impl GpuStepper {
         out
     }
 
-    /// [`Self::download_ranges`] of parts read in one staging buffer.
+    /// [`Self::download_ranges`] of parts read in one staging buffer: the one kept from the
+    /// reads before where it is large enough, else a new one (kept instead when at most
+    /// [`KEEP_READ_BACK`] bytes: a split's read, and a small model's output, then makes no
+    /// buffer).
     fn download_group(&self, parts: &[Part]) -> Vec<Vec<u8>> {
-        let size: u64 = parts.iter().map(|p| p.2).sum();
-        let staging = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("state read-back"),
-            size: size.max(4),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
+        let size: u64 = parts.iter().map(|p| p.2).sum::<u64>().max(4);
+        let kept = {
+            let mut k = self.read_back.borrow_mut();
+            k.take_if(|b| b.size() >= size)
+        };
+        let staging = kept.unwrap_or_else(|| {
+            // (room to grow into, as the reads of a breaking run grow)
+            let room = match size <= KEEP_READ_BACK {
+                true => size.next_power_of_two().clamp(1 << 16, KEEP_READ_BACK),
+                false => size,
+            };
+            self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("state read-back"),
+                size: room,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
         });
         let mut enc = self.gpu.device.create_command_encoder(&Default::default());
         let mut at = 0;
@@ -1521,7 +1547,7 @@ impl GpuStepper {
             at += len;
         }
         self.gpu.queue.submit([enc.finish()]);
-        staging.slice(..).map_async(wgpu::MapMode::Read, |_| {});
+        staging.slice(..size).map_async(wgpu::MapMode::Read, |_| {});
         self.gpu.wait();
         // (each part copied once, from the mapped range, or from NaNs where it is lost)
         let cut = |all: &[u8]| -> Vec<Vec<u8>> {
@@ -1534,14 +1560,20 @@ impl GpuStepper {
                 })
                 .collect()
         };
-        let out = match staging.slice(..).get_mapped_range() {
-            Ok(all) => cut(&all),
-            Err(_) => cut(bytemuck::cast_slice(&vec![
-                f64::NAN;
-                size.div_ceil(8) as usize
-            ])),
+        let (out, read) = match staging.slice(..size).get_mapped_range() {
+            Ok(all) => (cut(&all), true),
+            Err(_) => (
+                cut(bytemuck::cast_slice(&vec![
+                    f64::NAN;
+                    size.div_ceil(8) as usize
+                ])),
+                false,
+            ),
         };
         staging.unmap();
+        if read && staging.size() <= KEEP_READ_BACK {
+            *self.read_back.borrow_mut() = Some(staging);
+        }
         out
     }
 

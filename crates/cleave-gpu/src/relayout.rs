@@ -290,9 +290,9 @@ impl Writes {
     }
 
     /// Record the relays, then the writes, in `enc` (they run after the queue's writes made
-    /// before the submission of `enc`).
+    /// before the submission of `enc`). On a device that has failed (its staging buffer cannot
+    /// be mapped) nothing is recorded: the stepper reports the failure at its next check.
     pub fn record(self, gpu: &crate::device::Gpu, enc: &mut wgpu::CommandEncoder) {
-        use wgpu::util::DeviceExt;
         if !self.relays.is_empty() {
             let scratch = gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("split relays"),
@@ -308,13 +308,19 @@ impl Writes {
             }
         }
         if !self.copies.is_empty() {
-            let staging = gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("split writes"),
-                    contents: &self.data,
-                    usage: wgpu::BufferUsages::COPY_SRC,
-                });
+            // (not `create_buffer_init`: it panics where the device is lost)
+            let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("split writes"),
+                size: (self.data.len() as u64).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT),
+                usage: wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: true,
+            });
+            let Ok(mut view) = staging.slice(..).get_mapped_range_mut() else {
+                return;
+            };
+            view.slice(..self.data.len()).copy_from_slice(&self.data);
+            drop(view);
+            staging.unmap();
             for (buf, offset, at, len) in self.copies {
                 enc.copy_buffer_to_buffer(&staging, at, &buf, offset, len);
             }
@@ -488,6 +494,35 @@ pub(crate) mod tests {
         let failed = s.separation().unwrap().num_failed();
         eprintln!("{failed} interfaces failed: {in_place} splits in place, {afresh} made afresh");
         assert!(failed >= 20 && in_place >= 5 && afresh >= 1);
+    }
+
+    /// Writes recorded on a device that was lost neither panic (wgpu's `create_buffer_init`
+    /// does where it cannot map its buffer) nor record anything; the stepper reports the loss
+    /// at its next check.
+    #[test]
+    fn writes_on_a_lost_device_do_not_panic() {
+        let g = match crate::device::Gpu::new() {
+            Ok(g) => g,
+            Err(e) => {
+                eprintln!("SKIPPED: {e}");
+                return;
+            }
+        };
+        let buf = g.device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: 64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        g.device.destroy();
+        let mut w = Writes::default();
+        w.put(&buf, 8, &[1.0f64, 2.0]);
+        w.relay(&buf, 0, 32, 8);
+        let mut enc = g.device.create_command_encoder(&Default::default());
+        w.record(&g, &mut enc);
+        g.queue.submit([enc.finish()]);
+        g.wait();
+        assert!(g.failure().is_some(), "the loss is known after a wait");
     }
 
     #[test]

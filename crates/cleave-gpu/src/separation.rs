@@ -483,6 +483,10 @@ impl GpuStepper {
         let contact = parts.len();
         parts.extend(self.contact_parts());
         let got = self.download_ranges(&parts);
+        // (nothing of a failed device's read is taken into the host's state)
+        if let Some(e) = self.failed(solver) {
+            return Err(e);
+        }
         if cohesive {
             self.take_kinematics(solver, &got[..k]);
         }
@@ -495,9 +499,7 @@ impl GpuStepper {
         c.apply(solver);
         let mut list: Vec<u32> = bytemuck::pod_collect_to_vec(&got[k]);
         let mut index_of: Vec<f64> = bytemuck::pod_collect_to_vec(&got[k + 1]);
-        // (a lost device reads back as NaNs: the count and numbers are then bounded, and the
-        // loss is reported where they do not make sense, or at the next read of the control
-        // block)
+        // (bounded by the table whatever was read)
         let count = (list[0] as usize).min(self.sep.n_if as usize);
         if count as u64 > head {
             // the rest of a long list
@@ -506,6 +508,9 @@ impl GpuStepper {
                 (ifl, 4 * (1 + head), 4 * rest as u64),
                 (ifs, index_at + 8 * head, 8 * rest as u64),
             ]);
+            if let Some(e) = self.failed(solver) {
+                return Err(e);
+            }
             list.extend(bytemuck::pod_collect_to_vec::<u8, u32>(&more[0]));
             index_of.extend(bytemuck::pod_collect_to_vec::<u8, f64>(&more[1]));
         }

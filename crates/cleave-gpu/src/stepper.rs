@@ -194,9 +194,9 @@ pub struct GpuStepper {
     /// The failures of a step read back with the rest of a split's one read-back (a step in
     /// which more fail reads the others in a second one).
     pub(crate) list_head: u64,
-    /// For tests: the device is destroyed as the read of the mirror this many reads on starts
-    /// (0: never; [`Self::lose_device_in_mirror`]).
-    lose_in_mirror: std::cell::Cell<u32>,
+    /// For tests: the device is destroyed as the read of the state this many reads on starts
+    /// (0: never; [`Self::lose_device_in_read`]).
+    lose_in_read: std::cell::Cell<u32>,
     /// The read-back buffer kept between reads ([`Self::download_ranges`]).
     read_back: std::cell::RefCell<Option<wgpu::Buffer>>,
     /// Each pass timed over the run, when asked ([`Self::time_passes`]).
@@ -771,7 +771,7 @@ impl GpuStepper {
             contact,
             relayout: crate::relayout::Relayout::new(solver, &lay),
             list_head: 1024,
-            lose_in_mirror: std::cell::Cell::new(0),
+            lose_in_read: std::cell::Cell::new(0),
             read_back: Default::default(),
         })
     }
@@ -798,11 +798,12 @@ impl GpuStepper {
         self.list_head = n.max(1);
     }
 
-    /// For tests: destroy the device just before the `k`-th read of the host's mirror from now
-    /// (1: the next; 0: never), so the read itself finds it lost.
+    /// For tests: destroy the device just before the `k`-th read of the state from now (an
+    /// output's, a split's, an erosion's, a crack release's or a restart file's: 1 the next; 0
+    /// never), so the read itself finds it lost.
     #[doc(hidden)]
-    pub fn lose_device_in_mirror(&mut self, k: u32) {
-        self.lose_in_mirror.set(k);
+    pub fn lose_device_in_read(&mut self, k: u32) {
+        self.lose_in_read.set(k);
     }
 
     /// The device this stepper runs on.
@@ -1114,6 +1115,10 @@ impl GpuStepper {
         let mut parts = vec![(ero, 0, ero.size())];
         parts.extend(self.contact_parts());
         let got = self.download_ranges(&parts);
+        // (nothing of a failed device's read is taken: NaN flags would erode every element)
+        if let Some(e) = self.failed(solver) {
+            return Err(e);
+        }
         let ero: Vec<f64> = bytemuck::pod_collect_to_vec(&got[0]);
         let newly: Vec<u32> = (0..solver.model.num_elements())
             .filter(|&e| ero[4 * e] != 0.0 && !solver.state.eroded[e])
@@ -1136,6 +1141,9 @@ impl GpuStepper {
     /// runs.
     fn release_cracks(&mut self, solver: &mut Solver) -> Result<(), RunError> {
         let got = self.download_ranges(&self.contact_parts());
+        if let Some(e) = self.failed(solver) {
+            return Err(e);
+        }
         let mut w = Writes::default();
         if let Some(clo) = got.first() {
             self.closures_to_host(solver, clo, true)?;
@@ -1502,6 +1510,14 @@ impl GpuStepper {
     /// together exceed [`READ_BACK`] bytes are read in consecutive groups of at most that (a
     /// part larger alone), one submission and wait each.
     pub(crate) fn download_ranges(&self, parts: &[Part]) -> Vec<Vec<u8>> {
+        match self.lose_in_read.get() {
+            0 => {}
+            1 => {
+                self.lose_in_read.set(0);
+                self.gpu.device.destroy();
+            }
+            k => self.lose_in_read.set(k - 1),
+        }
         let mut out = Vec::with_capacity(parts.len());
         let mut start = 0;
         while start < parts.len() {
@@ -1637,14 +1653,6 @@ impl GpuStepper {
         let contact_at = parts.len();
         if let Some(ct) = &self.contact {
             parts.extend([ct.hits(), ct.clo()]);
-        }
-        match self.lose_in_mirror.get() {
-            0 => {}
-            1 => {
-                self.lose_in_mirror.set(0);
-                self.gpu.device.destroy();
-            }
-            k => self.lose_in_mirror.set(k - 1),
         }
         let got = self.download_ranges(&parts);
         if let Some(e) = self.failed(solver) {

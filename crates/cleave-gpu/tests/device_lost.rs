@@ -124,7 +124,7 @@ fn a_device_lost_in_the_mirrors_read_leaves_the_host_state_of_the_last_output() 
     let m = block(Hourglass::Viscous);
     let mut s = Solver::new(&m).unwrap();
     let mut st = GpuStepper::new(g, &mut s).unwrap();
-    st.lose_device_in_mirror(3);
+    st.lose_device_in_read(3);
     let mut obs = Keep {
         times: vec![],
         x: vec![],

@@ -558,6 +558,44 @@ fn cracking_block_on_an_eroding_plate() -> Model {
     m
 }
 
+/// A device lost as a halt reads the state (destroyed as the k-th read of the run starts: an
+/// output's, an erosion's or a split's, whichever comes k-th) stops the run with the device's
+/// error, without a panic (wgpu's `create_buffer_init`, which the halts' writes used, panics
+/// on a lost device), and nothing of what the lost device read back reaches the host: its
+/// positions stay finite and no element is taken for eroded (a NaN erosion flag reads as set).
+#[test]
+fn a_device_lost_in_a_halts_read_stops_the_run_with_its_error() {
+    let split = split_model(&cracking_block_on_an_eroding_plate());
+    // (outputs at the start and the end only: the reads between are the halts')
+    let every = split.model.control.end_time;
+    for k in 1..=5 {
+        let Some(g) = gpu() else { return };
+        let mut s = solver(&split);
+        let mut st = GpuStepper::new(g, &mut s).unwrap();
+        st.lose_device_in_read(k);
+        let mut r = Record {
+            every,
+            next: 0.0,
+            rows: Vec::new(),
+        };
+        let run = st.run(&mut s, &mut r);
+        let Err(cleave_core::solver::RunError::Device(msg)) = run else {
+            panic!("read {k}: the run goes on or fails otherwise: {run:?}");
+        };
+        assert!(msg.contains("the device was lost"), "read {k}: {msg}");
+        assert!(
+            (s.positions().iter().flatten()).all(|v| v.is_finite()),
+            "read {k}: positions"
+        );
+        // (4 elements erode in the whole run)
+        assert!(
+            s.eroded_count() <= 4,
+            "read {k}: {} eroded",
+            s.eroded_count()
+        );
+    }
+}
+
 /// Erosion beside element separation on the GPU as on the CPU: the same elements erode and the
 /// same interfaces fail in the same steps, the same cracks close and are released, the fields
 /// and energies to round-off; and the run taken up from its state saved midway, between

@@ -223,6 +223,13 @@
 //!   instead of 2 (`CELLS_PER_BOX`, search.rs): no gain.
 //! - Each node's frame kept with the motion bound it was worked out at, while its facing
 //!   clearance exceeds the motion since: 5% fewer frames worked out, for 3.7 MB more.
+//! - The closed cracks sorted in space (by their first node) at each full build, for their
+//!   step's reads of the positions: no gain.
+//!
+//! What the node checks test (counted for one run of that ball): 70% of the pair tests end
+//! with a clearance below one step's growth of the bound, 28% project and find no contact, 2%
+//! find one; they are near-contacts along crack faces lying on or close to each other (a bound
+//! per node, above, skipped a third of them but saved under 4% of the time).
 
 pub mod bounds_cache;
 mod cand_lists;

@@ -293,6 +293,25 @@ impl Writes {
     /// before the submission of `enc`). On a device that has failed (its staging buffer cannot
     /// be mapped) nothing is recorded: the stepper reports the failure at its next check.
     pub fn record(self, gpu: &crate::device::Gpu, enc: &mut wgpu::CommandEncoder) {
+        // the staging buffer first: where it cannot be mapped, nothing is recorded
+        let staging = if self.copies.is_empty() {
+            None
+        } else {
+            // (not `create_buffer_init`: it panics where the device is lost)
+            let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("split writes"),
+                size: (self.data.len() as u64).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT),
+                usage: wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: true,
+            });
+            let Ok(mut view) = staging.slice(..).get_mapped_range_mut() else {
+                return;
+            };
+            view.slice(..self.data.len()).copy_from_slice(&self.data);
+            drop(view);
+            staging.unmap();
+            Some(staging)
+        };
         if !self.relays.is_empty() {
             let scratch = gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("split relays"),
@@ -307,20 +326,7 @@ impl Writes {
                 at += len;
             }
         }
-        if !self.copies.is_empty() {
-            // (not `create_buffer_init`: it panics where the device is lost)
-            let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("split writes"),
-                size: (self.data.len() as u64).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT),
-                usage: wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: true,
-            });
-            let Ok(mut view) = staging.slice(..).get_mapped_range_mut() else {
-                return;
-            };
-            view.slice(..self.data.len()).copy_from_slice(&self.data);
-            drop(view);
-            staging.unmap();
+        if let Some(staging) = staging {
             for (buf, offset, at, len) in self.copies {
                 enc.copy_buffer_to_buffer(&staging, at, &buf, offset, len);
             }

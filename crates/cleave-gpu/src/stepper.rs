@@ -1600,10 +1600,13 @@ impl GpuStepper {
     }
 
     /// Fill the host mirror's positions and velocities at step `step` from the GPU, and the
-    /// softening faces' state.
+    /// softening faces' state; nothing when the device failed in the read (the stepper reports
+    /// it at its next check).
     pub(crate) fn mirror_kinematics(&self, solver: &mut Solver, step: f64) {
         let got = self.download_ranges(&self.kinematics_parts(solver, step));
-        self.take_kinematics(solver, &got);
+        if self.gpu.failure().is_none() {
+            self.take_kinematics(solver, &got);
+        }
     }
 
     /// The parts of the GPU's arrays that hold x^n at step `step`, v^(n+1/2) and v^n (one

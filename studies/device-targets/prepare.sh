@@ -10,10 +10,10 @@ cargo build --release -p cleave
 mkdir -p .dev .git/info
 strip -o .dev/cleave target/release/cleave
 for d in /.dev/ /.gl/; do grep -qxF "$d" .git/info/exclude 2>/dev/null || echo "$d" >>.git/info/exclude; done
-if ! ls .gl/libvulkan1_*.deb >/dev/null 2>&1; then
+if ! ls .gl/libvulkan1_*.deb .gl/libglvnd0_*.deb >/dev/null 2>&1; then
   mkdir -p .gl /tmp/amd64/partial
   o=(-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64)
   apt-get "${o[@]}" update -q >/dev/null
-  (cd .gl && apt-get "${o[@]}" download libvulkan1 >/dev/null)
+  (cd .gl && apt-get "${o[@]}" download libvulkan1 libglvnd0 libegl1 libgl1 libglx0 libgles2 libopengl0 >/dev/null)
 fi
 ls -la .dev/cleave .gl/

@@ -30,31 +30,39 @@ use cleave_core::contact::ContactForce;
 use cleave_core::solver::Solver;
 
 use crate::contact_tables::{carry_pairs, tables, Scratch};
-pub(crate) use crate::contact_tables::{Carry, Tables, CLO, HIT, PARAMS};
+pub(crate) use crate::contact_tables::{Carry, Tables, Tuning, CLO, HIT, PARAMS};
 use crate::device::{Gpu, GpuError};
 use crate::relayout::Writes;
 use crate::stepper::Part;
 
 /// The passes of contact.wgsl, in the order they run.
-pub(crate) const PASSES: [&str; 11] = [
+pub(crate) const PASSES: [&str; 16] = [
     "c_close",
     "c_close_done",
     "c_count",
+    "c_sums",
     "c_scan",
+    "c_offsets",
     "c_fill",
     "c_detect",
+    "c_hsums",
     "c_hscan",
+    "c_hoffsets",
     "c_hfill",
     "c_hsort",
+    "c_hlong",
     "c_gather",
     "c_energy",
 ];
+
+/// The place of c_gather in [`PASSES`] (its groups' partial sums of the work fill `cpart`).
+const GATHER: usize = 14;
 
 /// The contact passes of the step, their buffers and their bind group.
 pub(crate) struct ContactGpu {
     /// The passes ([`PASSES`]) and the groups each runs over the present tables.
     pub passes: Vec<(&'static str, wgpu::ComputePipeline)>,
-    pub groups: [usize; 11],
+    pub groups: [usize; 16],
     layout: wgpu::BindGroupLayout,
     pub bind_group: wgpu::BindGroup,
     /// The step's arrays it reads: control block (floats and integers: it halts the step
@@ -79,6 +87,9 @@ pub(crate) struct ContactGpu {
     /// are written into their buffers (what the tables before may have left there;
     /// [`ContactGpu::clear`] must zero them before the contact's passes).
     pub poison: Option<u32>,
+    /// How the passes share their work (for the device; other lists only in tests,
+    /// [`Self::set_lists`]).
+    tuning: Tuning,
 }
 
 /// The step's shader text that reads the contact forces: with contact, `fcon` at binding
@@ -176,7 +187,7 @@ impl Buffers {
             bytemuck::cast_slice(h),
             bytemuck::cast_slice(fp),
         ];
-        let zeroed = [4 * t.grid_len, 8 * t.groups()[9], 32 * t.faces];
+        let zeroed = [4 * t.grid_len, 8 * t.groups()[GATHER], 128 * t.faces];
         let contents = |k: usize| match k {
             CLOS => Some(bytemuck::cast_slice(clo_values)),
             k if k < GRID => Some(written[k]),
@@ -278,9 +289,11 @@ impl ContactGpu {
         // the sets' leads) before its tables are read
         solver.settle_contact(false);
         let mut scratch = Scratch::default();
-        let Some(t) = tables(solver, &mut scratch, Tables::default()) else {
+        let Some(mut t) = tables(solver, &mut scratch, Tables::default()) else {
             return Ok(None);
         };
+        let tuning = Tuning::for_device(&gpu.info);
+        t.tune(tuning);
         let dev = &gpu.device;
         let read_only = [
             false, true, true, true, true, false, false, false, false, false, false, false, false,
@@ -343,6 +356,7 @@ impl ContactGpu {
             spare: Tables::default(),
             scratch,
             poison: None,
+            tuning,
         }))
     }
 
@@ -365,6 +379,8 @@ impl ContactGpu {
         w: Option<&mut Writes>,
     ) -> Result<(), GpuError> {
         check_sizes(gpu, &t, &self.x)?;
+        let mut t = t;
+        t.tune(self.tuning);
         let (mut h, mut fp) = t.no_pairs();
         if let Some(carry) = carry {
             // an entry that left the surface gathers no force from now on (through `w`, with
@@ -410,6 +426,17 @@ impl ContactGpu {
     /// records the contact's passes.
     pub fn clear(&self, enc: &mut wgpu::CommandEncoder) {
         self.b.clear(enc);
+    }
+
+    /// For tests: the longest list of the nodes pushing on a face that one thread sorts and
+    /// adds, and the longest a group sorts in its own memory ([`LISTS`]), for the present
+    /// tables and the ones made from now on.
+    pub fn set_lists(&mut self, gpu: &Gpu, lists: [u32; 2]) {
+        self.tuning.lists = lists;
+        let (values, k) = self.tables.tune(self.tuning);
+        let at = 4 * k as u64;
+        gpu.queue
+            .write_buffer(&self.b.bufs[CI], at, bytemuck::cast_slice(&values));
     }
 
     /// For tests: the buffers written all over with [`Self::poison`] so far.

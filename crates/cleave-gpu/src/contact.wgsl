@@ -14,19 +14,21 @@
 //                            overlaps (their count; the span kept for c_fill); a face whose
 //                            box spans more than SPAN cells a side goes to a list every node
 //                            reads (`big`)
-//   c_scan (1 group)         the cells' offsets (an exclusive sum)
+//   c_sums, c_scan, c_offsets  the cells' offsets (an exclusive sum: each block's sum, the
+//                            blocks' offsets by one group, the offsets in each block)
 //   c_fill (per face)        the faces into their cells
-//   c_detect (per pass-node) the node against every face of its cell: the nearest contact
-//                            (least penetration, of equal ones the lowest face), its
-//                            engagement, normal and friction force; counted per face
-//   c_hscan (1 group)        each face's offset in the list of the nodes that hit it
+//   c_detect (C_LANES threads a pass-node)  the node against every face of its cell: the
+//                            nearest contact (least penetration, of equal ones the lowest
+//                            face), its engagement, normal and friction force; counted per face
+//   c_hsums, c_hscan, c_hoffsets  each face's offset in the list of the nodes that hit it
 //   c_hfill (per pass-node)  that list
-//   c_hsort (per face)       each face's list in pass-node order
-//   c_gather (per node of a surface)  the node's contact force: its own hits and the reactions
-//                            on the faces it holds, added in the order of the pass-nodes that
-//                            make them (the CPU's scatter order: the lists merged); the work
-//                            of the last step's and this step's forces over the step
-//                            (partials per group)
+//   c_hsort (per face)       a short list in pass-node order, and the reactions on the face's
+//                            corners added in that order; a long list to c_hlong
+//   c_hlong (fixed groups)   the long lists the same way, a group of 64 threads a face
+//   c_gather (per node of a surface)  the node's contact force: the closed cracks' pairs at
+//                            it, its own hits in pass-node order, then the reactions on the
+//                            faces it holds, face by face; the work of the last step's and
+//                            this step's forces over the step (partials per group)
 //   c_energy (1 group)       the contact energy, -1/2 dt sum (f^(n-1) + f^n).v^(n-1/2)
 // A node in the face's sphere shares a cell with it (the face is in every cell its sphere's
 // box touches), so no contact the CPU's search finds is missed; the order faces come in does
@@ -61,8 +63,10 @@
 @group(0) @binding(7) var<storage, read_write> fprev: array<f64>;
 @group(0) @binding(8) var<storage, read_write> grid: array<atomic<u32>>;
 @group(0) @binding(9) var<storage, read_write> cpart: array<f64>;
-// each face's sphere of this step (c_count): centre, r (4 values a face)
+// each face's values of this step, FS a face: its sphere (c_count: centre, r), then the
+// reactions on its 4 corners of the nodes that push on it (c_hsort, c_hlong: 3 each)
 @group(0) @binding(10) var<storage, read_write> fsph: array<f64>;
+const FS: u32 = 16u;
 // the closed cracks' states (CLO values each) and the step's control integers (c_close_done
 // halts the step: HALT 6)
 @group(0) @binding(11) var<storage, read_write> clo: array<f64>;
@@ -370,7 +374,7 @@ fn c_count(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
     if (f < C_NF && !halted()) {
         let sp = sphere(f);
         for (var k = 0u; k < 4u; k = k + 1u) {
-            fsph[4u * f + k] = sp[k];
+            fsph[FS * f + k] = sp[k];
         }
         let s = span_of(f, sp);
         keep_span(f, s);
@@ -389,20 +393,20 @@ fn c_fill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) w
 }
 
 // Exclusive sums of the `len` counts at `count` in `grid` into `off` (len + 1 values), the
-// counts and the fill cursors at `fill` set back to zero for the next step; by one group of
-// 256 threads, each a run of counts.
+// counts and the fill cursors at `fill` set back to zero for the next step, in three passes
+// (a scan by one group over a million cells was 5-7% of the ball's step on an H100): the sum
+// of each block of BLOCK counts (a group of 256 threads, 4 counts each; c_sums, c_hsums), the
+// blocks' offsets (one group; c_scan, c_hscan), the offsets within each block (c_offsets,
+// c_hoffsets). The blocks' sums and offsets are at G_PART, shared by the two scans.
+const BLOCK: u32 = 1024u;
 var<workgroup> s_sum: array<u32, 256>;
-fn scan(count: u32, off: u32, fill: u32, len: u32, l: u32, run: bool) {
-    let per = (len + 255u) / 256u;
-    let a = min(l * per, len);
-    let b = min(a + per, len);
-    var sum = 0u;
-    for (var i = a; i < b; i = i + 1u) {
-        sum = sum + atomicLoad(&grid[count + i]);
-    }
-    s_sum[l] = sum;
-    workgroupBarrier();
-    // inclusive sums of the runs (Hillis-Steele)
+
+fn group_index(w: vec3<u32>, nw: vec3<u32>) -> u32 {
+    return w.y * nw.x + w.x;
+}
+
+// inclusive sums of s_sum (Hillis-Steele)
+fn sums_in_group(l: u32) {
     for (var d = 1u; d < 256u; d = d << 1u) {
         var add = 0u;
         if (l >= d) {
@@ -412,35 +416,131 @@ fn scan(count: u32, off: u32, fill: u32, len: u32, l: u32, run: bool) {
         s_sum[l] = s_sum[l] + add;
         workgroupBarrier();
     }
+}
+
+// Thread l's counts of block g: [a, b).
+fn block_run(g: u32, l: u32, len: u32) -> vec2<u32> {
+    let a = min(g * BLOCK + 4u * l, len);
+    return vec2<u32>(a, min(a + 4u, len));
+}
+
+fn block_sums(count: u32, len: u32, g: u32, l: u32, run: bool) {
+    let r = block_run(g, l, len);
+    var sum = 0u;
+    for (var i = r.x; i < r.y; i = i + 1u) {
+        sum = sum + atomicLoad(&grid[count + i]);
+    }
+    s_sum[l] = sum;
+    workgroupBarrier();
+    for (var d = 128u; d > 0u; d = d >> 1u) {
+        if (l < d) {
+            s_sum[l] = s_sum[l] + s_sum[l + d];
+        }
+        workgroupBarrier();
+    }
+    if (l == 0u && run && g * BLOCK < len) {
+        atomicStore(&grid[G_PART + g], s_sum[0]);
+    }
+}
+
+// The blocks' sums at G_PART into their offsets, in place.
+fn block_offsets(len: u32, l: u32, run: bool) {
+    let n = (len + BLOCK - 1u) / BLOCK;
+    let per = (n + 255u) / 256u;
+    let a = min(l * per, n);
+    let b = min(a + per, n);
+    var sum = 0u;
+    for (var i = a; i < b; i = i + 1u) {
+        sum = sum + atomicLoad(&grid[G_PART + i]);
+    }
+    s_sum[l] = sum;
+    workgroupBarrier();
+    sums_in_group(l);
     if (!run) {
         return;
     }
     var at = s_sum[l] - sum;
     for (var i = a; i < b; i = i + 1u) {
+        let v = atomicLoad(&grid[G_PART + i]);
+        atomicStore(&grid[G_PART + i], at);
+        at = at + v;
+    }
+}
+
+fn offsets(count: u32, off: u32, fill: u32, len: u32, g: u32, l: u32, run: bool) {
+    let r = block_run(g, l, len);
+    var sum = 0u;
+    for (var i = r.x; i < r.y; i = i + 1u) {
+        sum = sum + atomicLoad(&grid[count + i]);
+    }
+    s_sum[l] = sum;
+    workgroupBarrier();
+    sums_in_group(l);
+    if (!run || g * BLOCK >= max(len, 1u)) {
+        return;
+    }
+    var at = 0u;
+    if (len > 0u) {
+        at = atomicLoad(&grid[G_PART + g]) + s_sum[l] - sum;
+    }
+    for (var i = r.x; i < r.y; i = i + 1u) {
         atomicStore(&grid[off + i], at);
         at = at + atomicLoad(&grid[count + i]);
         atomicStore(&grid[count + i], 0u);
         atomicStore(&grid[fill + i], 0u);
     }
-    if (l == 255u) {
-        atomicStore(&grid[off + len], s_sum[255]);
+    // the thread of the last count (of none: the first) ends the offsets
+    if (r.y == len && (r.x < r.y || (len == 0u && l == 0u))) {
+        atomicStore(&grid[off + len], at);
     }
+}
+
+@compute @workgroup_size(256)
+fn c_sums(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+          @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
+    block_sums(G_COUNT, C_M, group_index(wid, nw), lid.x, !halted());
 }
 
 @compute @workgroup_size(256)
 fn c_scan(@builtin(local_invocation_id) lid: vec3<u32>) {
     params();
     let run = !halted();
-    scan(G_COUNT, G_OFF, G_FILL, C_M, lid.x, run);
+    block_offsets(C_M, lid.x, run);
     if (lid.x == 0u && run) {
         atomicStore(&grid[G_BIGN], 0u);
     }
 }
 
 @compute @workgroup_size(256)
+fn c_offsets(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+             @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
+    offsets(G_COUNT, G_OFF, G_FILL, C_M, group_index(wid, nw), lid.x, !halted());
+}
+
+@compute @workgroup_size(256)
+fn c_hsums(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+           @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
+    block_sums(H_COUNT, C_NF, group_index(wid, nw), lid.x, !halted());
+}
+
+@compute @workgroup_size(256)
 fn c_hscan(@builtin(local_invocation_id) lid: vec3<u32>) {
     params();
-    scan(H_COUNT, H_OFF, H_FILL, C_NF, lid.x, !halted());
+    let run = !halted();
+    block_offsets(C_NF, lid.x, run);
+    if (lid.x == 0u && run) {
+        atomicStore(&grid[G_LONGN], 0u);
+    }
+}
+
+@compute @workgroup_size(256)
+fn c_hoffsets(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+              @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
+    offsets(H_COUNT, H_OFF, H_FILL, C_NF, group_index(wid, nw), lid.x, !halted());
 }
 
 // ---------------------------------------------------------------- node to face (penalty.rs)
@@ -660,8 +760,8 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
     }
     // the face's sphere, as c_count found it, before its nodes and corners are read (it
     // rejects most of a cell's faces)
-    let c = vec3<f64>(fsph[4u * f], fsph[4u * f + 1u], fsph[4u * f + 2u]);
-    let r = fsph[4u * f + 3u];
+    let c = vec3<f64>(fsph[FS * f], fsph[FS * f + 1u], fsph[FS * f + 2u]);
+    let r = fsph[FS * f + 3u];
     let depth = cfl[CF_DEPTH + f];
     let ds = s - c;
     let reach = (WEIGHT_SUM * r + depth) * (1.0lf + 1e-9lf);
@@ -702,35 +802,69 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
     }
 }
 
+// The lanes that check one pass-node (c_detect; C_LANES of them, a power of two up to 64:
+// contact_tables.rs Tuning): each tests every C_LANES-th face of the cell
+// and of the `big` list, and the lanes' nearest contacts are then compared. The nearest is
+// the greatest in one total order (the least penetration, of equal ones the lowest face), so
+// which lane tested a face does not change the one that wins: the result is the one thread's
+// of a pass-node, bit for bit, with the longest chain of a thread's loads C_LANES times shorter
+// (on an H100 the one-thread pass waited on its loads: 64% of the 2800 ball's step).
+var<workgroup> d_gap: array<f64, 64>;
+var<workgroup> d_face: array<u32, 64>;
+
 @compute @workgroup_size(64)
 fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
             @builtin(num_workgroups) nw: vec3<u32>) {
     params();
     halves();
-    let j = pass_index(wid, nw, lid.x);
-    if (j >= C_NP || halted()) {
-        return;
-    }
-    let n = ci[CI_PN + PN * j];
-    let q = ci[CI_PN + PN * j + 1u];
-    // a node all of whose faces eroded, or lie on tight closed cracks, is buried: not checked
-    // (mod.rs Side::buried)
-    let buried = ci[CI_PN + PN * j + 2u] != 0u || (C_NC > 0u && on_tight_cracks(j));
-    let side = ci[CI_PASS + 2u * q];
-    let def = ci[CI_PASS + 2u * q + 1u];
-    let s = pos(n);
+    let t = pass_index(wid, nw, lid.x);
+    let lanes = C_LANES;
+    let j = t / lanes;
+    let lane = lid.x % lanes;
+    let live = j < C_NP && !halted();
     best_f = NONE;
     frame_done = false;
-    if (finite3(s) && !buried) {
-        let b = hash(cell_of(s));
-        let end = atomicLoad(&grid[G_OFF + b + 1u]);
-        for (var k = atomicLoad(&grid[G_OFF + b]); k < end; k = k + 1u) {
-            test_face(j, n, s, atomicLoad(&grid[G_ENT + k]), side);
+    var n = 0u;
+    var def = 0u;
+    if (live) {
+        n = ci[CI_PN + PN * j];
+        let q = ci[CI_PN + PN * j + 1u];
+        // a node all of whose faces eroded, or lie on tight closed cracks, is buried: not
+        // checked (mod.rs Side::buried)
+        let buried = ci[CI_PN + PN * j + 2u] != 0u || (C_NC > 0u && on_tight_cracks(j));
+        let side = ci[CI_PASS + 2u * q];
+        def = ci[CI_PASS + 2u * q + 1u];
+        let s = pos(n);
+        if (finite3(s) && !buried) {
+            let b = hash(cell_of(s));
+            let end = atomicLoad(&grid[G_OFF + b + 1u]);
+            for (var k = atomicLoad(&grid[G_OFF + b]) + lane; k < end; k = k + lanes) {
+                test_face(j, n, s, atomicLoad(&grid[G_ENT + k]), side);
+            }
+            let big = atomicLoad(&grid[G_BIGN]);
+            for (var k = lane; k < big; k = k + lanes) {
+                test_face(j, n, s, atomicLoad(&grid[G_BIG + k]), side);
+            }
         }
-        let big = atomicLoad(&grid[G_BIGN]);
-        for (var k = 0u; k < big; k = k + 1u) {
-            test_face(j, n, s, atomicLoad(&grid[G_BIG + k]), side);
+    }
+    // the nearest of the pass-node's lanes (of a face tested twice, in two cells that hash
+    // alike, the lower lane's): that lane goes on, or the first when none found one
+    d_gap[lid.x] = best.gap;
+    d_face[lid.x] = best_f;
+    workgroupBarrier();
+    let first = lid.x - lane;
+    var win = 0u;
+    for (var i = 1u; i < lanes; i = i + 1u) {
+        let f = d_face[first + i];
+        let w = d_face[first + win];
+        let g = d_gap[first + i];
+        let gw = d_gap[first + win];
+        if (f != NONE && (w == NONE || g > gw || (g == gw && f < w))) {
+            win = i;
         }
+    }
+    if (!live || lane != win) {
+        return;
     }
     let o = HIT * j;
     let prev_face = hits[o];
@@ -825,11 +959,74 @@ fn c_hfill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
 
 // ---------------------------------------------------------------- gather and energy
 
-// Each face's list of the nodes that push on it, in pass-node order (a heap sort in place, by
-// one thread a face): the gather merges the lists of a node's faces.
+// The reactions on each face's corners: -w_a f of each pass-node that pushes on it (w_a the
+// weight of corner a at its contact point), added in pass-node order, so that the sums do not
+// depend on the order c_hfill listed them in. A list of at most SHORT is sorted and added by
+// one thread (c_hsort); a longer one (the faces of a coarse plate under a fine ball: hundreds)
+// goes to the `long` list, and a group of 64 sorts it and adds it (c_hlong), since one thread
+// waiting on its loads one after another was most of the step on an H100.
+const SHORT: u32 = 16u;
+// the longest list a group sorts in its own memory (longer ones: in place, by one thread)
+const LONG_MAX: u32 = 1024u;
+
 fn list_at(k: u32) -> u32 {
     return atomicLoad(&grid[H_LIST + k]);
 }
+
+// The reactions of pass-node j on the corners of the face it pushes on, added to r.
+fn add_reactions(r: ptr<function, array<vec3<f64>, 4>>, j: u32) {
+    let o = HIT * j;
+    let fj = hit_v(o + 5u);
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        (*r)[a] = (*r)[a] + fj * (-hits[o + 1u + a]);
+    }
+}
+
+fn put_reactions(f: u32, r: array<vec3<f64>, 4>) {
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            fsph[FS * f + 4u + 3u * a + i] = r[a][i];
+        }
+    }
+}
+
+@compute @workgroup_size(64)
+fn c_hsort(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+           @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
+    let f = pass_index(wid, nw, lid.x);
+    if (f >= C_NF || halted()) {
+        return;
+    }
+    let base = atomicLoad(&grid[H_OFF + f]);
+    let n = atomicLoad(&grid[H_OFF + f + 1u]) - base;
+    if (n == 0u) {
+        return;
+    }
+    if (n > min(C_SHORT, SHORT)) {
+        let k = atomicAdd(&grid[G_LONGN], 1u);
+        atomicStore(&grid[G_LONG + k], f);
+        return;
+    }
+    // an insertion sort of the few
+    var l: array<u32, SHORT>;
+    for (var i = 0u; i < n; i = i + 1u) {
+        let v = list_at(base + i);
+        var k = i;
+        while (k > 0u && l[k - 1u] > v) {
+            l[k] = l[k - 1u];
+            k = k - 1u;
+        }
+        l[k] = v;
+    }
+    var r: array<vec3<f64>, 4>;
+    for (var i = 0u; i < n; i = i + 1u) {
+        add_reactions(&r, l[i]);
+    }
+    put_reactions(f, r);
+}
+
+// A face's list of more than LONG_MAX nodes, sorted in place (a heap sort by one thread).
 fn sift(base: u32, start: u32, n: u32) {
     var r = start;
     loop {
@@ -852,19 +1049,7 @@ fn sift(base: u32, start: u32, n: u32) {
     }
 }
 
-@compute @workgroup_size(64)
-fn c_hsort(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
-           @builtin(num_workgroups) nw: vec3<u32>) {
-    params();
-    let f = pass_index(wid, nw, lid.x);
-    if (f >= C_NF || halted()) {
-        return;
-    }
-    let base = atomicLoad(&grid[H_OFF + f]);
-    let n = atomicLoad(&grid[H_OFF + f + 1u]) - base;
-    if (n < 2u) {
-        return;
-    }
+fn heap_sort(base: u32, n: u32) {
     for (var s = n / 2u; s > 0u; s = s - 1u) {
         sift(base, s - 1u, n);
     }
@@ -876,36 +1061,115 @@ fn c_hsort(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
     }
 }
 
-var<workgroup> g_s: array<f64, 256>;
+var<workgroup> h_list: array<u32, LONG_MAX>;
+var<workgroup> h_sum: array<vec3<f64>, 256>;
+var<workgroup> h_at: u32;
 
-// The first place in the sorted list [a, b) of `grid` at H_LIST whose pass-node is not below v
-// (b when none).
-fn lower_bound(a: u32, b: u32, v: u32) -> u32 {
-    var lo = a;
-    var hi = b;
-    while (lo < hi) {
-        let m = lo + (hi - lo) / 2u;
-        if (list_at(m) < v) {
-            lo = m + 1u;
-        } else {
-            hi = m;
-        }
+// The long lists, by a fixed number of groups, each taking every so many: the list sorted (a
+// bitonic sort in the group's memory), each of the 64 threads adding a run of it in order,
+// the runs' sums added by a tree of fixed shape.
+@compute @workgroup_size(64)
+fn c_hlong(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>,
+           @builtin(num_workgroups) nw: vec3<u32>) {
+    params();
+    let l = lid.x;
+    if (l == 0u) {
+        h_at = select(atomicLoad(&grid[G_LONGN]), 0u, halted());
     }
-    return lo;
+    let count = workgroupUniformLoad(&h_at);
+    let groups = nw.x * nw.y;
+    for (var i = wid.y * nw.x + wid.x; i < count; i = i + groups) {
+        if (l == 0u) {
+            h_at = atomicLoad(&grid[G_LONG + i]);
+        }
+        let f = workgroupUniformLoad(&h_at);
+        let base = atomicLoad(&grid[H_OFF + f]);
+        if (l == 0u) {
+            h_at = atomicLoad(&grid[H_OFF + f + 1u]) - base;
+        }
+        let n = workgroupUniformLoad(&h_at);
+        if (l == 0u) {
+            h_at = u32(n <= min(C_LONG, LONG_MAX));
+        }
+        let in_group = workgroupUniformLoad(&h_at) != 0u;
+        if (in_group) {
+            var p = 1u;
+            while (p < n) {
+                p = p << 1u;
+            }
+            for (var k = l; k < p; k = k + 64u) {
+                var v = NONE;
+                if (k < n) {
+                    v = list_at(base + k);
+                }
+                h_list[k] = v;
+            }
+            workgroupBarrier();
+            for (var k = 2u; k <= p; k = k << 1u) {
+                for (var d = k >> 1u; d > 0u; d = d >> 1u) {
+                    for (var a = l; a < p; a = a + 64u) {
+                        let b = a ^ d;
+                        if (b > a) {
+                            let x = h_list[a];
+                            let y = h_list[b];
+                            if ((x > y) == ((a & k) == 0u)) {
+                                h_list[a] = y;
+                                h_list[b] = x;
+                            }
+                        }
+                    }
+                    workgroupBarrier();
+                }
+            }
+        } else {
+            if (l == 0u) {
+                heap_sort(base, n);
+            }
+            storageBarrier();
+            workgroupBarrier();
+        }
+        let run = (n + 63u) / 64u;
+        var r: array<vec3<f64>, 4>;
+        for (var k = l * run; k < min(n, (l + 1u) * run); k = k + 1u) {
+            var j = 0u;
+            if (in_group) {
+                j = h_list[k];
+            } else {
+                j = list_at(base + k);
+            }
+            add_reactions(&r, j);
+        }
+        for (var a = 0u; a < 4u; a = a + 1u) {
+            h_sum[4u * l + a] = r[a];
+        }
+        workgroupBarrier();
+        for (var s = 32u; s > 0u; s = s >> 1u) {
+            if (l < s) {
+                for (var a = 0u; a < 4u; a = a + 1u) {
+                    h_sum[4u * l + a] = h_sum[4u * l + a] + h_sum[4u * (l + s) + a];
+                }
+            }
+            workgroupBarrier();
+        }
+        if (l == 0u) {
+            for (var a = 0u; a < 4u; a = a + 1u) {
+                r[a] = h_sum[a];
+            }
+            put_reactions(f, r);
+        }
+        workgroupBarrier();
+    }
 }
 
-// Surface node g's contact force: the closed cracks' pairs at it, then the forces of the
-// pass-nodes that act on it (its own hits, and the reactions -w_a f of those that hit a face it
-// is corner a of), added in the order of the pass-nodes (the CPU's scatter order: mod.rs
-// Contact::compute, scatter_closures then scatter_pairs), each pass-node's own
-// force before its reactions, a face's corners in order; a pass-node with no force adds
-// nothing. Its own entries and its faces' lists are each in pass-node order: merged, each
-// list's place found again by a binary search (no cursor array, however many faces).
+var<workgroup> g_s: array<f64, 256>;
+
+// Surface node g's contact force: the closed cracks' pairs at it, then the forces of its own
+// pass-nodes (in pass-node order; one with no force adds nothing), then the reactions on the
+// faces it holds, face by face in the tables' order (each face's sum of c_hsort or c_hlong).
+// The CPU adds the same terms in the order of the pass-nodes that make them (mod.rs
+// Contact::compute, scatter_closures then scatter_pairs): the sums agree to rounding, and
+// each is in an order of its own that does not change from run to run.
 fn gather(g: u32) -> vec3<f64> {
-    let own = vec2<u32>(ci[CI_GOPTR + g], ci[CI_GOPTR + g + 1u]);
-    let fe = vec2<u32>(ci[CI_GFPTR + g], ci[CI_GFPTR + g + 1u]);
-    var ko = own.x;
-    var cur = 0u;
     var f = vec3<f64>(0.0lf);
     // first the closed cracks' pairs at the node, in the order the cracks closed: the force
     // on b_k, its opposite on a_k (mod.rs scatter_closures)
@@ -927,41 +1191,18 @@ fn gather(g: u32) -> vec3<f64> {
             }
         }
     }
-    loop {
-        // (the node's own pass-nodes without a force add nothing)
-        while (ko < own.y && hits[HIT * ci[ko] + 10u] == 0.0lf) {
-            ko = ko + 1u;
+    for (var k = ci[CI_GOPTR + g]; k < ci[CI_GOPTR + g + 1u]; k = k + 1u) {
+        let o = HIT * ci[k];
+        if (hits[o + 10u] != 0.0lf) {
+            f = f + hit_v(o + 5u);
         }
-        var next = NONE;
-        if (ko < own.y) {
-            next = ci[ko];
+    }
+    for (var k = ci[CI_GFPTR + g]; k < ci[CI_GFPTR + g + 1u]; k = k + 1u) {
+        let face = ci[k] >> 2u;
+        if (atomicLoad(&grid[H_OFF + face + 1u]) > atomicLoad(&grid[H_OFF + face])) {
+            let o = FS * face + 4u + 3u * (ci[k] & 3u);
+            f = f + vec3<f64>(fsph[o], fsph[o + 1u], fsph[o + 2u]);
         }
-        for (var k = fe.x; k < fe.y; k = k + 1u) {
-            let face = ci[k] >> 2u;
-            let end = atomicLoad(&grid[H_OFF + face + 1u]);
-            let t = lower_bound(atomicLoad(&grid[H_OFF + face]), end, cur);
-            if (t < end) {
-                next = min(next, list_at(t));
-            }
-        }
-        if (next == NONE) {
-            break;
-        }
-        let o = HIT * next;
-        let fj = hit_v(o + 5u);
-        if (ko < own.y && ci[ko] == next) {
-            f = f + fj;
-            ko = ko + 1u;
-        }
-        for (var k = fe.x; k < fe.y; k = k + 1u) {
-            let face = ci[k] >> 2u;
-            let end = atomicLoad(&grid[H_OFF + face + 1u]);
-            let t = lower_bound(atomicLoad(&grid[H_OFF + face]), end, next);
-            if (t < end && list_at(t) == next) {
-                f = f + fj * (-hits[o + 1u + (ci[k] & 3u)]);
-            }
-        }
-        cur = next + 1u;
     }
     return f;
 }

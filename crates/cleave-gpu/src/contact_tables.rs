@@ -54,18 +54,67 @@ impl Hasher for IntHasher {
 /// Values per pass-node in the hits array (contact.wgsl HIT).
 pub(crate) const HIT: usize = 14;
 
+/// Counts of a group in the scans (contact.wgsl BLOCK).
+const BLOCK: usize = 1024;
+
+/// Groups that sort and add the long lists of the nodes pushing on a face (contact.wgsl
+/// c_hlong): each takes every LONG_GROUPS-th, enough to fill a large GPU's cores with the few
+/// such faces there are.
+const LONG_GROUPS: usize = 32;
+
 /// The most cells a face takes in the grid: one whose sphere's box spans more than 3 along an
 /// axis goes to the list every node reads instead (contact.wgsl SPAN).
 const CELLS: usize = 27;
 
 /// The sizes and offsets contact.wgsl reads from the head of `ci` (its `params()`), in order.
-pub(crate) const PARAMS: [&str; 38] = [
+pub(crate) const PARAMS: [&str; 44] = [
     "C_NN", "C_NF", "C_NP", "C_NG", "C_GG", "C_M", "C_NC", "CI_FACE", "CI_FSIDE", "CI_FLAB",
     "CI_PN", "CI_PASS", "CI_NFPTR", "CI_GN", "CI_GOPTR", "CI_GFPTR", "CI_GCPTR", "CI_CLO",
     "CI_FCLO", "CF_K", "CF_DEPTH", "CF_KN", "CF_DEF", "CF_PEN", "CF_H", "CF_CK", "G_COUNT",
     "G_OFF", "G_FILL", "G_BIGN", "H_COUNT", "H_OFF", "H_FILL", "G_ENT", "G_BIG", "H_LIST",
-    "G_SPAN", "G_REL",
+    "G_SPAN", "G_REL", "G_LONGN", "G_LONG", "G_PART", "C_SHORT", "C_LONG", "C_LANES",
 ];
+
+/// How the contact's passes share their work (contact.wgsl C_SHORT, C_LONG, C_LANES, the last
+/// values of [`PARAMS`]); no choice changes a result.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Tuning {
+    /// The longest list of the nodes pushing on a face that one thread sorts and adds
+    /// (c_hsort), and the longest a group sorts in its own memory (c_hlong): at most
+    /// contact.wgsl SHORT and LONG_MAX, 16 and 1024, and less only in tests of the longer
+    /// lists' paths.
+    pub lists: [u32; 2],
+    /// The threads that check one pass-node (c_detect), a power of two up to 64.
+    pub lanes: u32,
+}
+
+impl Tuning {
+    /// The choice for the device of `info`: 32 threads a pass-node on a GPU, 8 on a CPU's
+    /// Vulkan (lavapipe), or the power of two up to 64 that the environment's CLEAVE_GPU_LANES
+    /// names. On an H100 the node checks of the 2800 ball (to 20 us) took 588 us a step with
+    /// one thread a node, 114 with 8 and 63 with 32 (`cleave bench ball --elements 2800
+    /// --end-time 2e-5 --gpu --passes`); on lavapipe, whose threads are the CPU's lanes, more
+    /// only add work.
+    pub fn for_device(info: &wgpu::AdapterInfo) -> Self {
+        let default = match info.device_type {
+            wgpu::DeviceType::Cpu => 8,
+            _ => 32,
+        };
+        let lanes = std::env::var("CLEAVE_GPU_LANES")
+            .ok()
+            .and_then(|v| v.parse::<u32>().ok())
+            .filter(|l| l.is_power_of_two() && *l <= 64)
+            .unwrap_or(default);
+        Tuning {
+            lists: [16, 1024],
+            lanes,
+        }
+    }
+
+    fn values(&self) -> [u32; 3] {
+        [self.lists[0], self.lists[1], self.lanes]
+    }
+}
 
 /// Values per closed crack in the `clo` array: its state between steps (cleave-core
 /// contact/view.rs CLOSURE_STATE), then 1 in the step it is released.
@@ -139,8 +188,17 @@ impl Tables {
         (8 * self.clo.len().max(CLO)) as u64
     }
 
-    /// The groups of 64 threads each pass runs, in contact.rs PASSES order.
-    pub fn groups(&self) -> [usize; 11] {
+    /// Tune these tables' passes ([`Tuning`]); returns the values and their place in `ci`.
+    pub fn tune(&mut self, t: Tuning) -> ([u32; 3], usize) {
+        let k = PARAMS.len() - 3;
+        self.ci[k..k + 3].copy_from_slice(&t.values());
+        (t.values(), k)
+    }
+
+    /// The groups of 64 threads each pass runs, in contact.rs PASSES order: one thread a
+    /// closed crack, face, pass-node or surface node, [`Tuning::lanes`] a pass-node in c_detect, and
+    /// [`LONG_GROUPS`] groups for the long lists of c_hlong.
+    pub fn groups(&self) -> [usize; 16] {
         let per = |n: usize| n.div_ceil(crate::stepper::GROUP);
         let (f, p, g, c) = (
             per(self.faces),
@@ -148,7 +206,29 @@ impl Tables {
             per(self.surface_nodes),
             per(self.closures.len()),
         );
-        [c, 1, f, 1, f, p, 1, p, f, g, 1]
+        let lanes = per(self.param("C_LANES").max(1) * self.pass_nodes);
+        let (cells, faces) = (
+            self.param("C_M").div_ceil(BLOCK),
+            self.faces.div_ceil(BLOCK),
+        );
+        [
+            c,
+            1,
+            f,
+            cells,
+            1,
+            cells,
+            f,
+            lanes,
+            faces,
+            1,
+            faces,
+            p,
+            f,
+            LONG_GROUPS,
+            g,
+            1,
+        ]
     }
 
     /// These tables emptied, their arrays kept for the next ones.
@@ -414,7 +494,10 @@ pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Opti
     let h_list = g_big + nf;
     let g_span = h_list + np;
     let g_rel = g_span + 6 * nf;
-    t.grid_len = g_rel + 1;
+    let g_longn = g_rel + 1;
+    let g_long = g_longn + 1;
+    let g_part = g_long + nf;
+    t.grid_len = g_part + m.max(nf).div_ceil(BLOCK) + 1;
     let values = [
         ("C_NN", nn),
         ("C_NF", nf),
@@ -454,6 +537,13 @@ pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Opti
         ("H_LIST", h_list),
         ("G_SPAN", g_span),
         ("G_REL", g_rel),
+        ("G_LONGN", g_longn),
+        ("G_LONG", g_long),
+        ("G_PART", g_part),
+        // (tuned before they go to the device: ContactGpu)
+        ("C_SHORT", 16),
+        ("C_LONG", 1024),
+        ("C_LANES", 1),
     ];
     for (k, (name, v)) in values.into_iter().enumerate() {
         debug_assert_eq!(PARAMS[k], name);

@@ -467,6 +467,7 @@ impl GpuStepper {
         // positions and velocities on the device, and the host's mirror waits for the next
         // output, the contact's grid cell taken from the positions it holds, which changes the
         // speed only); with contact what its remake reads
+        let began = std::time::Instant::now();
         let (ifl, ifs, sig) = (&self.sep.ifl, &self.sep.ifs, &self.state.sig);
         let head = u64::from(self.sep.n_if).min(self.list_head);
         let index_at = 8 * u64::from(self.sep.if_index);
@@ -483,6 +484,7 @@ impl GpuStepper {
         let contact = parts.len();
         parts.extend(self.contact_parts());
         let got = self.download_ranges(&parts);
+        let read = began.elapsed().as_secs_f64();
         // (nothing of a failed device's read is taken into the host's state)
         if let Some(e) = self.failed(solver) {
             return Err(e);
@@ -533,9 +535,19 @@ impl GpuStepper {
         }
         solver.activate_cracks();
         let carried = got.get(contact + 1..).unwrap_or(&[]);
+        let remade = std::time::Instant::now();
         self.remake_contact(solver, true, carried, Some(&mut w))?;
+        let tables = remade.elapsed().as_secs_f64();
         self.clear_halt_into(&mut w);
         self.finish_step_after("interfaces_done", w);
+        let all = began.elapsed().as_secs_f64();
+        for (s, t) in self
+            .split_parts
+            .iter_mut()
+            .zip([read, tables, all - read - tables])
+        {
+            *s += t;
+        }
         Ok(())
     }
 }

@@ -203,6 +203,8 @@ pub struct GpuStepper {
     times: Option<PassTimes>,
     /// The halts for the host in a step ([`Self::host_halts`]): count and wall seconds.
     halts: [(u64, f64); 3],
+    /// The splits' wall seconds by part ([`Self::split_parts`]).
+    pub(crate) split_parts: [f64; 3],
 }
 
 /// How a buffer that carries the state is stored on the device, and so turned for a restart
@@ -752,6 +754,7 @@ impl GpuStepper {
             batch: 4,
             times: None,
             halts: [(0, 0.0); 3],
+            split_parts: [0.0; 3],
             gpu,
             model_bufs: ModelBuffers {
                 par,
@@ -788,6 +791,16 @@ impl GpuStepper {
                 c.poisoned()
             }
             None => 0,
+        }
+    }
+
+    /// For tests: the longest list of the nodes pushing on a contact face that one thread
+    /// sorts and adds, and the longest a group sorts in its own memory (16 and 1024 by
+    /// default; less to run the longer lists' paths on small models).
+    #[doc(hidden)]
+    pub fn set_contact_lists(&mut self, short: u32, long: u32) {
+        if let Some(c) = &mut self.contact {
+            c.set_lists(&self.gpu, [short, long]);
         }
     }
 
@@ -915,6 +928,14 @@ impl GpuStepper {
     /// closed cracks released. On a GPU these, not the passes, can set a breaking run's time.
     pub fn host_halts(&self) -> [(u64, f64); 3] {
         self.halts
+    }
+
+    /// The wall seconds of the splits so far ([`Self::host_halts`]' first) by part: waiting
+    /// for their read-backs, making the contact's tables again and putting them on the device,
+    /// and the rest (the sets split on the host, the layout's changes and their writes, the
+    /// submission of the rest of the step).
+    pub fn split_parts(&self) -> [f64; 3] {
+        self.split_parts
     }
 
     /// Time each pass over the runs that follow, with the device's timestamps, or stop doing

@@ -91,9 +91,12 @@ fn run_cpu(m: &Model, every: f64) -> Vec<Row> {
     r.rows
 }
 
-fn run_gpu(g: Gpu, m: &Model, every: f64) -> (Vec<Row>, Gpu) {
+fn run_gpu(g: Gpu, m: &Model, every: f64, lists: Option<[u32; 2]>) -> (Vec<Row>, Gpu) {
     let mut s = solver(m);
     let mut st = GpuStepper::new(g, &mut s).unwrap();
+    if let Some([short, long]) = lists {
+        st.set_contact_lists(short, long);
+    }
     let mut r = Record {
         every,
         next: 0.0,
@@ -115,8 +118,20 @@ fn rel(a: impl Iterator<Item = f64> + Clone, b: impl Iterator<Item = f64>) -> f6
 /// value); contact must have happened (`min_pairs` pairs at some output). Then the GPU run
 /// again: the same bits. Returns the device.
 fn compare(g: Gpu, m: &Model, every: f64, tol: f64, min_pairs: usize, name: &str) -> Gpu {
+    compare_lists(g, m, (every, tol, min_pairs), name, None)
+}
+
+/// [`compare`], the lists of the nodes pushing on a face taking the paths of `lists` (the
+/// longest one thread sorts and adds, the longest a group sorts in its own memory).
+fn compare_lists(
+    g: Gpu,
+    m: &Model,
+    (every, tol, min_pairs): (f64, f64, usize),
+    name: &str,
+    lists: Option<[u32; 2]>,
+) -> Gpu {
     let cpu = run_cpu(m, every);
-    let (gpu, g) = run_gpu(g, m, every);
+    let (gpu, g) = run_gpu(g, m, every, lists);
     assert_eq!(cpu.len(), gpu.len(), "{name}: outputs");
     let most = cpu.iter().map(|r| r.pairs).max().unwrap();
     let mut worst = [0.0f64; 5];
@@ -177,7 +192,7 @@ fn compare(g: Gpu, m: &Model, every: f64, tol: f64, min_pairs: usize, name: &str
     for (what, w) in ["x", "v", "energies", "force", "|f_n|"].iter().zip(worst) {
         assert!(w <= tol, "{name}: {what} differ by {w:.3e}");
     }
-    let (again, g) = run_gpu(g, m, every);
+    let (again, g) = run_gpu(g, m, every, lists);
     assert!(again == gpu, "{name}: a repeated GPU run differs");
     g
 }
@@ -259,15 +274,20 @@ fn sphere_on_plate() -> Model {
 /// an element in y and z, so that no node lands on an edge of the other's faces (the ties of
 /// [`sphere_on_plate`]).
 fn blocks(cut: fn(BoxMesh) -> BoxMesh) -> Model {
-    let (l, n) = (0.02, 8);
+    blocks_of(cut, [8, 4, 4])
+}
+
+/// [`blocks`] of `cells` elements each.
+fn blocks_of(cut: fn(BoxMesh) -> BoxMesh, cells: [usize; 3]) -> Model {
+    let l = 0.02;
     let mut a = Assembly::new("blocks", 1.0);
     let mat = a.material(steel());
     let left = a.part("left", mat);
     let right = a.part("right", mat);
-    let mut bl = BoxMesh::new([n, 4, 4], [l, 0.01, 0.01]);
+    let mut bl = BoxMesh::new(cells, [l, 0.01, 0.01]);
     bl.translate([-l - 1e-5, 0.002, 0.0013]);
     let (ln, _) = a.mesh(cut(bl), |_| left);
-    a.mesh(cut(BoxMesh::new([n, 4, 4], [l, 0.01, 0.01])), |_| right);
+    a.mesh(cut(BoxMesh::new(cells, [l, 0.01, 0.01])), |_| right);
     let mut m = a.finish();
     for i in ln {
         m.v0[i as usize] = [10.0, 4.0, 0.0];
@@ -302,6 +322,62 @@ fn blocks_with_friction_match_the_cpu() {
         1e-9,
         25,
         "blocks, wedges",
+    );
+}
+
+/// A fine block (n/2 x n x n elements, 10 mm a side) at 10 m/s onto one face of a coarse one
+/// (one element, its face 20 x 20 mm), single surface contact with friction: the (n + 1)^2 nodes
+/// of the fine face all push on the one coarse face, offset so that none lands on its edges.
+fn fine_on_coarse(n: usize) -> Model {
+    let mut a = Assembly::new("fine on coarse", 1.0);
+    let mat = a.material(steel());
+    let fine = a.part("fine", mat);
+    let coarse = a.part("coarse", mat);
+    let mut b = BoxMesh::new([n / 2, n, n], [0.01, 0.01, 0.01]);
+    b.translate([-0.01 - 1e-5, 0.0052, 0.0047]);
+    let (nodes, _) = a.mesh(b, |_| fine);
+    a.mesh(BoxMesh::new([1, 1, 1], [0.01, 0.02, 0.02]), |_| coarse);
+    let mut m = a.finish();
+    for i in nodes {
+        m.v0[i as usize] = [10.0, 0.0, 0.0];
+    }
+    m.control.end_time = 1.2e-5;
+    m.contacts.push(def(None, 0.3, 0.2, 50.0));
+    m
+}
+
+/// The reactions on a face that many nodes push on (289, 81: more than one thread adds, 16),
+/// each face's list of those nodes sorted in a group's memory and added by the group's
+/// threads, or, when longer than the group holds (here made 1), sorted in place by one thread
+/// first; and on the blocks every list, however short, on the group's path. The sums are in an
+/// order of their own, so the runs agree with the CPU's to the tolerance of the others, and a
+/// repeated run bit for bit. Blocks of 16 x 8 x 8 elements, their 1280 faces in 4096 cells,
+/// take more than one group in each scan (1024 a group) with contact all over their faces.
+#[test]
+fn long_lists_of_pushing_nodes_match_the_cpu() {
+    let Some(g) = gpu() else { return };
+    let g = compare(g, &fine_on_coarse(16), 1e-6, 1e-9, 289, "fine on coarse");
+    let g = compare(
+        g,
+        &blocks_of(|b| b, [16, 8, 8]),
+        1e-6,
+        1e-9,
+        81,
+        "finer blocks",
+    );
+    let g = compare_lists(
+        g,
+        &fine_on_coarse(8),
+        (1e-6, 1e-9, 81),
+        "fine on coarse, sorted in place",
+        Some([16, 1]),
+    );
+    compare_lists(
+        g,
+        &blocks(|b| b),
+        (1e-6, 1e-9, 25),
+        "blocks, every list by a group",
+        Some([0, 1024]),
     );
 }
 

@@ -239,6 +239,13 @@ fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
             halts.join("; ")
         );
     }
+    let splits = g.host_halts()[0].0;
+    if splits > 0 {
+        let [read, tables, rest] = g.split_parts().map(|s| 1e3 * s / splits as f64);
+        println!(
+            "  a split's host time: {read:.2} ms waiting for its read-back, {tables:.2} ms the contact's tables, {rest:.2} ms the rest"
+        );
+    }
     if a.passes {
         match g.pass_times().filter(|_| timed) {
             Some(secs) => {

@@ -429,7 +429,7 @@ impl ContactGpu {
     }
 
     /// For tests: the longest list of the nodes pushing on a face that one thread sorts and
-    /// adds, and the longest a group sorts in its own memory ([`LISTS`]), for the present
+    /// adds, and the longest a group sorts in its own memory ([`Tuning::lists`]), for the present
     /// tables and the ones made from now on.
     pub fn set_lists(&mut self, gpu: &Gpu, lists: [u32; 2]) {
         self.tuning.lists = lists;

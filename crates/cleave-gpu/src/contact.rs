@@ -55,6 +55,11 @@ pub(crate) const PASSES: [&str; 16] = [
     "c_energy",
 ];
 
+/// The release flag of a closed crack let go on the device without new tables
+/// ([`ContactGpu::release_in_place`]; contact.wgsl c_close passes it by): 1 marks one released
+/// in this step, 2 one released in an earlier step since the tables were made.
+const DEAD: f64 = 2.0;
+
 /// The place of c_gather in [`PASSES`] (its groups' partial sums of the work fill `cpart`).
 const GATHER: usize = 14;
 
@@ -90,6 +95,10 @@ pub(crate) struct ContactGpu {
     /// How the passes share their work (for the device; other lists only in tests,
     /// [`Self::set_lists`]).
     tuning: Tuning,
+    /// Closed cracks' releases let go in place, and those for which the tables were made
+    /// again ([`Self::release_in_place`]); for tests, `remake_releases` makes them again always.
+    pub releases: [u64; 2],
+    pub remake_releases: bool,
 }
 
 /// The step's shader text that reads the contact forces: with contact, `fcon` at binding
@@ -357,6 +366,8 @@ impl ContactGpu {
             scratch,
             poison: None,
             tuning,
+            releases: [0; 2],
+            remake_releases: false,
         }))
     }
 
@@ -475,12 +486,86 @@ impl ContactGpu {
                 let s = clo
                     .get(CLO * k..CLO * (k + 1))
                     .ok_or("the closed cracks read back are cut short")?;
+                // (one released in place before is the host's no longer)
+                if s[CLOSURE_STATE] == DEAD {
+                    continue;
+                }
                 states.extend_from_slice(&s[..CLOSURE_STATE]);
-                flags.push(released && s[CLOSURE_STATE] != 0.0);
+                flags.push(released && s[CLOSURE_STATE] == 1.0);
             }
             cs.closures_stepped(d, &states, &flags)?;
         }
         Ok(())
+    }
+
+    /// The closed cracks released in this step (their flag 1 in `clo`, as read back; the host
+    /// has let them go, [`Self::closures_to_host`], and settled its contact) let go on the
+    /// device without new tables: each one's state zeroed and marked [`DEAD`] (c_close passes it
+    /// by, its pairs add no force, its faces are no longer tight), and every chain label of the
+    /// faces and pass-nodes written again from the host's chains, through `w`. The tables made
+    /// again would differ in these alone (a release changes no surface, set or lead; their
+    /// order and the faces' numbers stay), and the released cracks' entries, which they leave
+    /// out, add nothing. False, with nothing written, when the host's surfaces or leads are not
+    /// those of the tables: then they must be made again.
+    pub fn release_in_place(&mut self, solver: &Solver, clo: &[f64], w: &mut Writes) -> bool {
+        let done = !self.remake_releases && self.release_labels(solver, clo, w);
+        self.releases[usize::from(!done)] += 1;
+        done
+    }
+
+    /// [`Self::release_in_place`], uncounted.
+    fn release_labels(&mut self, solver: &Solver, clo: &[f64], w: &mut Writes) -> bool {
+        let Some(cs) = solver.contact() else {
+            return false;
+        };
+        let t = &self.tables;
+        // the faces, in the tables' order, and their corners' labels
+        let mut face_labels = Vec::with_capacity(4 * t.faces);
+        for &(d, side, _) in &t.sides {
+            let c = &cs.contacts()[d as usize];
+            for face in c.faces(side as usize) {
+                let f = face_labels.len() / 4;
+                if t.face_key.get(f) != Some(&(d, side, face.elem, face.face)) {
+                    return false;
+                }
+                face_labels.extend(face.nodes.map(|n| c.chain_label(n)));
+            }
+        }
+        // the leads, in the tables' order, and their labels
+        let mut lead_labels = Vec::with_capacity(t.pass_nodes);
+        for (d, c) in cs.contacts().iter().enumerate() {
+            for (ns, _) in c.pass_sides() {
+                for n in c.leads_in_scatter_order(ns) {
+                    let j = lead_labels.len();
+                    if t.pn_key.get(j).map(|k| k.1) != Some(n)
+                        || t.pn_def.get(j).map(|p| p.0) != Some(d)
+                    {
+                        return false;
+                    }
+                    lead_labels.push(c.chain_label(n));
+                }
+            }
+        }
+        if face_labels.len() != 4 * t.faces || lead_labels.len() != t.pass_nodes {
+            return false;
+        }
+        let t = &mut self.tables;
+        let (flab, pn) = (t.param("CI_FLAB"), t.param("CI_PN"));
+        t.ci[flab..flab + 4 * t.faces].copy_from_slice(&face_labels);
+        for (j, l) in lead_labels.into_iter().enumerate() {
+            t.ci[pn + 4 * j + 3] = l;
+        }
+        let ci = &self.b.bufs[CI];
+        w.put(ci, 4 * flab as u64, &t.ci[flab..flab + 4 * t.faces]);
+        w.put(ci, 4 * pn as u64, &t.ci[pn..pn + 4 * t.pass_nodes]);
+        let mut dead = [0.0f64; CLO];
+        dead[CLOSURE_STATE] = DEAD;
+        for k in 0..t.closures.len() {
+            if clo.get(CLO * k + CLOSURE_STATE) == Some(&1.0) {
+                w.put(&self.b.bufs[CLOS], (8 * CLO * k) as u64, &dead);
+            }
+        }
+        true
     }
 
     /// Each definition's resultants from the hits and closed cracks read back (mod.rs

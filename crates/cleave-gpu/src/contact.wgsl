@@ -8,7 +8,7 @@
 //   c_close (per closed crack)  the closed cracks' step (contact/closure.rs): their pairs'
 //                            forces, or their release
 //   c_close_done (1 thread)  halts the step when some were released (HALT 6: the host lets
-//                            them go and makes the tables again, then runs the rest)
+//                            them go, and the device in place, then runs the rest)
 //   c_count (per face)       each face's search sphere, centre c (the corners' mean) and
 //                            radius E r + depth, in the cells of a hashed grid its box
 //                            overlaps (their count; the span kept for c_fill); a face whose
@@ -173,6 +173,10 @@ fn c_close(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
     }
     let t = CI_CLO + 9u * c;
     let o = CLO * c;
+    // (one let go in an earlier step, its state zero: contact.rs release_in_place)
+    if (clo[o + 20u] != 0.0lf) {
+        return;
+    }
     var pa: array<vec3<f64>, 4>;
     var pb: array<vec3<f64>, 4>;
     var m: array<vec3<f64>, 4>;
@@ -248,8 +252,9 @@ fn c_close(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
 }
 
 // A step in which closed cracks were released halts here (HALT 6): the host lets them go
-// (their node pairs no longer chain their copies) and makes the tables again, then runs the
-// rest of the step, as the CPU releases them before its node checks (mod.rs
+// (their node pairs no longer chain their copies) and so does the device, their states zeroed
+// and the chain labels written again (contact.rs release_in_place), then runs the rest of the
+// step, as the CPU releases them before its node checks (mod.rs
 // Contact::compute).
 @compute @workgroup_size(1)
 fn c_close_done() {

@@ -804,6 +804,20 @@ impl GpuStepper {
         }
     }
 
+    /// For tests: the halts for closed cracks' release so far, those let go on the device in
+    /// place and those for which the contact's tables were made again; with `remake`, every
+    /// release from now on makes them again.
+    #[doc(hidden)]
+    pub fn contact_releases(&mut self, remake: bool) -> [u64; 2] {
+        match &mut self.contact {
+            Some(c) => {
+                c.remake_releases = remake;
+                c.releases
+            }
+            None => [0; 2],
+        }
+    }
+
     /// Read at most `n` (at least 1) of a step's failed interfaces with the rest of a split's
     /// read-back, the others in a second one (1024 by default; for tests of the second).
     #[doc(hidden)]
@@ -1161,14 +1175,32 @@ impl GpuStepper {
     /// contact's tables are made again with the pairs carried over, and the rest of the step
     /// runs.
     fn release_cracks(&mut self, solver: &mut Solver) -> Result<(), RunError> {
-        let got = self.download_ranges(&self.contact_parts());
+        // one read-back: the closed cracks' states; the host lets the released ones go and
+        // the device does too, in place ([`ContactGpu::release_in_place`]), or, should the
+        // host's surfaces differ from the tables, the tables are made again (the pairs and last
+        // forces read back for them)
+        let got = match &self.contact {
+            Some(c) => self.download_ranges(&[c.clo()]),
+            None => vec![],
+        };
         if let Some(e) = self.failed(solver) {
             return Err(e);
         }
         let mut w = Writes::default();
         if let Some(clo) = got.first() {
             self.closures_to_host(solver, clo, true)?;
-            self.remake_contact(solver, false, &got[1..], Some(&mut w))?;
+            solver.settle_contact(true);
+            let clo: Vec<f64> = bytemuck::pod_collect_to_vec(clo);
+            let done =
+                (self.contact.as_mut()).is_some_and(|c| c.release_in_place(solver, &clo, &mut w));
+            if !done {
+                let parts = self.contact_parts();
+                let got = self.download_ranges(&parts[1..]);
+                if let Some(e) = self.failed(solver) {
+                    return Err(e);
+                }
+                self.remake_contact(solver, false, &got, Some(&mut w))?;
+            }
         }
         self.clear_halt_into(&mut w);
         self.finish_step_after("c_close_done", w);

@@ -440,10 +440,12 @@ impl ContactGpu {
     }
 
     /// For tests: the longest list of the nodes pushing on a face that one thread sorts and
-    /// adds, and the longest a group sorts in its own memory ([`Tuning::lists`]), for the present
-    /// tables and the ones made from now on.
-    pub fn set_lists(&mut self, gpu: &Gpu, lists: [u32; 2]) {
+    /// adds, and the longest a group sorts in its own memory ([`Tuning::lists`]), and whether
+    /// the lists are filled from their end, for the present tables and the ones made from now
+    /// on.
+    pub fn set_lists(&mut self, gpu: &Gpu, lists: [u32; 2], reverse: bool) {
         self.tuning.lists = lists;
+        self.tuning.reverse = u32::from(reverse);
         let (values, k) = self.tables.tune(self.tuning);
         let at = 4 * k as u64;
         gpu.queue

@@ -958,7 +958,11 @@ fn c_hfill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
         return;
     }
     let f = u32(hits[o]);
-    let at = atomicLoad(&grid[H_OFF + f]) + atomicAdd(&grid[H_FILL + f], 1u);
+    var at = atomicLoad(&grid[H_OFF + f]) + atomicAdd(&grid[H_FILL + f], 1u);
+    if (C_REVERSE != 0u) {
+        // (for tests: from the list's end)
+        at = atomicLoad(&grid[H_OFF + f + 1u]) - 1u - (at - atomicLoad(&grid[H_OFF + f]));
+    }
     atomicStore(&grid[H_LIST + at], j);
 }
 

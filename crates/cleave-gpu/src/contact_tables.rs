@@ -67,16 +67,56 @@ const LONG_GROUPS: usize = 32;
 const CELLS: usize = 27;
 
 /// The sizes and offsets contact.wgsl reads from the head of `ci` (its `params()`), in order.
-pub(crate) const PARAMS: [&str; 44] = [
-    "C_NN", "C_NF", "C_NP", "C_NG", "C_GG", "C_M", "C_NC", "CI_FACE", "CI_FSIDE", "CI_FLAB",
-    "CI_PN", "CI_PASS", "CI_NFPTR", "CI_GN", "CI_GOPTR", "CI_GFPTR", "CI_GCPTR", "CI_CLO",
-    "CI_FCLO", "CF_K", "CF_DEPTH", "CF_KN", "CF_DEF", "CF_PEN", "CF_H", "CF_CK", "G_COUNT",
-    "G_OFF", "G_FILL", "G_BIGN", "H_COUNT", "H_OFF", "H_FILL", "G_ENT", "G_BIG", "H_LIST",
-    "G_SPAN", "G_REL", "G_LONGN", "G_LONG", "G_PART", "C_SHORT", "C_LONG", "C_LANES",
+pub(crate) const PARAMS: [&str; 45] = [
+    "C_NN",
+    "C_NF",
+    "C_NP",
+    "C_NG",
+    "C_GG",
+    "C_M",
+    "C_NC",
+    "CI_FACE",
+    "CI_FSIDE",
+    "CI_FLAB",
+    "CI_PN",
+    "CI_PASS",
+    "CI_NFPTR",
+    "CI_GN",
+    "CI_GOPTR",
+    "CI_GFPTR",
+    "CI_GCPTR",
+    "CI_CLO",
+    "CI_FCLO",
+    "CF_K",
+    "CF_DEPTH",
+    "CF_KN",
+    "CF_DEF",
+    "CF_PEN",
+    "CF_H",
+    "CF_CK",
+    "G_COUNT",
+    "G_OFF",
+    "G_FILL",
+    "G_BIGN",
+    "H_COUNT",
+    "H_OFF",
+    "H_FILL",
+    "G_ENT",
+    "G_BIG",
+    "H_LIST",
+    "G_SPAN",
+    "G_REL",
+    "G_LONGN",
+    "G_LONG",
+    "G_PART",
+    "C_SHORT",
+    "C_LONG",
+    "C_LANES",
+    "C_REVERSE",
 ];
 
-/// How the contact's passes share their work (contact.wgsl C_SHORT, C_LONG, C_LANES, the last
-/// values of [`PARAMS`]); no choice changes a result.
+/// How the contact's passes share their work (contact.wgsl C_SHORT, C_LONG, C_LANES, C_REVERSE,
+/// the last values of [`PARAMS`]); no choice changes a result.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Tuning {
     /// The longest list of the nodes pushing on a face that one thread sorts and adds
@@ -86,6 +126,9 @@ pub(crate) struct Tuning {
     pub lists: [u32; 2],
     /// The threads that check one pass-node (c_detect), a power of two up to 64.
     pub lanes: u32,
+    /// For tests: 1 fills each face's list of the nodes pushing on it from its end (c_hfill),
+    /// so that the sorts, not the order of the atomics, must give the sums' order.
+    pub reverse: u32,
 }
 
 impl Tuning {
@@ -108,11 +151,12 @@ impl Tuning {
         Tuning {
             lists: [16, 1024],
             lanes,
+            reverse: 0,
         }
     }
 
-    fn values(&self) -> [u32; 3] {
-        [self.lists[0], self.lists[1], self.lanes]
+    fn values(&self) -> [u32; 4] {
+        [self.lists[0], self.lists[1], self.lanes, self.reverse]
     }
 }
 
@@ -189,9 +233,9 @@ impl Tables {
     }
 
     /// Tune these tables' passes ([`Tuning`]); returns the values and their place in `ci`.
-    pub fn tune(&mut self, t: Tuning) -> ([u32; 3], usize) {
-        let k = PARAMS.len() - 3;
-        self.ci[k..k + 3].copy_from_slice(&t.values());
+    pub fn tune(&mut self, t: Tuning) -> ([u32; 4], usize) {
+        let k = PARAMS.len() - 4;
+        self.ci[k..k + 4].copy_from_slice(&t.values());
         (t.values(), k)
     }
 
@@ -544,6 +588,7 @@ pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Opti
         ("C_SHORT", 16),
         ("C_LONG", 1024),
         ("C_LANES", 1),
+        ("C_REVERSE", 0),
     ];
     for (k, (name, v)) in values.into_iter().enumerate() {
         debug_assert_eq!(PARAMS[k], name);

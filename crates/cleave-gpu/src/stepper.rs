@@ -796,11 +796,12 @@ impl GpuStepper {
 
     /// For tests: the longest list of the nodes pushing on a contact face that one thread
     /// sorts and adds, and the longest a group sorts in its own memory (16 and 1024 by
-    /// default; less to run the longer lists' paths on small models).
+    /// default; less to run the longer lists' paths on small models), and whether the lists
+    /// are filled from their end (the sorts must then give the same sums).
     #[doc(hidden)]
-    pub fn set_contact_lists(&mut self, short: u32, long: u32) {
+    pub fn set_contact_lists(&mut self, short: u32, long: u32, reverse: bool) {
         if let Some(c) = &mut self.contact {
-            c.set_lists(&self.gpu, [short, long]);
+            c.set_lists(&self.gpu, [short, long], reverse);
         }
     }
 

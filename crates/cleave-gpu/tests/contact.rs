@@ -91,11 +91,11 @@ fn run_cpu(m: &Model, every: f64) -> Vec<Row> {
     r.rows
 }
 
-fn run_gpu(g: Gpu, m: &Model, every: f64, lists: Option<[u32; 2]>) -> (Vec<Row>, Gpu) {
+fn run_gpu(g: Gpu, m: &Model, every: f64, lists: Option<[u32; 3]>) -> (Vec<Row>, Gpu) {
     let mut s = solver(m);
     let mut st = GpuStepper::new(g, &mut s).unwrap();
-    if let Some([short, long]) = lists {
-        st.set_contact_lists(short, long);
+    if let Some([short, long, reverse]) = lists {
+        st.set_contact_lists(short, long, reverse != 0);
     }
     let mut r = Record {
         every,
@@ -122,13 +122,14 @@ fn compare(g: Gpu, m: &Model, every: f64, tol: f64, min_pairs: usize, name: &str
 }
 
 /// [`compare`], the lists of the nodes pushing on a face taking the paths of `lists` (the
-/// longest one thread sorts and adds, the longest a group sorts in its own memory).
+/// longest one thread sorts and adds, the longest a group sorts in its own memory, 1 to fill
+/// them from their end).
 fn compare_lists(
     g: Gpu,
     m: &Model,
     (every, tol, min_pairs): (f64, f64, usize),
     name: &str,
-    lists: Option<[u32; 2]>,
+    lists: Option<[u32; 3]>,
 ) -> Gpu {
     let cpu = run_cpu(m, every);
     let (gpu, g) = run_gpu(g, m, every, lists);
@@ -349,36 +350,55 @@ fn fine_on_coarse(n: usize) -> Model {
 /// The reactions on a face that many nodes push on (289, 81: more than one thread adds, 16),
 /// each face's list of those nodes sorted in a group's memory and added by the group's
 /// threads, or, when longer than the group holds (here made 1), sorted in place by one thread
-/// first; and on the blocks every list, however short, on the group's path. The sums are in an
-/// order of their own, so the runs agree with the CPU's to the tolerance of the others, and a
-/// repeated run bit for bit. Blocks of 16 x 8 x 8 elements, their 1280 faces in 4096 cells,
-/// take more than one group in each scan (1024 a group) with contact all over their faces.
+/// first; and on the finer blocks every list, however short, on the group's path (98 faces in
+/// lists: each of the 32 groups takes several in turn). The sums are in an order of their own,
+/// so the runs agree with the CPU's to the tolerance of the others, and a repeated run bit for
+/// bit. Blocks of 16 x 8 x 8 elements, their 1280 faces in 4096 cells, take more than one group
+/// in each scan (1024 a group) with contact all over their faces.
 #[test]
 fn long_lists_of_pushing_nodes_match_the_cpu() {
     let Some(g) = gpu() else { return };
     let g = compare(g, &fine_on_coarse(16), 1e-6, 1e-9, 289, "fine on coarse");
-    let g = compare(
-        g,
-        &blocks_of(|b| b, [16, 8, 8]),
-        1e-6,
-        1e-9,
-        81,
-        "finer blocks",
-    );
+    let finer = blocks_of(|b| b, [16, 8, 8]);
+    let g = compare(g, &finer, 1e-6, 1e-9, 81, "finer blocks");
     let g = compare_lists(
         g,
         &fine_on_coarse(8),
         (1e-6, 1e-9, 81),
         "fine on coarse, sorted in place",
-        Some([16, 1]),
+        Some([16, 1, 0]),
     );
     compare_lists(
         g,
-        &blocks(|b| b),
-        (1e-6, 1e-9, 25),
-        "blocks, every list by a group",
-        Some([0, 1024]),
+        &finer,
+        (1e-6, 1e-9, 81),
+        "finer blocks, every list by a group",
+        Some([0, 1024, 0]),
     );
+}
+
+/// The order the lists of the nodes pushing on a face are filled in (by atomics: any) does not
+/// change a bit of a run: filled from their end, each path's sorts give the same sums (one
+/// thread's insertion sort of the 16 nodes on the coarse face of a 1 x 3 x 3 block, a group's
+/// bitonic sort and the heap sort in place of the 81 of a 4 x 8 x 8 one).
+#[test]
+fn the_lists_order_does_not_change_the_run() {
+    let Some(g) = gpu() else { return };
+    let mut g = g;
+    for (m, every, lists) in [
+        (fine_on_coarse(3), 1e-6, [16, 1024]),
+        (fine_on_coarse(8), 1e-6, [16, 1024]),
+        (fine_on_coarse(8), 1e-6, [16, 1]),
+    ] {
+        let (a, g1) = run_gpu(g, &m, every, Some([lists[0], lists[1], 0]));
+        let (b, g2) = run_gpu(g1, &m, every, Some([lists[0], lists[1], 1]));
+        assert!(a.iter().any(|r| r.pairs > 0), "contact");
+        assert!(
+            a == b,
+            "lists {lists:?}: filled from the end, the run differs"
+        );
+        g = g2;
+    }
 }
 
 /// PENOPT 2 (each pair the face's stiffness) on the sphere.

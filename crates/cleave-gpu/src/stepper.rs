@@ -1173,8 +1173,8 @@ impl GpuStepper {
 
     /// Closed cracks released in the step halted (HALT 6, after the cracks' pass): the host's
     /// contact takes their states and lets the released ones go (their pairs unchained), the
-    /// contact's tables are made again with the pairs carried over, and the rest of the step
-    /// runs.
+    /// device lets them go in place (or, should the host's surfaces differ from the tables,
+    /// the tables are made again with the pairs carried over), and the rest of the step runs.
     fn release_cracks(&mut self, solver: &mut Solver) -> Result<(), RunError> {
         // one read-back: the closed cracks' states; the host lets the released ones go and
         // the device does too, in place ([`ContactGpu::release_in_place`]), or, should the

@@ -429,7 +429,9 @@ fn block_run(g: u32, l: u32, len: u32) -> vec2<u32> {
     return vec2<u32>(a, min(a + 4u, len));
 }
 
-fn block_sums(count: u32, len: u32, g: u32, l: u32, run: bool) {
+// The sum of thread l's counts of block g (at `count`), put in s_sum and summed over the
+// group (inclusive sums: the block's at 255).
+fn group_sums(count: u32, len: u32, g: u32, l: u32) -> u32 {
     let r = block_run(g, l, len);
     var sum = 0u;
     for (var i = r.x; i < r.y; i = i + 1u) {
@@ -437,14 +439,14 @@ fn block_sums(count: u32, len: u32, g: u32, l: u32, run: bool) {
     }
     s_sum[l] = sum;
     workgroupBarrier();
-    for (var d = 128u; d > 0u; d = d >> 1u) {
-        if (l < d) {
-            s_sum[l] = s_sum[l] + s_sum[l + d];
-        }
-        workgroupBarrier();
-    }
+    sums_in_group(l);
+    return sum;
+}
+
+fn block_sums(count: u32, len: u32, g: u32, l: u32, run: bool) {
+    group_sums(count, len, g, l);
     if (l == 0u && run && g * BLOCK < len) {
-        atomicStore(&grid[G_PART + g], s_sum[0]);
+        atomicStore(&grid[G_PART + g], s_sum[255]);
     }
 }
 
@@ -474,13 +476,7 @@ fn block_offsets(len: u32, l: u32, run: bool) {
 
 fn offsets(count: u32, off: u32, fill: u32, len: u32, g: u32, l: u32, run: bool) {
     let r = block_run(g, l, len);
-    var sum = 0u;
-    for (var i = r.x; i < r.y; i = i + 1u) {
-        sum = sum + atomicLoad(&grid[count + i]);
-    }
-    s_sum[l] = sum;
-    workgroupBarrier();
-    sums_in_group(l);
+    let sum = group_sums(count, len, g, l);
     if (!run || g * BLOCK >= max(len, 1u)) {
         return;
     }

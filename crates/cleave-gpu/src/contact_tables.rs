@@ -132,6 +132,9 @@ pub(crate) struct Tuning {
 }
 
 impl Tuning {
+    /// [`Self::lists`] but in tests.
+    const LISTS: [u32; 2] = [16, 1024];
+
     /// The choice for the device of `info`: 32 threads a pass-node on a GPU, 8 on a CPU's
     /// Vulkan (lavapipe), or the power of two up to 64 that the environment's CLEAVE_GPU_LANES
     /// names. On an H100 the node checks of the 2800 ball (to 20 us) took 588 us a step with
@@ -149,7 +152,7 @@ impl Tuning {
             .filter(|l| l.is_power_of_two() && *l <= 64)
             .unwrap_or(default);
         Tuning {
-            lists: [16, 1024],
+            lists: Self::LISTS,
             lanes,
             reverse: 0,
         }
@@ -235,6 +238,7 @@ impl Tables {
     /// Tune these tables' passes ([`Tuning`]); returns the values and their place in `ci`.
     pub fn tune(&mut self, t: Tuning) -> ([u32; 4], usize) {
         let k = PARAMS.len() - 4;
+        debug_assert_eq!(PARAMS[k], "C_SHORT");
         self.ci[k..k + 4].copy_from_slice(&t.values());
         (t.values(), k)
     }
@@ -584,10 +588,10 @@ pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Opti
         ("G_LONGN", g_longn),
         ("G_LONG", g_long),
         ("G_PART", g_part),
-        // (tuned before they go to the device: ContactGpu)
-        ("C_SHORT", 16),
-        ("C_LONG", 1024),
-        ("C_LANES", 1),
+        // (set by `Tables::tune` before they go to the device: ContactGpu)
+        ("C_SHORT", 0),
+        ("C_LONG", 0),
+        ("C_LANES", 0),
         ("C_REVERSE", 0),
     ];
     for (k, (name, v)) in values.into_iter().enumerate() {

@@ -68,9 +68,9 @@ case_ gpu-cube-100k 20 "$bin" bench cube --elements $cube_mid --steps $((cube_st
 case_ gpu-ball-20k 85 "$bin" bench ball --elements $ball --gpu
 case_ gpu-ball-20k-passes 20 "$bin" bench ball --elements $ball --end-time 5e-6 --gpu --passes
 case_ gpu-ball-2800-passes 30 "$bin" bench ball --elements 2800 --end-time 2e-5 --gpu --passes
-# the threads a node's contact check takes (32 by default on a GPU; any number gives the same
-# results): 8 against the default
-case_ gpu-ball-2800-lanes-8 30 env CLEAVE_GPU_LANES=8 "$bin" bench ball --elements 2800 \
+# the contact's candidate lists (64 faces a node by default; any length gives the same
+# results): none, every node against its grid cell every step, against the default
+case_ gpu-ball-2800-no-lists 30 env CLEAVE_GPU_CANDS=0 "$bin" bench ball --elements 2800 \
   --end-time 2e-5 --gpu --passes
 # the paper's full run of the 2800 ball on the GPU: target under 2 minutes
 if [ -z "${CASES:-}" ] || [[ " $CASES " == *" gpu-ball-2800-full "* ]]; then

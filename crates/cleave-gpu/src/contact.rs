@@ -60,6 +60,9 @@ pub(crate) const PASSES: [&str; 16] = [
 /// in this step, 2 one released in an earlier step since the tables were made.
 const DEAD: f64 = 2.0;
 
+/// f64 values per face in the face spheres' buffer (contact.wgsl FS).
+const FS: usize = 28;
+
 /// The place of c_gather in [`PASSES`] (its groups' partial sums of the work fill `cpart`).
 const GATHER: usize = 14;
 
@@ -196,7 +199,10 @@ impl Buffers {
             bytemuck::cast_slice(h),
             bytemuck::cast_slice(fp),
         ];
-        let zeroed = [4 * t.grid_len, 8 * t.groups()[GATHER], 128 * t.faces];
+        // (the faces' values, then the displacement bounds of c_count's groups: contact.wgsl
+        // FS, BOUNDS)
+        let spheres = FS * t.faces + 6 * t.faces.div_ceil(crate::stepper::GROUP);
+        let zeroed = [4 * t.grid_len, 8 * t.groups()[GATHER], 8 * spheres];
         let contents = |k: usize| match k {
             CLOS => Some(bytemuck::cast_slice(clo_values)),
             k if k < GRID => Some(written[k]),
@@ -446,10 +452,35 @@ impl ContactGpu {
     pub fn set_lists(&mut self, gpu: &Gpu, lists: [u32; 2], reverse: bool) {
         self.tuning.lists = lists;
         self.tuning.reverse = u32::from(reverse);
+        self.retune(gpu);
+    }
+
+    /// The present tables' tuned values written again from [`Self::tuning`] (tests).
+    fn retune(&mut self, gpu: &Gpu) {
         let (values, k) = self.tables.tune(self.tuning);
         let at = 4 * k as u64;
         gpu.queue
             .write_buffer(&self.b.bufs[CI], at, bytemuck::cast_slice(&values));
+    }
+
+    /// For tests: the most candidates a node's list holds ([`Tuning::cands`]) and whether the
+    /// lists are checked ([`Tuning::verify`]), for the present tables and the ones made from
+    /// now on.
+    pub fn set_cands(&mut self, gpu: &Gpu, cands: u32, verify: bool) {
+        self.tuning.cands = cands;
+        self.tuning.verify = u32::from(verify);
+        self.retune(gpu);
+    }
+
+    /// The grid's flags (contact.wgsl G_FLAGS, [`FLAGS`](crate::contact_tables::FLAGS)), to be
+    /// read back.
+    pub fn flags(&self) -> Part<'_> {
+        let at = 4 * self.tables.param("G_FLAGS") as u64;
+        (
+            &self.b.bufs[GRID],
+            at,
+            4 * crate::contact_tables::FLAGS as u64,
+        )
     }
 
     /// For tests: the buffers written all over with [`Self::poison`] so far.

@@ -4,22 +4,28 @@
 //
 // Each pass of a definition checks its node side's nodes (the *pass-nodes*, numbered over all
 // passes in the order the CPU scatters their forces) against the faces of its face side. Every
-// step, with no motion bound and no schedule:
+// step, with no schedule (a bound on the motion only says when the candidate lists are made
+// again):
 //   c_close (per closed crack)  the closed cracks' step (contact/closure.rs): their pairs'
 //                            forces, or their release
 //   c_close_done (1 thread)  halts the step when some were released (HALT 6: the host lets
 //                            them go, and the device in place, then runs the rest)
 //   c_count (per face)       each face's search sphere, centre c (the corners' mean) and
-//                            radius E r + depth, in the cells of a hashed grid its box
-//                            overlaps (their count; the span kept for c_fill); a face whose
-//                            box spans more than SPAN cells a side goes to a list every node
-//                            reads (`big`)
+//                            radius E r + depth (grown by the lists' margin once they may be
+//                            used), in the cells of a hashed grid its box overlaps (their
+//                            count; the span kept for c_fill); a face whose box spans more
+//                            than SPAN cells a side goes to a list every node reads (`big`);
+//                            the bounds of its corners' displacements since the lists were made
 //   c_sums, c_scan, c_offsets  the cells' offsets (an exclusive sum: each block's sum, the
-//                            blocks' offsets by one group, the offsets in each block)
-//   c_fill (per face)        the faces into their cells
-//   c_detect (C_LANES threads a pass-node)  the node against every face of its cell: the
-//                            nearest contact (least penetration, of equal ones the lowest
-//                            face), its engagement, normal and friction force; counted per face
+//                            blocks' offsets by one group, the offsets in each block); c_scan
+//                            also decides whether the lists are used, made again, or not yet
+//                            (the tables are new): the mode of the step
+//   c_fill (per face)        the faces into their cells (when a node reads them), and the
+//                            corners where the lists are made
+//   c_detect (C_LANES threads a pass-node)  the node against every face of its list (or of
+//                            its cell, and then its list made): the nearest contact (least
+//                            penetration, of equal ones the lowest face), its engagement,
+//                            normal and friction force; counted per face
 //   c_hsums, c_hscan, c_hoffsets  each face's offset in the list of the nodes that hit it
 //   c_hfill (per pass-node)  that list
 //   c_hsort (per face)       a short list in pass-node order, and the reactions on the face's
@@ -31,8 +37,8 @@
 //                            this step's forces over the step (partials per group)
 //   c_energy (1 group)       the contact energy, -1/2 dt sum (f^(n-1) + f^n).v^(n-1/2)
 // A node in the face's sphere shares a cell with it (the face is in every cell its sphere's
-// box touches), so no contact the CPU's search finds is missed; the order faces come in does
-// not change which one wins. The forces are written per entry (a model node, or with
+// box touches), and is on the node's list while the list is in use (c_scan), so no contact
+// the CPU's search finds is missed; the order faces come in does not change which one wins. The forces are written per entry (a model node, or with
 // element separation a coincident set's slot: positions, velocities and forces are read and
 // written there) to `fcon`, which the step (step.wgsl node_force's callers) adds to the other
 // forces. With separation the pass-nodes are the sets' leads, a face holding a copy of the
@@ -64,9 +70,14 @@
 @group(0) @binding(8) var<storage, read_write> grid: array<atomic<u32>>;
 @group(0) @binding(9) var<storage, read_write> cpart: array<f64>;
 // each face's values of this step, FS a face: its sphere (c_count: centre, r), then the
-// reactions on its 4 corners of the nodes that push on it (c_hsort, c_hlong: 3 each)
+// reactions on its 4 corners of the nodes that push on it (c_hsort, c_hlong: 3 each), then its
+// corners where the candidate lists were last made (c_fill: 3 each, at REF); after the faces,
+// each c_count group's bounds of its corners' displacements since then (BOUNDS values each:
+// the least, then the greatest, of each component)
 @group(0) @binding(10) var<storage, read_write> fsph: array<f64>;
-const FS: u32 = 16u;
+const FS: u32 = 28u;
+const REF: u32 = 16u;
+const BOUNDS: u32 = 6u;
 // the closed cracks' states (CLO values each) and the step's control integers (c_close_done
 // halts the step: HALT 6)
 @group(0) @binding(11) var<storage, read_write> clo: array<f64>;
@@ -304,11 +315,28 @@ struct Span {
 fn span_of(f: u32, s: vec4<f64>) -> Span {
     let c = s.xyz;
     // (1 + 1e-9) and 1e-300: the box holds every point the exact sphere holds
-    let r = (WEIGHT_SUM * s.w + cfl[CF_DEPTH + f]) * (1.0lf + 1e-9lf) + 1e-300lf;
+    let r = reach_of(f, s.w, lists_in_reach()) + 1e-300lf;
     if (!finite3(c) || !finite(r)) {
         return Span(vec3<f64>(1.0lf), vec3<f64>(0.0lf));
     }
     return Span(cell_of(c - vec3<f64>(r)), cell_of(c + vec3<f64>(r)));
+}
+
+// The radius of face f's search sphere, E r + depth, grown by (1 + E) mu for the candidate
+// lists when `grown` (c_scan), with a relative 1e-9 so that the sphere holds every point the
+// exact one holds.
+fn reach_of(f: u32, r: f64, grown: bool) -> f64 {
+    var reach = WEIGHT_SUM * r + cfl[CF_DEPTH + f];
+    if (grown) {
+        reach = reach + (1.0lf + WEIGHT_SUM) * cfl[CF_MU];
+    }
+    return reach * (1.0lf + 1e-9lf);
+}
+
+// The candidate lists are made, or may be in this step: the tables have lasted WAIT steps
+// (c_scan). Until then the grid holds the faces' spheres as they are.
+fn lists_in_reach() -> bool {
+    return atomicLoad(&grid[G_FLAGS]) >= WAIT;
 }
 
 fn is_big(s: Span) -> bool {
@@ -376,7 +404,10 @@ fn c_count(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
     params();
     halves();
     let f = pass_index(wid, nw, lid.x);
-    if (f < C_NF && !halted()) {
+    let run = !halted();
+    var lo = vec3<f64>(BIG);
+    var hi = vec3<f64>(-BIG);
+    if (f < C_NF && run) {
         let sp = sphere(f);
         for (var k = 0u; k < 4u; k = k + 1u) {
             fsph[FS * f + k] = sp[k];
@@ -384,6 +415,24 @@ fn c_count(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
         let s = span_of(f, sp);
         keep_span(f, s);
         put_face(f, s, false);
+        let p = corners(f);
+        for (var a = 0u; a < 4u; a = a + 1u) {
+            let o = FS * f + REF + 3u * a;
+            let d = p[a] - vec3<f64>(fsph[o], fsph[o + 1u], fsph[o + 2u]);
+            if (finite3(d)) {
+                lo = min(lo, d);
+                hi = max(hi, d);
+            }
+        }
+    }
+    // the group's bounds of its corners' displacements (c_scan takes them all)
+    bounds_in_group(lid.x, 64u, lo, hi);
+    if (lid.x == 0u && run) {
+        let o = FS * C_NF + BOUNDS * group_index(wid, nw);
+        for (var k = 0u; k < 3u; k = k + 1u) {
+            fsph[o + k] = b_lo[0][k];
+            fsph[o + 3u + k] = b_hi[0][k];
+        }
     }
 }
 
@@ -392,8 +441,21 @@ fn c_fill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) w
           @builtin(num_workgroups) nw: vec3<u32>) {
     params();
     let f = pass_index(wid, nw, lid.x);
-    if (f < C_NF && !halted()) {
+    let flags = G_FLAGS;
+    let mode = atomicLoad(&grid[flags + 1u]);
+    let build = mode == BUILD;
+    let cells = mode != LISTS || atomicLoad(&grid[flags + 2u]) != 0u || C_VERIFY != 0u;
+    if (f < C_NF && !halted() && cells) {
         put_face(f, kept_span(f), true);
+    }
+    if (f < C_NF && !halted() && build) {
+        // the corners where the lists are made
+        let p = corners(f);
+        for (var a = 0u; a < 4u; a = a + 1u) {
+            for (var k = 0u; k < 3u; k = k + 1u) {
+                fsph[FS * f + REF + 3u * a + k] = p[a][k];
+            }
+        }
     }
 }
 
@@ -503,6 +565,41 @@ fn c_sums(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) w
     block_sums(G_COUNT, C_M, group_index(wid, nw), lid.x, !halted());
 }
 
+// The candidate lists (c_detect) hold, for each pass-node, the faces whose search sphere
+// grown by (1 + E) mu held it where the lists were made (each face's corners then at REF, and
+// the node a corner of a face of its side). Every position since lies in the box of the
+// corners' displacements, of diagonal delta: the node moved by at most delta relative to a
+// face's centre (a mean of its corners) and the face's radius grew by at most delta, so a
+// face whose sphere holds the node now is on its list while delta <= mu. c_scan makes them
+// again when the diagonal is past mu. Tables are made again at every split, and a fragmenting
+// body splits in most steps for a while: the lists are first made once the tables have lasted
+// WAIT steps (G_FLAGS: the steps so far, to WAIT), and until then each node is checked against
+// its cell. G_FLAGS + 1: this step's mode (LISTS, BUILD, CELLS); + 2: some node had more
+// candidates than its list holds (the grid is then filled every step for it); + 3: the lists
+// made so far; + 4: the lists are made; for tests (C_VERIFY), + 5: the faces a list missed,
+// + 6: the faces looked for (c_detect verify).
+const WAIT: u32 = 8u;
+const LISTS: u32 = 0u;
+const BUILD: u32 = 1u;
+const CELLS: u32 = 2u;
+var<workgroup> b_lo: array<vec3<f64>, 256>;
+var<workgroup> b_hi: array<vec3<f64>, 256>;
+
+// The least and greatest (by component) of the group's `size` threads' lo and hi, into b_lo[0]
+// and b_hi[0] (a tree of fixed shape; every thread of the group calls it).
+fn bounds_in_group(l: u32, size: u32, lo: vec3<f64>, hi: vec3<f64>) {
+    b_lo[l] = lo;
+    b_hi[l] = hi;
+    workgroupBarrier();
+    for (var h = size / 2u; h > 0u; h = h >> 1u) {
+        if (l < h) {
+            b_lo[l] = min(b_lo[l], b_lo[l + h]);
+            b_hi[l] = max(b_hi[l], b_hi[l + h]);
+        }
+        workgroupBarrier();
+    }
+}
+
 @compute @workgroup_size(256)
 fn c_scan(@builtin(local_invocation_id) lid: vec3<u32>) {
     params();
@@ -510,6 +607,35 @@ fn c_scan(@builtin(local_invocation_id) lid: vec3<u32>) {
     block_offsets(C_M, lid.x, run);
     if (lid.x == 0u && run) {
         atomicStore(&grid[G_BIGN], 0u);
+    }
+    // the bounds of c_count's groups
+    let groups = (C_NF + 63u) / 64u;
+    var lo = vec3<f64>(BIG);
+    var hi = vec3<f64>(-BIG);
+    for (var g = lid.x; g < groups; g = g + 256u) {
+        let o = FS * C_NF + BOUNDS * g;
+        lo = min(lo, vec3<f64>(fsph[o], fsph[o + 1u], fsph[o + 2u]));
+        hi = max(hi, vec3<f64>(fsph[o + 3u], fsph[o + 4u], fsph[o + 5u]));
+    }
+    bounds_in_group(lid.x, 256u, lo, hi);
+    if (lid.x == 0u && run) {
+        let d = max(b_hi[0] - b_lo[0], vec3<f64>(0.0lf));
+        let age = atomicLoad(&grid[G_FLAGS]);
+        let made = atomicLoad(&grid[G_FLAGS + 4u]) != 0u;
+        var mode = CELLS;
+        if (age >= WAIT && C_K > 0u) {
+            mode = LISTS;
+            if (!made || !(sqrt(dot(d, d)) <= cfl[CF_MU])) {
+                mode = BUILD;
+            }
+        }
+        atomicStore(&grid[G_FLAGS + 1u], mode);
+        atomicStore(&grid[G_FLAGS], min(age + 1u, WAIT));
+        if (mode == BUILD) {
+            atomicStore(&grid[G_FLAGS + 2u], 0u);
+            atomicAdd(&grid[G_FLAGS + 3u], 1u);
+            atomicStore(&grid[G_FLAGS + 4u], 1u);
+        }
     }
 }
 
@@ -765,7 +891,7 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
     let r = fsph[FS * f + 3u];
     let depth = cfl[CF_DEPTH + f];
     let ds = s - c;
-    let reach = (WEIGHT_SUM * r + depth) * (1.0lf + 1e-9lf);
+    let reach = reach_of(f, r, false);
     if (dot(ds, ds) > reach * reach) {
         return;
     }
@@ -803,6 +929,70 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
     }
 }
 
+// Face f on pass-node j's list (its node n at s, the pass's face side `side`; c_scan) when
+// it is on that side, does not hold the node and its grown sphere holds it; past C_K faces the
+// node is counted only, and checked against its cell (G_FLAGS + 2).
+fn enlist(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
+    if (ci[CI_FSIDE + f] != side) {
+        return;
+    }
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        if (face_node(f, a) == n) {
+            return;
+        }
+    }
+    let ds = s - vec3<f64>(fsph[FS * f], fsph[FS * f + 1u], fsph[FS * f + 2u]);
+    let reach = reach_of(f, fsph[FS * f + 3u], true);
+    if (dot(ds, ds) > reach * reach) {
+        return;
+    }
+    let k = atomicAdd(&grid[G_CANDN + j], 1u);
+    if (k < C_K) {
+        atomicStore(&grid[G_CAND + CANDS * j + k], f);
+    } else {
+        atomicStore(&grid[G_FLAGS + 2u], 1u);
+    }
+}
+
+// For tests (C_VERIFY): every face of pass-node j's cell and of the big list whose search
+// sphere holds the node, on its side and not holding it, must be on its list (G_FLAGS + 5
+// counts those that are not, + 6 those looked for).
+fn verify(j: u32, n: u32, s: vec3<f64>, side: u32, lane: u32, lanes: u32) {
+    let b = hash(cell_of(s));
+    let at = atomicLoad(&grid[G_OFF + b]);
+    let in_cell = atomicLoad(&grid[G_OFF + b + 1u]) - at;
+    let total = in_cell + atomicLoad(&grid[G_BIGN]);
+    let listed = atomicLoad(&grid[G_CANDN + j]);
+    for (var k = lane; k < total; k = k + lanes) {
+        var f: u32;
+        if (k < in_cell) {
+            f = atomicLoad(&grid[G_ENT + at + k]);
+        } else {
+            f = atomicLoad(&grid[G_BIG + k - in_cell]);
+        }
+        var own = ci[CI_FSIDE + f] != side;
+        for (var a = 0u; a < 4u; a = a + 1u) {
+            own = own || face_node(f, a) == n;
+        }
+        let ds = s - vec3<f64>(fsph[FS * f], fsph[FS * f + 1u], fsph[FS * f + 2u]);
+        let reach = reach_of(f, fsph[FS * f + 3u], false);
+        if (own || dot(ds, ds) > reach * reach) {
+            continue;
+        }
+        atomicAdd(&grid[G_FLAGS + 6u], 1u);
+        var found = false;
+        for (var i = 0u; i < listed; i = i + 1u) {
+            found = found || atomicLoad(&grid[G_CAND + CANDS * j + i]) == f;
+        }
+        if (!found) {
+            atomicAdd(&grid[G_FLAGS + 5u], 1u);
+        }
+    }
+}
+
+// the room of a pass-node's list (contact_tables.rs CANDS; C_K at most this)
+const CANDS: u32 = 64u;
+
 // The lanes that check one pass-node (c_detect; C_LANES of them, a power of two up to 64:
 // contact_tables.rs Tuning): each tests every C_LANES-th face of the cell
 // and of the `big` list, and the lanes' nearest contacts are then compared. The nearest is
@@ -827,6 +1017,13 @@ fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     frame_done = false;
     var n = 0u;
     var def = 0u;
+    // the lists made again in this step: each one emptied first
+    let mode = atomicLoad(&grid[G_FLAGS + 1u]);
+    let build = mode == BUILD;
+    if (live && build && lane == 0u) {
+        atomicStore(&grid[G_CANDN + j], 0u);
+    }
+    workgroupBarrier();
     if (live) {
         n = ci[CI_PN + PN * j];
         let q = ci[CI_PN + PN * j + 1u];
@@ -836,16 +1033,41 @@ fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
         let side = ci[CI_PASS + 2u * q];
         def = ci[CI_PASS + 2u * q + 1u];
         let s = pos(n);
-        if (finite3(s) && !buried) {
+        // the node against its list, or every face of its cell and the big ones: when the
+        // lists are not in use, for a node with more candidates than its list holds, and when
+        // the lists are made (then listed too, the buried nodes' with the others)
+        let listed = atomicLoad(&grid[G_CANDN + j]);
+        let use_list = mode == LISTS && listed <= C_K;
+        var at = 0u;
+        var in_cell = 0u;
+        var total = listed;
+        if (!use_list) {
             let b = hash(cell_of(s));
-            let end = atomicLoad(&grid[G_OFF + b + 1u]);
-            for (var k = atomicLoad(&grid[G_OFF + b]) + lane; k < end; k = k + lanes) {
-                test_face(j, n, s, atomicLoad(&grid[G_ENT + k]), side);
+            at = atomicLoad(&grid[G_OFF + b]);
+            in_cell = atomicLoad(&grid[G_OFF + b + 1u]) - at;
+            total = in_cell + atomicLoad(&grid[G_BIGN]);
+        }
+        if (!finite3(s) || (buried && !build)) {
+            total = 0u;
+        }
+        for (var k = lane; k < total; k = k + lanes) {
+            var f: u32;
+            if (use_list) {
+                f = atomicLoad(&grid[G_CAND + CANDS * j + k]);
+            } else if (k < in_cell) {
+                f = atomicLoad(&grid[G_ENT + at + k]);
+            } else {
+                f = atomicLoad(&grid[G_BIG + k - in_cell]);
             }
-            let big = atomicLoad(&grid[G_BIGN]);
-            for (var k = lane; k < big; k = k + lanes) {
-                test_face(j, n, s, atomicLoad(&grid[G_BIG + k]), side);
+            if (build) {
+                enlist(j, n, s, f, side);
             }
+            if (!buried) {
+                test_face(j, n, s, f, side);
+            }
+        }
+        if (C_VERIFY != 0u && use_list && finite3(s)) {
+            verify(j, n, s, side, lane, lanes);
         }
     }
     // the nearest of the pass-node's lanes (of a face tested twice, in two cells that hash

@@ -66,8 +66,14 @@ const LONG_GROUPS: usize = 32;
 /// axis goes to the list every node reads instead (contact.wgsl SPAN).
 const CELLS: usize = 27;
 
+/// The most faces a pass-node's list of candidates holds (contact.wgsl CANDS; C_K at most
+/// this): a node with more is checked against its cell's faces every step until the lists are
+/// made again. 256 bytes a pass-node on the device; on the breaking 2800 ball a node lay in
+/// the (not grown) spheres of 15 faces on average (a probe).
+const CANDS: usize = 64;
+
 /// The sizes and offsets contact.wgsl reads from the head of `ci` (its `params()`), in order.
-pub(crate) const PARAMS: [&str; 45] = [
+pub(crate) const PARAMS: [&str; 51] = [
     "C_NN",
     "C_NF",
     "C_NP",
@@ -93,6 +99,7 @@ pub(crate) const PARAMS: [&str; 45] = [
     "CF_DEF",
     "CF_PEN",
     "CF_H",
+    "CF_MU",
     "CF_CK",
     "G_COUNT",
     "G_OFF",
@@ -109,14 +116,24 @@ pub(crate) const PARAMS: [&str; 45] = [
     "G_LONGN",
     "G_LONG",
     "G_PART",
+    "G_CAND",
+    "G_CANDN",
+    "G_FLAGS",
     "C_SHORT",
     "C_LONG",
     "C_LANES",
     "C_REVERSE",
+    "C_K",
+    "C_VERIFY",
 ];
 
+/// The grid's flags (contact.wgsl G_FLAGS): the tables' age in steps, this step's mode, some
+/// node's candidates past its list, the lists made so far, whether they are made, and for
+/// tests ([`Tuning::verify`]) the faces a node's list missed and the faces looked for.
+pub(crate) const FLAGS: usize = 7;
+
 /// How the contact's passes share their work (contact.wgsl C_SHORT, C_LONG, C_LANES, C_REVERSE,
-/// the last values of [`PARAMS`]); no choice changes a result.
+/// C_K, C_VERIFY, the last values of [`PARAMS`]); no choice changes a result.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Tuning {
     /// The longest list of the nodes pushing on a face that one thread sorts and adds
@@ -129,6 +146,12 @@ pub(crate) struct Tuning {
     /// For tests: 1 fills each face's list of the nodes pushing on it from its end (c_hfill),
     /// so that the sorts, not the order of the atomics, must give the sums' order.
     pub reverse: u32,
+    /// The most candidates a pass-node's list holds ([`CANDS`]; fewer only in tests and
+    /// measurements: with 0 every node is checked against its cell every step).
+    pub cands: u32,
+    /// For tests: 1 checks every step that each node's list holds every face whose search
+    /// sphere holds the node (counted in the grid's flags: [`FLAGS`]).
+    pub verify: u32,
 }
 
 impl Tuning {
@@ -137,7 +160,8 @@ impl Tuning {
 
     /// The choice for the device of `info`: 32 threads a pass-node on a GPU, 8 on a CPU's
     /// Vulkan (lavapipe), or the power of two up to 64 that the environment's CLEAVE_GPU_LANES
-    /// names. On an H100 the node checks of the 2800 ball (to 20 us) took 588 us a step with
+    /// names; lists of [`CANDS`] candidates, or as many (up to that) as CLEAVE_GPU_CANDS names
+    /// (0: no lists, to measure them). On an H100 the node checks of the 2800 ball (to 20 us) took 588 us a step with
     /// one thread a node, 114 with 8 and 63 with 32 (`cleave bench ball --elements 2800
     /// --end-time 2e-5 --gpu --passes`); on lavapipe, whose threads are the CPU's lanes, more
     /// only add work.
@@ -151,15 +175,23 @@ impl Tuning {
             .and_then(|v| v.parse::<u32>().ok())
             .filter(|l| l.is_power_of_two() && *l <= 64)
             .unwrap_or(default);
+        let cands = std::env::var("CLEAVE_GPU_CANDS")
+            .ok()
+            .and_then(|v| v.parse::<u32>().ok())
+            .map_or(CANDS as u32, |k| k.min(CANDS as u32));
         Tuning {
             lists: Self::LISTS,
             lanes,
             reverse: 0,
+            cands,
+            verify: 0,
         }
     }
 
-    fn values(&self) -> [u32; 4] {
-        [self.lists[0], self.lists[1], self.lanes, self.reverse]
+    fn values(&self) -> [u32; 6] {
+        let cands = self.cands.min(CANDS as u32);
+        let [short, long] = self.lists;
+        [short, long, self.lanes, self.reverse, cands, self.verify]
     }
 }
 
@@ -236,10 +268,10 @@ impl Tables {
     }
 
     /// Tune these tables' passes ([`Tuning`]); returns the values and their place in `ci`.
-    pub fn tune(&mut self, t: Tuning) -> ([u32; 4], usize) {
-        let k = PARAMS.len() - 4;
+    pub fn tune(&mut self, t: Tuning) -> ([u32; 6], usize) {
+        let k = PARAMS.len() - 6;
         debug_assert_eq!(PARAMS[k], "C_SHORT");
-        self.ci[k..k + 4].copy_from_slice(&t.values());
+        self.ci[k..k + 6].copy_from_slice(&t.values());
         (t.values(), k)
     }
 
@@ -524,8 +556,8 @@ pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Opti
         PenaltyRule::Smaller => 1.0,
         PenaltyRule::Face => 2.0,
     });
-    let h = cell_size(solver, &s.face_nodes, &t.cfl[nf..2 * nf], &mut s.diameters);
-    t.cfl.push(h);
+    let [h, mu] = cell_size(solver, &s.face_nodes, &t.cfl[nf..2 * nf], &mut s.diameters);
+    t.cfl.extend([h, mu]);
     let cf_ck = t.cfl.len();
     t.cfl.extend_from_slice(&s.ck);
     // the grid: counts, offsets, cursors of the cells; of the hit lists per face; the cells'
@@ -545,7 +577,10 @@ pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Opti
     let g_longn = g_rel + 1;
     let g_long = g_longn + 1;
     let g_part = g_long + nf;
-    t.grid_len = g_part + m.max(nf).div_ceil(BLOCK) + 1;
+    let g_cand = g_part + m.max(nf).div_ceil(BLOCK) + 1;
+    let g_candn = g_cand + CANDS * np;
+    let g_flags = g_candn + np;
+    t.grid_len = g_flags + FLAGS;
     let values = [
         ("C_NN", nn),
         ("C_NF", nf),
@@ -572,6 +607,7 @@ pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Opti
         ("CF_DEF", cf_def),
         ("CF_PEN", cf_pen),
         ("CF_H", cf_pen + 1),
+        ("CF_MU", cf_pen + 2),
         ("CF_CK", cf_ck),
         ("G_COUNT", 0),
         ("G_OFF", g_off),
@@ -588,11 +624,16 @@ pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Opti
         ("G_LONGN", g_longn),
         ("G_LONG", g_long),
         ("G_PART", g_part),
+        ("G_CAND", g_cand),
+        ("G_CANDN", g_candn),
+        ("G_FLAGS", g_flags),
         // (set by `Tables::tune` before they go to the device: ContactGpu)
         ("C_SHORT", 0),
         ("C_LONG", 0),
         ("C_LANES", 0),
         ("C_REVERSE", 0),
+        ("C_K", 0),
+        ("C_VERIFY", 0),
     ];
     for (k, (name, v)) in values.into_iter().enumerate() {
         debug_assert_eq!(PARAMS[k], name);
@@ -644,35 +685,55 @@ fn lists(
     ptr
 }
 
-/// The grid's cell size: the 90th percentile of the faces' search-sphere diameters
-/// `2 (E r + depth)` when the tables are made (at the start, and again when faces join or
-/// erode; penalty.rs WEIGHT_SUM E, r the largest centre-corner distance), so that nine faces
-/// in ten span at most two cells a side (three once grown) and the few largest (a thick
-/// plate's faces, whose depth 0.4 V/A reaches far) go to the list every node reads, rather
-/// than making every cell hold many small faces; 1 when no face has a finite positive one. On
-/// the 2800-element ball on its plate, the largest diameter (as the cell size) made the node
-/// checks 77% of a step on lavapipe. `d`: work array.
-fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64], d: &mut Vec<f64>) -> f64 {
+/// The grid's cell size and the lists' margin mu: mu is [`MARGIN_FRACTION`] of the faces' mean
+/// sqrt(area) (the host search's margin), and the cell the 90th percentile of the faces'
+/// search-sphere diameters grown by the margin, `2 (E r + depth + (1 + E) mu)`, when the tables
+/// are made (at the start, and again when faces join or erode; penalty.rs WEIGHT_SUM E, r the
+/// largest centre-corner distance), so that nine faces in ten span at most two cells a side
+/// (three once grown) and the few largest (a thick plate's faces, whose depth 0.4 V/A reaches
+/// far) go to the list every node reads, rather than making every cell hold many small faces;
+/// 1 and 0 when no face has a finite positive one. On the 2800-element ball on its plate, the
+/// largest diameter (as the cell size) made the node checks 77% of a step on lavapipe. `d`:
+/// work array.
+///
+/// [`MARGIN_FRACTION`]: cleave_core::contact::MARGIN_FRACTION
+fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64], d: &mut Vec<f64>) -> [f64; 2] {
+    use cleave_core::contact::{penalty::WEIGHT_SUM, MARGIN_FRACTION};
     let x = solver.positions();
     d.clear();
-    d.extend(
-        (face_nodes.chunks_exact(4).zip(depth))
-            .map(|(f, depth)| {
-                let p: [[f64; 3]; 4] = std::array::from_fn(|a| x[f[a] as usize]);
-                let c: [f64; 3] =
-                    std::array::from_fn(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
-                let r = (p.iter())
-                    .map(|q| (0..3).map(|k| (q[k] - c[k]).powi(2)).sum::<f64>().sqrt())
-                    .fold(0.0, f64::max);
-                2.0 * (cleave_core::contact::penalty::WEIGHT_SUM * r + depth)
-            })
-            .filter(|s| s.is_finite() && *s > 0.0),
-    );
+    let mut size = (0.0, 0usize);
+    for (f, depth) in face_nodes.chunks_exact(4).zip(depth) {
+        let p: [[f64; 3]; 4] = std::array::from_fn(|a| x[f[a] as usize]);
+        let c: [f64; 3] = std::array::from_fn(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
+        let r = (p.iter())
+            .map(|q| (0..3).map(|k| (q[k] - c[k]).powi(2)).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        let sub = |a: usize, b: usize| -> [f64; 3] { std::array::from_fn(|k| p[a][k] - p[b][k]) };
+        let (d1, d2) = (sub(2, 0), sub(3, 1));
+        let cr = [
+            d1[1] * d2[2] - d1[2] * d2[1],
+            d1[2] * d2[0] - d1[0] * d2[2],
+            d1[0] * d2[1] - d1[1] * d2[0],
+        ];
+        let area = 0.5 * cr.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if area.is_finite() && area > 0.0 {
+            size = (size.0 + area.sqrt(), size.1 + 1);
+        }
+        d.push(WEIGHT_SUM * r + depth);
+    }
+    let mu = match size.1 {
+        0 => 0.0,
+        n => MARGIN_FRACTION * size.0 / n as f64,
+    };
+    d.retain_mut(|s| {
+        *s *= 2.0;
+        s.is_finite() && *s > 0.0
+    });
     if d.is_empty() {
-        return 1.0;
+        return [1.0, 0.0];
     }
     let k = (d.len() - 1) * 9 / 10;
-    *d.select_nth_unstable_by(k, f64::total_cmp).1
+    [*d.select_nth_unstable_by(k, f64::total_cmp).1, mu]
 }
 
 /// What carries over to new tables: the hits and each surface entry's last force of the tables

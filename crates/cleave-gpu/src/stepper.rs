@@ -805,6 +805,32 @@ impl GpuStepper {
         }
     }
 
+    /// For tests: the most candidates a contact node's list holds (at most 64; with 0 every
+    /// node is checked against its cell of the grid every step), and with `verify` each list
+    /// checked at every step against the node's cell, for the present tables and the ones
+    /// made from now on.
+    #[doc(hidden)]
+    pub fn set_contact_cands(&mut self, cands: u32, verify: bool) {
+        if let Some(c) = &mut self.contact {
+            c.set_cands(&self.gpu, cands, verify);
+        }
+    }
+
+    /// For tests: since the contact's tables were made, the times its candidate lists were
+    /// made, and with `verify` ([`Self::set_contact_cands`]) the faces a list missed and the
+    /// faces looked for; zeros without contact.
+    #[doc(hidden)]
+    pub fn contact_lists(&self) -> [u32; 3] {
+        match &self.contact {
+            Some(c) => {
+                let got = self.download_ranges(&[c.flags()]);
+                let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&got[0]);
+                [flags[3], flags[5], flags[6]]
+            }
+            None => [0; 3],
+        }
+    }
+
     /// For tests: the halts for closed cracks' release so far, those let go on the device in
     /// place and those for which the contact's tables were made again; with `remake`, every
     /// release from now on makes them again.

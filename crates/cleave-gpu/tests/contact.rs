@@ -401,6 +401,52 @@ fn the_lists_order_does_not_change_the_run() {
     }
 }
 
+/// The candidate lists (contact.wgsl c_scan, c_detect) change no bit of a run: the blocks
+/// sliding with friction (ten times as fast) and the sphere on its plate give the same rows
+/// with lists as they are (64 faces), with lists of 2 (most nodes past theirs, checked against
+/// their cells every step) and with none (every node against its cell every step). With lists,
+/// the runs made them again as the motion passed the margin, not at every step, and at every
+/// step each list held every face whose search sphere held its node (checked against the
+/// node's cell: thousands looked for, none missed).
+#[test]
+fn the_candidate_lists_change_no_bit_of_a_run() {
+    let Some(mut g) = gpu() else { return };
+    // the blocks ten times as fast (100 m/s along x, 40 along y), to pass the margin often
+    let mut fast = blocks(|b| b);
+    fast.v0.iter_mut().flatten().for_each(|v| *v *= 10.0);
+    for (name, m, every) in [("blocks", fast, 1e-6), ("sphere", sphere_on_plate(), 2e-6)] {
+        let mut runs = vec![];
+        for (cands, verify) in [(64, true), (64, false), (2, false), (0, false)] {
+            let mut s = solver(&m);
+            let mut st = GpuStepper::new(g, &mut s).unwrap();
+            st.set_contact_cands(cands, verify);
+            let mut r = Record {
+                every,
+                next: 0.0,
+                rows: vec![],
+            };
+            st.run(&mut s, &mut r).unwrap();
+            runs.push((r.rows, st.contact_lists(), s.state.step));
+            g = st.into_gpu();
+        }
+        let (rows, [builds, missed, sought], steps) = &runs[0];
+        assert!(rows.iter().any(|r| r.pairs > 0), "{name}: contact");
+        assert!(
+            *builds >= 2 && 4 * u64::from(*builds) < *steps,
+            "{name}: the lists made {builds} times in {steps} steps"
+        );
+        assert!(
+            *missed == 0 && *sought > 1000,
+            "{name}: {missed} of {sought} faces not on the lists"
+        );
+        assert_eq!(runs[3].1[0], 0, "{name}: no lists of 0 faces");
+        for (k, (other, _, _)) in runs.iter().enumerate().skip(1) {
+            assert!(rows == other, "{name}: run {k} differs from the first");
+        }
+        eprintln!("{name}: lists made {builds} times in {steps} steps, {sought} faces sought");
+    }
+}
+
 /// PENOPT 2 (each pair the face's stiffness) on the sphere.
 #[test]
 fn penopt_2_matches_the_cpu() {

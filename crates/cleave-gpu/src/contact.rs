@@ -710,11 +710,13 @@ mod tests {
             .collect();
         assert_eq!(frame.iter().filter(|&&k| k == 3).count(), 8);
         assert_eq!(frame.iter().sum::<u32>(), 96);
-        // the cell: every face's sphere diameter, 2 (E r + 0.4 V/A) with r = sqrt(2)/4 for the
-        // 0.5 squares of elements 0.125 in volume
-        let h = t.cfl[c("CF_H")];
-        let want = 2.0 * (1.08 * 2f64.sqrt() / 4.0 + 0.4 * 0.125 / 0.25);
+        // the cell: 0.7 of every face's sphere diameter, 2 (E r + 0.4 V/A) with r = sqrt(2)/4
+        // for the 0.5 squares of elements 0.125 in volume; the lists' margin a tenth of the
+        // faces' sqrt(area), 0.05
+        let (h, mu) = (t.cfl[c("CF_H")], t.cfl[c("CF_MU")]);
+        let want = 0.7 * 2.0 * (1.08 * 2f64.sqrt() / 4.0 + 0.4 * 0.125 / 0.25);
         assert!((h - want).abs() < 1e-12, "{h} {want}");
+        assert!((mu - 0.05).abs() < 1e-15, "{mu}");
         let src = shader_source();
         let module = match naga::front::wgsl::parse_str(&src) {
             Ok(m) => m,

@@ -685,16 +685,16 @@ fn lists(
     ptr
 }
 
-/// The grid's cell size and the lists' margin mu: mu is [`MARGIN_FRACTION`] of the faces' mean
-/// sqrt(area) (the host search's margin), and the cell the 90th percentile of the faces'
-/// search-sphere diameters grown by the margin, `2 (E r + depth + (1 + E) mu)`, when the tables
-/// are made (at the start, and again when faces join or erode; penalty.rs WEIGHT_SUM E, r the
-/// largest centre-corner distance), so that nine faces in ten span at most two cells a side
-/// (three once grown) and the few largest (a thick plate's faces, whose depth 0.4 V/A reaches
-/// far) go to the list every node reads, rather than making every cell hold many small faces;
-/// 1 and 0 when no face has a finite positive one. On the 2800-element ball on its plate, the
-/// largest diameter (as the cell size) made the node checks 77% of a step on lavapipe. `d`:
-/// work array.
+/// The grid's cell size and the lists' margin mu, when the tables are made (at the start, and
+/// again when faces join or erode): mu is [`MARGIN_FRACTION`] of the faces' mean sqrt(area) (the
+/// host search's margin); the cell is [`CELL_FRACTION`] of the 90th percentile D of the faces'
+/// search-sphere diameters `2 (E r + depth)` (penalty.rs WEIGHT_SUM E, r the largest
+/// centre-corner distance), so that a face up to 1.4 D across, its sphere grown by the margin
+/// for the lists included, spans at most three cells a side, and the few largest (a thick
+/// plate's faces, whose depth 0.4 V/A reaches far) go to the list every node reads, rather than
+/// making every cell hold many small faces; 1 and 0 when no face has a finite positive one. On
+/// the 2800-element ball on its plate, the largest diameter (as the cell size) made the node
+/// checks 77% of a step on lavapipe. `d`: work array.
 ///
 /// [`MARGIN_FRACTION`]: cleave_core::contact::MARGIN_FRACTION
 fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64], d: &mut Vec<f64>) -> [f64; 2] {
@@ -733,8 +733,21 @@ fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64], d: &mut Vec<f64
         return [1.0, 0.0];
     }
     let k = (d.len() - 1) * 9 / 10;
-    [*d.select_nth_unstable_by(k, f64::total_cmp).1, mu]
+    [
+        CELL_FRACTION * *d.select_nth_unstable_by(k, f64::total_cmp).1,
+        mu,
+    ]
 }
+
+/// The grid's cell as a fraction of the 90th percentile of the faces' search-sphere diameters
+/// ([`cell_size`]). Smaller cells hold fewer faces for a node to test, but past half the
+/// percentile more faces span more than three cells and go to the list every node reads. On
+/// lavapipe's machine, `cleave bench ball --elements 2800 --end-time 2e-5 --gpu --passes`, the
+/// device's time a step breaking: 30.4 and 30.7 ms at 1, 28.9 at 0.8, 27.7 and 28.5 at 0.7,
+/// 26.8 and 27.0 at 0.6, 28.4 at 0.55, 36.9 at 0.5; unbroken (`--no-separation`): 4.96 and
+/// 5.13 ms at 1, 4.98 at 0.7, 5.08 at 0.6. 0.7 leaves room for faces that stretch (a uniform
+/// mesh's grown spheres span 1.7 cells).
+const CELL_FRACTION: f64 = 0.7;
 
 /// What carries over to new tables: the hits and each surface entry's last force of the tables
 /// before, as read back, and the slots born in this step, each with the slot it split from.

@@ -102,6 +102,9 @@ pub(crate) struct ContactGpu {
     /// again ([`Self::release_in_place`]); for tests, `remake_releases` makes them again always.
     pub releases: [u64; 2],
     pub remake_releases: bool,
+    /// For tests ([`Tuning::verify`]): the candidate lists made, the faces a list missed and
+    /// the faces looked for, under the tables before the present ones ([`Self::tally`]).
+    pub verified: [u64; 3],
 }
 
 /// The step's shader text that reads the contact forces: with contact, `fcon` at binding
@@ -374,6 +377,7 @@ impl ContactGpu {
             tuning,
             releases: [0; 2],
             remake_releases: false,
+            verified: [0; 3],
         }))
     }
 
@@ -470,6 +474,20 @@ impl ContactGpu {
         self.tuning.cands = cands;
         self.tuning.verify = u32::from(verify);
         self.retune(gpu);
+    }
+
+    /// Whether the lists are checked ([`Tuning::verify`]): their counts are then read back
+    /// before new tables zero them, and added up ([`Self::tally`]).
+    pub fn verifying(&self) -> bool {
+        self.tuning.verify != 0
+    }
+
+    /// The grid's flags as read back ([`Self::flags`]): the lists' counts (made, missed,
+    /// looked for), those of the present tables added to [`Self::verified`].
+    pub fn tally(&self, flags: &[u8]) -> [u64; 3] {
+        let f: Vec<u32> = bytemuck::pod_collect_to_vec(flags);
+        let now = [f[3], f[5], f[6]];
+        std::array::from_fn(|k| self.verified[k] + u64::from(now[k]))
     }
 
     /// The grid's flags (contact.wgsl G_FLAGS, [`FLAGS`](crate::contact_tables::FLAGS)), to be

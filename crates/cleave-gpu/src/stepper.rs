@@ -816,17 +816,13 @@ impl GpuStepper {
         }
     }
 
-    /// For tests: since the contact's tables were made, the times its candidate lists were
-    /// made, and with `verify` ([`Self::set_contact_cands`]) the faces a list missed and the
-    /// faces looked for; zeros without contact.
+    /// For tests: the times the contact's candidate lists were made, and with `verify`
+    /// ([`Self::set_contact_cands`]) the faces a list missed and the faces looked for: since
+    /// its tables were made, or with `verify` since it was set; zeros without contact.
     #[doc(hidden)]
-    pub fn contact_lists(&self) -> [u32; 3] {
+    pub fn contact_lists(&self) -> [u64; 3] {
         match &self.contact {
-            Some(c) => {
-                let got = self.download_ranges(&[c.flags()]);
-                let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&got[0]);
-                [flags[3], flags[5], flags[6]]
-            }
+            Some(c) => c.tally(&self.download_ranges(&[c.flags()])[0]),
             None => [0; 3],
         }
     }
@@ -1287,9 +1283,16 @@ impl GpuStepper {
         got: &[Vec<u8>],
         w: Option<&mut Writes>,
     ) -> Result<(), String> {
+        // (for tests: the lists' counts, before the new tables zero them)
+        let verified = (self.contact.as_ref())
+            .filter(|c| c.verifying())
+            .map(|c| c.tally(&self.download_ranges(&[c.flags()])[0]));
         let Some(c) = self.contact.as_mut() else {
             return Ok(());
         };
+        if let Some(v) = verified {
+            c.verified = v;
+        }
         let [hits, fprev] = [0, 1].map(|k| {
             got.get(k)
                 .map_or(vec![], |b| bytemuck::pod_collect_to_vec::<u8, f64>(b))

@@ -432,7 +432,7 @@ fn the_candidate_lists_change_no_bit_of_a_run() {
         let (rows, [builds, missed, sought], steps) = &runs[0];
         assert!(rows.iter().any(|r| r.pairs > 0), "{name}: contact");
         assert!(
-            *builds >= 2 && 4 * u64::from(*builds) < *steps,
+            *builds >= 2 && 4 * *builds < *steps,
             "{name}: the lists made {builds} times in {steps} steps"
         );
         assert!(

@@ -956,3 +956,28 @@ fn cracks_released_in_place_run_as_with_new_tables() {
     assert_eq!(st.contact_releases(false), [0, in_place]);
     assert!(rows == again, "the releases in place changed the run");
 }
+
+/// The contact's candidate lists with element separation (the lists made again after the
+/// splits, chain labels written again as closed cracks let go in place): the cracking block in
+/// contact gives the same rows bit for bit with the lists as with none (every node against its
+/// cell every step), and since the last tables each list held every face whose search sphere
+/// held its node (checked against the node's cell every step).
+#[test]
+fn the_candidate_lists_change_no_bit_of_a_cracking_run() {
+    let Some(g) = gpu() else {
+        return;
+    };
+    let split = split_model(&cracking_block_in_contact());
+    let every = split.model.control.end_time / 40.0;
+    let (rows, st, ..) = run_gpu_after(g, &split, every, |st| st.set_contact_cands(64, true));
+    let [builds, missed, sought] = st.contact_lists();
+    eprintln!("lists made {builds} times, {sought} faces sought");
+    assert!(
+        builds >= 1 && missed == 0 && sought > 100,
+        "lists made {builds} times, {missed} of {sought} faces not on them"
+    );
+    let (none, ..) = run_gpu_after(st.into_gpu(), &split, every, |st| {
+        st.set_contact_cands(0, false)
+    });
+    assert!(rows == none, "the lists changed the run");
+}

@@ -474,6 +474,9 @@ impl ContactGpu {
         self.tuning.cands = cands;
         self.tuning.verify = u32::from(verify);
         self.retune(gpu);
+        // the lists made again (or not used) from the next step: those made hold C_K faces
+        let made = 4 * (self.tables.param("G_FLAGS") + 4) as u64;
+        (gpu.queue).write_buffer(&self.b.bufs[GRID], made, bytemuck::bytes_of(&0u32));
     }
 
     /// Whether the lists are checked ([`Tuning::verify`]): their counts are then read back

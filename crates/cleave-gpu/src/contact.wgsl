@@ -334,9 +334,9 @@ fn reach_of(f: u32, r: f64, grown: bool) -> f64 {
 }
 
 // The candidate lists are made, or may be in this step: the tables have lasted WAIT steps
-// (c_scan). Until then the grid holds the faces' spheres as they are.
+// (c_scan), and lists are kept (C_K). Until then the grid holds the faces' spheres as they are.
 fn lists_in_reach() -> bool {
-    return atomicLoad(&grid[G_FLAGS]) >= WAIT;
+    return C_K > 0u && atomicLoad(&grid[G_FLAGS]) >= WAIT;
 }
 
 fn is_big(s: Span) -> bool {
@@ -427,7 +427,8 @@ fn c_count(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
     }
     // the group's bounds of its corners' displacements (c_scan takes them all)
     bounds_in_group(lid.x, 64u, lo, hi);
-    if (lid.x == 0u && run) {
+    // (not the groups that only pad a dispatch of two dimensions: past the bounds' room)
+    if (lid.x == 0u && run && group_index(wid, nw) < (C_NF + 63u) / 64u) {
         let o = FS * C_NF + BOUNDS * group_index(wid, nw);
         for (var k = 0u; k < 3u; k = k + 1u) {
             fsph[o + k] = b_lo[0][k];
@@ -582,22 +583,32 @@ const WAIT: u32 = 8u;
 const LISTS: u32 = 0u;
 const BUILD: u32 = 1u;
 const CELLS: u32 = 2u;
-var<workgroup> b_lo: array<vec3<f64>, 256>;
-var<workgroup> b_hi: array<vec3<f64>, 256>;
+// (3 values each, not vec3: a vec3<f64> takes 32 bytes, and with s_sum c_scan would pass the
+// 16 KiB of workgroup memory every device offers)
+var<workgroup> b_lo: array<array<f64, 3>, 256>;
+var<workgroup> b_hi: array<array<f64, 3>, 256>;
 
 // The least and greatest (by component) of the group's `size` threads' lo and hi, into b_lo[0]
 // and b_hi[0] (a tree of fixed shape; every thread of the group calls it).
 fn bounds_in_group(l: u32, size: u32, lo: vec3<f64>, hi: vec3<f64>) {
-    b_lo[l] = lo;
-    b_hi[l] = hi;
+    for (var k = 0u; k < 3u; k = k + 1u) {
+        b_lo[l][k] = lo[k];
+        b_hi[l][k] = hi[k];
+    }
     workgroupBarrier();
     for (var h = size / 2u; h > 0u; h = h >> 1u) {
         if (l < h) {
-            b_lo[l] = min(b_lo[l], b_lo[l + h]);
-            b_hi[l] = max(b_hi[l], b_hi[l + h]);
+            for (var k = 0u; k < 3u; k = k + 1u) {
+                b_lo[l][k] = min(b_lo[l][k], b_lo[l + h][k]);
+                b_hi[l][k] = max(b_hi[l][k], b_hi[l + h][k]);
+            }
         }
         workgroupBarrier();
     }
+}
+
+fn group_bound(b: array<f64, 3>) -> vec3<f64> {
+    return vec3<f64>(b[0], b[1], b[2]);
 }
 
 @compute @workgroup_size(256)
@@ -619,7 +630,7 @@ fn c_scan(@builtin(local_invocation_id) lid: vec3<u32>) {
     }
     bounds_in_group(lid.x, 256u, lo, hi);
     if (lid.x == 0u && run) {
-        let d = max(b_hi[0] - b_lo[0], vec3<f64>(0.0lf));
+        let d = max(group_bound(b_hi[0]) - group_bound(b_lo[0]), vec3<f64>(0.0lf));
         let age = atomicLoad(&grid[G_FLAGS]);
         let made = atomicLoad(&grid[G_FLAGS + 4u]) != 0u;
         var mode = CELLS;
@@ -1023,7 +1034,9 @@ fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
     if (live && build && lane == 0u) {
         atomicStore(&grid[G_CANDN + j], 0u);
     }
-    workgroupBarrier();
+    // (the node's lanes are in this group: 64 is a multiple of C_LANES; a storage barrier,
+    // the count being in storage)
+    storageBarrier();
     if (live) {
         n = ci[CI_PN + PN * j];
         let q = ci[CI_PN + PN * j + 1u];

@@ -280,10 +280,9 @@ fn c_close_done() {
 
 // ---------------------------------------------------------------- the broad phase
 
-// The search sphere of face f: centre (the corners' mean, penalty.rs FaceBounds c), radius
-// E r + depth (FaceBounds::may_touch), r the largest centre-corner distance (w: r).
-fn sphere(f: u32) -> vec4<f64> {
-    var p = corners(f);
+// The search sphere of a face at corners p: centre (the corners' mean, penalty.rs FaceBounds
+// c), radius E r + depth (FaceBounds::may_touch), r the largest centre-corner distance (w: r).
+fn sphere(p: array<vec3<f64>, 4>) -> vec4<f64> {
     let c = coeff(p, 1.0lf, 1.0lf, 1.0lf, 1.0lf);
     var r2 = 0.0lf;
     for (var a = 0u; a < 4u; a = a + 1u) {
@@ -408,14 +407,14 @@ fn c_count(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
     var lo = vec3<f64>(BIG);
     var hi = vec3<f64>(-BIG);
     if (f < C_NF && run) {
-        let sp = sphere(f);
+        let p = corners(f);
+        let sp = sphere(p);
         for (var k = 0u; k < 4u; k = k + 1u) {
             fsph[FS * f + k] = sp[k];
         }
         let s = span_of(f, sp);
         keep_span(f, s);
         put_face(f, s, false);
-        let p = corners(f);
         for (var a = 0u; a < 4u; a = a + 1u) {
             let o = FS * f + REF + 3u * a;
             let d = p[a] - vec3<f64>(fsph[o], fsph[o + 1u], fsph[o + 2u]);
@@ -442,10 +441,9 @@ fn c_fill(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) w
           @builtin(num_workgroups) nw: vec3<u32>) {
     params();
     let f = pass_index(wid, nw, lid.x);
-    let flags = G_FLAGS;
-    let mode = atomicLoad(&grid[flags + 1u]);
+    let mode = atomicLoad(&grid[G_FLAGS + 1u]);
     let build = mode == BUILD;
-    let cells = mode != LISTS || atomicLoad(&grid[flags + 2u]) != 0u || C_VERIFY != 0u;
+    let cells = mode != LISTS || atomicLoad(&grid[G_FLAGS + 2u]) != 0u || C_VERIFY != 0u;
     if (f < C_NF && !halted() && cells) {
         put_face(f, kept_span(f), true);
     }
@@ -898,12 +896,9 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
     }
     // the face's sphere, as c_count found it, before its nodes and corners are read (it
     // rejects most of a cell's faces)
-    let c = vec3<f64>(fsph[FS * f], fsph[FS * f + 1u], fsph[FS * f + 2u]);
     let r = fsph[FS * f + 3u];
     let depth = cfl[CF_DEPTH + f];
-    let ds = s - c;
-    let reach = reach_of(f, r, false);
-    if (dot(ds, ds) > reach * reach) {
+    if (!in_sphere(f, s, false)) {
         return;
     }
     // not a face that holds the node, a copy tied to it (one entry) or chained to it (one
@@ -940,21 +935,43 @@ fn test_face(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
     }
 }
 
+// Point s lies in face f's search sphere (as c_count found it), grown by the lists' margin
+// when `grown` (reach_of).
+fn in_sphere(f: u32, s: vec3<f64>, grown: bool) -> bool {
+    let ds = s - vec3<f64>(fsph[FS * f], fsph[FS * f + 1u], fsph[FS * f + 2u]);
+    let reach = reach_of(f, fsph[FS * f + 3u], grown);
+    // (a sphere of no finite size holds the point: the tests after it reject such a face)
+    return !(dot(ds, ds) > reach * reach);
+}
+
+// Face f may touch node n at s in a pass against face side `side`: on that side, not holding
+// the node, its sphere (grown when `grown`) holding it.
+fn candidate(n: u32, s: vec3<f64>, f: u32, side: u32, grown: bool) -> bool {
+    if (ci[CI_FSIDE + f] != side) {
+        return false;
+    }
+    for (var a = 0u; a < 4u; a = a + 1u) {
+        if (face_node(f, a) == n) {
+            return false;
+        }
+    }
+    return in_sphere(f, s, grown);
+}
+
+// The k-th face a node reads from the grid: of its cell (in_cell faces from `at` in the cells'
+// entries), then of the list every node reads.
+fn cell_face(at: u32, in_cell: u32, k: u32) -> u32 {
+    if (k < in_cell) {
+        return atomicLoad(&grid[G_ENT + at + k]);
+    }
+    return atomicLoad(&grid[G_BIG + k - in_cell]);
+}
+
 // Face f on pass-node j's list (its node n at s, the pass's face side `side`; c_scan) when
 // it is on that side, does not hold the node and its grown sphere holds it; past C_K faces the
 // node is counted only, and checked against its cell (G_FLAGS + 2).
 fn enlist(j: u32, n: u32, s: vec3<f64>, f: u32, side: u32) {
-    if (ci[CI_FSIDE + f] != side) {
-        return;
-    }
-    for (var a = 0u; a < 4u; a = a + 1u) {
-        if (face_node(f, a) == n) {
-            return;
-        }
-    }
-    let ds = s - vec3<f64>(fsph[FS * f], fsph[FS * f + 1u], fsph[FS * f + 2u]);
-    let reach = reach_of(f, fsph[FS * f + 3u], true);
-    if (dot(ds, ds) > reach * reach) {
+    if (!candidate(n, s, f, side, true)) {
         return;
     }
     let k = atomicAdd(&grid[G_CANDN + j], 1u);
@@ -975,19 +992,8 @@ fn verify(j: u32, n: u32, s: vec3<f64>, side: u32, lane: u32, lanes: u32) {
     let total = in_cell + atomicLoad(&grid[G_BIGN]);
     let listed = atomicLoad(&grid[G_CANDN + j]);
     for (var k = lane; k < total; k = k + lanes) {
-        var f: u32;
-        if (k < in_cell) {
-            f = atomicLoad(&grid[G_ENT + at + k]);
-        } else {
-            f = atomicLoad(&grid[G_BIG + k - in_cell]);
-        }
-        var own = ci[CI_FSIDE + f] != side;
-        for (var a = 0u; a < 4u; a = a + 1u) {
-            own = own || face_node(f, a) == n;
-        }
-        let ds = s - vec3<f64>(fsph[FS * f], fsph[FS * f + 1u], fsph[FS * f + 2u]);
-        let reach = reach_of(f, fsph[FS * f + 3u], false);
-        if (own || dot(ds, ds) > reach * reach) {
+        let f = cell_face(at, in_cell, k);
+        if (!candidate(n, s, f, side, false)) {
             continue;
         }
         atomicAdd(&grid[G_FLAGS + 6u], 1u);
@@ -1067,10 +1073,8 @@ fn c_detect(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id)
             var f: u32;
             if (use_list) {
                 f = atomicLoad(&grid[G_CAND + CANDS * j + k]);
-            } else if (k < in_cell) {
-                f = atomicLoad(&grid[G_ENT + at + k]);
             } else {
-                f = atomicLoad(&grid[G_BIG + k - in_cell]);
+                f = cell_face(at, in_cell, k);
             }
             if (build) {
                 enlist(j, n, s, f, side);

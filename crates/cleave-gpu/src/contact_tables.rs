@@ -556,7 +556,9 @@ pub(crate) fn tables(solver: &Solver, s: &mut Scratch, recycled: Tables) -> Opti
         PenaltyRule::Smaller => 1.0,
         PenaltyRule::Face => 2.0,
     });
-    let [h, mu] = cell_size(solver, &s.face_nodes, &t.cfl[nf..2 * nf], &mut s.diameters);
+    let h = cell_size(solver, &s.face_nodes, &t.cfl[nf..2 * nf], &mut s.diameters);
+    // the lists' margin: the host search's, the least of the definitions'
+    let mu = (cs.contacts().iter()).fold(f64::INFINITY, |m, c| m.min(c.margin()));
     t.cfl.extend([h, mu]);
     let cf_ck = t.cfl.len();
     t.cfl.extend_from_slice(&s.ck);
@@ -685,58 +687,35 @@ fn lists(
     ptr
 }
 
-/// The grid's cell size and the lists' margin mu, when the tables are made (at the start, and
-/// again when faces join or erode): mu is [`MARGIN_FRACTION`] of the faces' mean sqrt(area) (the
-/// host search's margin); the cell is [`CELL_FRACTION`] of the 90th percentile D of the faces'
-/// search-sphere diameters `2 (E r + depth)` (penalty.rs WEIGHT_SUM E, r the largest
-/// centre-corner distance), so that a face up to 1.4 D across, its sphere grown by the margin
-/// for the lists included, spans at most three cells a side, and the few largest (a thick
-/// plate's faces, whose depth 0.4 V/A reaches far) go to the list every node reads, rather than
-/// making every cell hold many small faces; 1 and 0 when no face has a finite positive one. On
-/// the 2800-element ball on its plate, the largest diameter (as the cell size) made the node
-/// checks 77% of a step on lavapipe. `d`: work array.
-///
-/// [`MARGIN_FRACTION`]: cleave_core::contact::MARGIN_FRACTION
-fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64], d: &mut Vec<f64>) -> [f64; 2] {
-    use cleave_core::contact::{penalty::WEIGHT_SUM, MARGIN_FRACTION};
+/// The grid's cell size when the tables are made (at the start, and again when faces join or
+/// erode): [`CELL_FRACTION`] of the 90th percentile D of the faces' search-sphere diameters
+/// `2 (E r + depth)` (penalty.rs WEIGHT_SUM E, r the largest centre-corner distance), so that a
+/// face up to 1.4 D across, its sphere grown by the lists' margin included, spans at most three
+/// cells a side, and the few largest (a thick plate's faces, whose depth 0.4 V/A reaches far)
+/// go to the list every node reads, rather than making every cell hold many small faces; 1 when
+/// no face has a finite positive one. On the 2800-element ball on its plate, the largest
+/// diameter (as the cell size) made the node checks 77% of a step on lavapipe. `d`: work array.
+fn cell_size(solver: &Solver, face_nodes: &[u32], depth: &[f64], d: &mut Vec<f64>) -> f64 {
     let x = solver.positions();
     d.clear();
-    let mut size = (0.0, 0usize);
-    for (f, depth) in face_nodes.chunks_exact(4).zip(depth) {
-        let p: [[f64; 3]; 4] = std::array::from_fn(|a| x[f[a] as usize]);
-        let c: [f64; 3] = std::array::from_fn(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
-        let r = (p.iter())
-            .map(|q| (0..3).map(|k| (q[k] - c[k]).powi(2)).sum::<f64>().sqrt())
-            .fold(0.0, f64::max);
-        let sub = |a: usize, b: usize| -> [f64; 3] { std::array::from_fn(|k| p[a][k] - p[b][k]) };
-        let (d1, d2) = (sub(2, 0), sub(3, 1));
-        let cr = [
-            d1[1] * d2[2] - d1[2] * d2[1],
-            d1[2] * d2[0] - d1[0] * d2[2],
-            d1[0] * d2[1] - d1[1] * d2[0],
-        ];
-        let area = 0.5 * cr.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if area.is_finite() && area > 0.0 {
-            size = (size.0 + area.sqrt(), size.1 + 1);
-        }
-        d.push(WEIGHT_SUM * r + depth);
-    }
-    let mu = match size.1 {
-        0 => 0.0,
-        n => MARGIN_FRACTION * size.0 / n as f64,
-    };
-    d.retain_mut(|s| {
-        *s *= 2.0;
-        s.is_finite() && *s > 0.0
-    });
+    d.extend(
+        (face_nodes.chunks_exact(4).zip(depth))
+            .map(|(f, depth)| {
+                let p: [[f64; 3]; 4] = std::array::from_fn(|a| x[f[a] as usize]);
+                let c: [f64; 3] =
+                    std::array::from_fn(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
+                let r = (p.iter())
+                    .map(|q| (0..3).map(|k| (q[k] - c[k]).powi(2)).sum::<f64>().sqrt())
+                    .fold(0.0, f64::max);
+                2.0 * (cleave_core::contact::penalty::WEIGHT_SUM * r + depth)
+            })
+            .filter(|s| s.is_finite() && *s > 0.0),
+    );
     if d.is_empty() {
-        return [1.0, 0.0];
+        return 1.0;
     }
     let k = (d.len() - 1) * 9 / 10;
-    [
-        CELL_FRACTION * *d.select_nth_unstable_by(k, f64::total_cmp).1,
-        mu,
-    ]
+    CELL_FRACTION * *d.select_nth_unstable_by(k, f64::total_cmp).1
 }
 
 /// The grid's cell as a fraction of the 90th percentile of the faces' search-sphere diameters

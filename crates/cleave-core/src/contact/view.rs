@@ -109,6 +109,12 @@ impl Contact {
         }
     }
 
+    /// The search margin: [`MARGIN_FRACTION`](super::MARGIN_FRACTION) times the mean
+    /// sqrt(area) of the definition's faces when it was made (module docs, Search), m.
+    pub fn margin(&self) -> f64 {
+        self.margin
+    }
+
     /// The label of model node `n`'s chain: nodes with one label are tied or chained through
     /// closed cracks, and a node is not checked against a face that holds a node of its label
     /// (closure.rs `Chains::held`); `n` itself when the model is not split.

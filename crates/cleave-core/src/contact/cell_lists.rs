@@ -105,10 +105,11 @@ fn fill_serial(
 /// The same sort on every thread, without atomics: the cells are cut into slabs of whole
 /// xy-planes (contiguous cell numbers, so each slab owns a contiguous part of `start` and of
 /// `items`), and each slab sorts, as the serial sort does, the items whose span reaches it,
-/// over its own cells. Every slab reads every item's planes (12 bytes an item, kept from one
-/// pass over the items and dropped at the end: two comparisons an item, against the work of
-/// the few that reach its cells), so slabs are only a few per thread. (Atomic counts and
-/// places, then a sort of each cell, cost more than the serial sort on two threads.)
+/// over its own cells. The items are first spread to the slabs in chunks, on every thread:
+/// each chunk works out its items' spans once and lists them by slab (a counting sort, each
+/// slab's ascending), so a slab reads only the items that reach it, chunk after chunk, and the
+/// work grows with the items, not with items times slabs. (Atomic counts and places, then a
+/// sort of each cell, cost more than the serial sort on two threads.)
 fn fill_par(
     cells: Cells,
     len: usize,
@@ -117,23 +118,24 @@ fn fill_par(
     start: &mut [u32],
     items: &mut Vec<u32>,
 ) {
-    let mut planes = Vec::with_capacity(len);
-    planes.par_extend((0..len).into_par_iter().with_min_len(ITEM_CHUNK).map(|k| {
-        let q = item(k);
-        let (lo, hi) = span(q);
-        Planes {
-            q,
-            lo: lo[2] as u32,
-            hi: hi[2] as u32,
-        }
-    }));
-    let planes: &[Planes] = &planes;
     let plane = cells.dims[0] * cells.dims[1];
     let nz = cells.dims[2];
     let slabs = (SLABS_PER_THREAD * rayon::current_num_threads()).min(nz);
     // slab s: the planes z0(s)..z0(s + 1)
     let z0 = |s: usize| s * nz / slabs;
-    let reaches = |p: &&Planes, s: usize| p.hi as usize >= z0(s) && (p.lo as usize) < z0(s + 1);
+    let slab_of: Vec<u32> = (0..slabs)
+        .flat_map(|s| std::iter::repeat_n(s as u32, z0(s + 1) - z0(s)))
+        .collect();
+    let chunks: Vec<Spread> = (0..len.div_ceil(ITEM_CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let range = c * ITEM_CHUNK..len.min((c + 1) * ITEM_CHUNK);
+            Spread::of(range, &item, &span, &slab_of, slabs)
+        })
+        .collect();
+    // a slab's items, chunk after chunk, ascending, or the other way
+    let reaching = |s: usize| chunks.iter().flat_map(move |c| c.items_of(s));
+    let reaching_rev = |s: usize| chunks.iter().rev().flat_map(move |c| c.items_of(s).rev());
     // each slab counts its cells' items in its part of `start` (summed up to the end of each
     // cell, as in the serial sort), and returns its number of entries
     let mut parts = split_at(&mut start[..nz * plane], (1..slabs).map(|s| z0(s) * plane));
@@ -142,8 +144,8 @@ fn fill_par(
         .enumerate()
         .map(|(s, part)| {
             let base = z0(s) * plane;
-            for p in planes.iter().filter(|p| reaches(p, s)) {
-                cells.each(clip(span(p.q), z0(s), z0(s + 1)), |c| part[c - base] += 1);
+            for (_, lo, hi) in reaching(s) {
+                cells.each(clip((lo, hi), z0(s), z0(s + 1)), |c| part[c - base] += 1);
             }
             let mut run = 0;
             for c in part.iter_mut() {
@@ -170,11 +172,11 @@ fn fill_par(
             let base = z0(s) * plane;
             // the items last to first, each cell's end counted down to its start (within the
             // slab's entries), then the slab's offset added
-            for p in planes.iter().rev().filter(|p| reaches(p, s)) {
-                cells.each(clip(span(p.q), z0(s), z0(s + 1)), |c| {
+            for (q, lo, hi) in reaching_rev(s) {
+                cells.each(clip((lo, hi), z0(s), z0(s + 1)), |c| {
                     let at = &mut part[c - base];
                     *at -= 1;
-                    out[*at as usize] = p.q;
+                    out[*at as usize] = q;
                 });
             }
             for c in part.iter_mut() {
@@ -184,11 +186,66 @@ fn fill_par(
     start[nz * plane] = total;
 }
 
-/// An item and its lowest and highest plane of cells, as the parallel sort keeps them.
-struct Planes {
-    q: u32,
-    lo: u32,
-    hi: u32,
+/// A chunk of the items spread to the slabs ([`fill_par`]): each item's number and span (its
+/// lowest and highest cell), and the places of those that reach each slab (`at[s]..at[s + 1]`
+/// of `refs`, ascending).
+struct Spread {
+    spans: Vec<(u32, [u32; 3], [u32; 3])>,
+    at: Vec<u32>,
+    refs: Vec<u32>,
+}
+
+impl Spread {
+    /// Items `item(k)` for k in `range` spread to the `slabs` slabs (`slab_of` each plane).
+    fn of(
+        range: std::ops::Range<usize>,
+        item: impl Fn(usize) -> u32,
+        span: impl Fn(u32) -> ([usize; 3], [usize; 3]),
+        slab_of: &[u32],
+        slabs: usize,
+    ) -> Self {
+        let spans: Vec<(u32, [u32; 3], [u32; 3])> = range
+            .map(|k| {
+                let q = item(k);
+                let (lo, hi) = span(q);
+                (q, lo.map(|v| v as u32), hi.map(|v| v as u32))
+            })
+            .collect();
+        let reach = |(_, lo, hi): &(u32, [u32; 3], [u32; 3])| {
+            slab_of[lo[2] as usize] as usize..=slab_of[hi[2] as usize] as usize
+        };
+        let mut at = vec![0u32; slabs + 1];
+        for sp in &spans {
+            for s in reach(sp) {
+                at[s + 1] += 1;
+            }
+        }
+        for s in 0..slabs {
+            at[s + 1] += at[s];
+        }
+        let mut next = at.clone();
+        let mut refs = vec![0u32; at[slabs] as usize];
+        for (i, sp) in spans.iter().enumerate() {
+            for s in reach(sp) {
+                refs[next[s] as usize] = i as u32;
+                next[s] += 1;
+            }
+        }
+        Spread { spans, at, refs }
+    }
+
+    /// The items of this chunk that reach slab `s`, ascending: each one's number and span.
+    fn items_of(
+        &self,
+        s: usize,
+    ) -> impl DoubleEndedIterator<Item = (u32, [usize; 3], [usize; 3])> + '_ {
+        self.refs[self.at[s] as usize..self.at[s + 1] as usize]
+            .iter()
+            .map(|&i| {
+                let (q, lo, hi) = self.spans[i as usize];
+                (q, lo.map(|v| v as usize), hi.map(|v| v as usize))
+            })
+    }
 }
 
 /// The block of cells `(lo, hi)` within the planes `z0..z1` (which it reaches).

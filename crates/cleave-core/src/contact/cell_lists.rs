@@ -335,6 +335,68 @@ mod tests {
         check(n, &|k| k as u32);
     }
 
+    /// `fill_par` itself (below the item threshold too) against the serial sort: tall spans
+    /// reaching many or all slabs, planes many more than slabs, empty spans (lo > hi), and
+    /// lengths 0, 1 and around multiples of ITEM_CHUNK, on 2 to 16 threads.
+    #[test]
+    fn fill_par_edge_cases() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move |m: usize| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % m as u64) as usize
+        };
+        for dims in [[3, 2, 100], [1, 1, 37], [5, 4, 3], [1, 1, 1], [2, 3, 16]] {
+            let cells = Cells { dims };
+            let n = 3 * ITEM_CHUNK + 5;
+            let spans: Vec<([usize; 3], [usize; 3])> = (0..2 * n)
+                .map(|k| {
+                    let lo: [usize; 3] = std::array::from_fn(|d| rnd(dims[d]));
+                    let mut hi: [usize; 3] = std::array::from_fn(|d| {
+                        let w = if d == 2 { rnd(dims[2] + 1) } else { rnd(2) };
+                        (lo[d] + w).min(dims[d] - 1)
+                    });
+                    match k % 17 {
+                        0 => hi[2] = dims[2] - 1,            // to the top
+                        1 if lo[2] > 0 => hi[2] = lo[2] - 1, // empty in z
+                        2 if lo[0] > 0 => hi[0] = lo[0] - 1, // empty in x
+                        _ => {}
+                    }
+                    let lo = if k % 23 == 0 { [lo[0], lo[1], 0] } else { lo };
+                    (lo, hi)
+                })
+                .collect();
+            let span = |q: u32| spans[q as usize];
+            for threads in [2, 3, 4, 5, 7, 8, 16] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                for len in [
+                    0,
+                    1,
+                    2,
+                    ITEM_CHUNK - 1,
+                    ITEM_CHUNK,
+                    ITEM_CHUNK + 1,
+                    2 * ITEM_CHUNK,
+                    n,
+                ] {
+                    // a selection of the items, ascending
+                    let pick = |k: usize| (k + k / 3) as u32;
+                    let len = len.min(n);
+                    let (mut s1, mut i1) = (vec![], vec![]);
+                    fill_serial_for_test(cells, len, pick, span, &mut s1, &mut i1);
+                    let (mut s2, mut i2) = (vec![0u32; cells.count() + 1], vec![7u32; 3]);
+                    pool.install(|| fill_par(cells, len, pick, span, &mut s2, &mut i2));
+                    assert_eq!(s1, s2, "starts {dims:?} {threads} {len}");
+                    assert_eq!(i1, i2, "items {dims:?} {threads} {len}");
+                }
+            }
+        }
+    }
+
     fn fill_serial_for_test(
         cells: Cells,
         len: usize,

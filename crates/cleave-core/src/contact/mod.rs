@@ -100,7 +100,8 @@
 //! `margin` = [`MARGIN_FRACTION`] times the mean sqrt(area) of the definition's faces.
 //!
 //! When interfaces fail ([`ContactSet::activate`]), the search is incremental: the new faces get
-//! boxes and spheres from x_ref, a small grid holds them and the nodes that joined, and only the
+//! boxes and spheres from x_ref, a grid that takes each face and node as it joins holds them
+//! ([`join_grid`]: none is sorted again at the next search), and only the
 //! nodes whose x_ref lies in a failed face's box get new lists (a broken tie or a new face only
 //! changes the lists of the nodes at its corners or within its box). The lists are then what a
 //! full build at x_ref with the new faces and ties would give, and stay valid under the same
@@ -237,6 +238,7 @@ mod cell_lists;
 pub mod closure;
 pub mod engagement;
 pub mod friction;
+mod join_grid;
 mod node_faces;
 pub mod penalty;
 pub(crate) mod restart;
@@ -257,6 +259,7 @@ use crate::model::{ContactDef, Model, PenaltyRule};
 use crate::node_values::NodeValues;
 use bounds_cache::BoundsCache;
 use cand_lists::CandLists;
+use join_grid::JoinGrid;
 
 /// Positions or velocities of every node, read through the coincident sets' slots when the
 /// solver keeps them per slot ([`crate::node_values`]).
@@ -1212,8 +1215,12 @@ struct Pass {
     /// build.
     grid: BucketGrid,
     nbase: usize,
-    /// The faces and nodes that joined since (indices relative to `base` and `nbase`).
-    extra: BucketGrid,
+    /// The faces and nodes that joined since (indices relative to `base` and `nbase`), added
+    /// at each incremental search, in cells of size `join_h` (the full build's grid's). Not
+    /// kept in a restart file: made again from the boxes and positions at the next search.
+    #[serde(skip)]
+    extra: JoinGrid,
+    join_h: f64,
     /// Candidate faces of each node of the node side and their [`Sched`] (a few inline in the
     /// schedule, the others in its room).
     cand: CandLists,
@@ -1235,7 +1242,8 @@ impl Pass {
             face_side,
             grid: BucketGrid::default(),
             nbase: 0,
-            extra: BucketGrid::default(),
+            extra: JoinGrid::default(),
+            join_h: 0.0,
             cand: CandLists::new(NODE_CHUNK, nodes),
             next: vec![f32::NEG_INFINITY; nodes],
             mark: vec![false; nodes],
@@ -1263,7 +1271,7 @@ enum SearchKind {
 /// What a search for candidates reads.
 struct Query<'a> {
     grid: &'a BucketGrid,
-    extra: &'a BucketGrid,
+    extra: &'a JoinGrid,
     /// The node side's nodes, the face side.
     nodes: &'a [u32],
     /// The lead of each node's coincident set ([`Side::group`]).
@@ -1835,7 +1843,8 @@ impl Contact {
             pass.grid
                 .build_with(&fs.boxes, nodes.len(), |q| x[nodes[q as usize] as usize]);
             pass.nbase = ns.nodes.len();
-            pass.extra.build::<Aabb32>(&[], &[]);
+            pass.join_h = pass.grid.cell_size();
+            pass.extra.reset(pass.join_h);
             let Pass {
                 grid,
                 extra,
@@ -2076,8 +2085,9 @@ impl Contact {
             let nbase = pass.nbase;
             let new_nodes = &ns.nodes[nbase..];
             let point = |q: u32| x_ref[new_nodes[q as usize] as usize];
-            pass.extra
-                .build_with(&fs.boxes[fs.base..], new_nodes.len(), point);
+            pass.extra.keep_cells(pass.join_h);
+            pass.extra.add_faces(&fs.boxes[fs.base..]);
+            pass.extra.add_nodes(new_nodes.len(), point);
             // the nodes in the regions, on every thread where there are many regions (the
             // list is sorted below: its order does not matter)
             let (grid, extra) = (&pass.grid, &pass.extra);

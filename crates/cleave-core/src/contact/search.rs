@@ -511,6 +511,14 @@ impl BucketGrid {
         trim(&mut self.cell_of_point);
     }
 
+    /// The cell size of the level of the smallest boxes (NaN without boxes).
+    pub fn cell_size(&self) -> f64 {
+        match self.levels[..self.used].first() {
+            Some(level) => level.h,
+            None => f64::NAN,
+        }
+    }
+
     /// Number of cells over all levels and the point grid.
     #[cfg(test)]
     fn cells(&self) -> usize {

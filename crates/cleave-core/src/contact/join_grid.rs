@@ -109,11 +109,20 @@ impl Cells {
     }
 }
 
+/// A cell size `h`, or 0 (no cells) when it is not a positive finite one.
+fn usable(h: f64) -> f64 {
+    if h.is_finite() && h > 0.0 {
+        h
+    } else {
+        0.0
+    }
+}
+
 impl JoinGrid {
     /// Empty, with cells of size `h` (none fit: every face to the wide list, every node found
     /// by a look at each).
     pub fn reset(&mut self, h: f64) {
-        self.h = if h.is_finite() && h > 0.0 { h } else { 0.0 };
+        self.h = usable(h);
         self.faces.clear();
         self.nodes.clear();
         self.wide.clear();
@@ -122,7 +131,7 @@ impl JoinGrid {
     /// Cells of size `h` from now on: when they are not (a grid read from a restart file,
     /// which keeps none), emptied, so that the next additions add every item.
     pub fn keep_cells(&mut self, h: f64) {
-        let h = if h.is_finite() && h > 0.0 { h } else { 0.0 };
+        let h = usable(h);
         if self.h != h {
             self.reset(h);
         }

@@ -1216,11 +1216,10 @@ struct Pass {
     grid: BucketGrid,
     nbase: usize,
     /// The faces and nodes that joined since (indices relative to `base` and `nbase`), added
-    /// at each incremental search, in cells of size `join_h` (the full build's grid's). Not
-    /// kept in a restart file: made again from the boxes and positions at the next search.
+    /// at each incremental search, in cells of `grid`'s smallest size. Not kept in a restart
+    /// file: made again from the boxes and positions at the next search.
     #[serde(skip)]
     extra: JoinGrid,
-    join_h: f64,
     /// Candidate faces of each node of the node side and their [`Sched`] (a few inline in the
     /// schedule, the others in its room).
     cand: CandLists,
@@ -1243,7 +1242,6 @@ impl Pass {
             grid: BucketGrid::default(),
             nbase: 0,
             extra: JoinGrid::default(),
-            join_h: 0.0,
             cand: CandLists::new(NODE_CHUNK, nodes),
             next: vec![f32::NEG_INFINITY; nodes],
             mark: vec![false; nodes],
@@ -1843,8 +1841,7 @@ impl Contact {
             pass.grid
                 .build_with(&fs.boxes, nodes.len(), |q| x[nodes[q as usize] as usize]);
             pass.nbase = ns.nodes.len();
-            pass.join_h = pass.grid.cell_size();
-            pass.extra.reset(pass.join_h);
+            pass.extra.reset(pass.grid.cell_size());
             let Pass {
                 grid,
                 extra,
@@ -2085,7 +2082,7 @@ impl Contact {
             let nbase = pass.nbase;
             let new_nodes = &ns.nodes[nbase..];
             let point = |q: u32| x_ref[new_nodes[q as usize] as usize];
-            pass.extra.keep_cells(pass.join_h);
+            pass.extra.keep_cells(pass.grid.cell_size());
             pass.extra.add_faces(&fs.boxes[fs.base..]);
             pass.extra.add_nodes(new_nodes.len(), point);
             // the nodes in the regions, on every thread where there are many regions (the

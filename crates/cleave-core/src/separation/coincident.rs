@@ -23,6 +23,10 @@
 
 use super::split::{FaceKind, SharedFace};
 use crate::topology::UnionFind;
+use rayon::prelude::*;
+
+/// Sets a task of the parallel labelling takes at least (a set's search is short).
+const SETS_PER_TASK: usize = 16;
 
 const NONE: u32 = u32::MAX;
 
@@ -43,11 +47,19 @@ pub struct CoincidentSets {
     elem_faces: Vec<[u32; 6]>,
     /// (node, face) for the `SHARED` nodes, sorted.
     shared_adj: Vec<(u32, u32)>,
-    // scratch for splitting: piece label per position of the set being split
+    /// Scratch for splitting ([`Self::split_after_failure`]): the sets to split, whether each
+    /// set is listed, each listed set's piece labels (per position in the set, the sets one
+    /// after the other) and piece count, and a piece's members.
+    #[serde(skip)]
+    todo: Vec<u32>,
+    #[serde(skip)]
+    listed: Vec<bool>,
+    #[serde(skip)]
     label: Vec<u32>,
-    stack: Vec<u32>,
+    #[serde(skip)]
+    pieces: Vec<u32>,
+    #[serde(skip)]
     piece: Vec<u32>,
-    incident: Vec<u32>,
     /// Slot of each node: the index of its set's entry in the solver's per-set arrays (sum of
     /// forces, mass), one per set and per node in no set, numbered in the order of their
     /// representatives; a set that splits keeps its slot for the piece of its representative,
@@ -55,7 +67,7 @@ pub struct CoincidentSets {
     slot: Vec<u32>,
     num_slots: u32,
     /// (start, len) in `members` of each piece the last [`Self::split_after_failure`] wrote, in
-    /// the order written (a later piece may lie inside an earlier one, split again).
+    /// the order written.
     changed: Vec<(u32, u32)>,
     /// (new slot, slot it split from) of each piece the last [`Self::split_after_failure`]
     /// gave a slot, in the order numbered.
@@ -164,10 +176,11 @@ impl CoincidentSets {
             node_elem,
             elem_faces,
             shared_adj,
+            todo: Vec::new(),
+            listed: Vec::new(),
             label: Vec::new(),
-            stack: Vec::new(),
+            pieces: Vec::new(),
             piece: Vec::new(),
-            incident: Vec::new(),
             slot,
             num_slots,
             changed: Vec::new(),
@@ -295,37 +308,95 @@ impl CoincidentSets {
 
     /// Re-split the sets holding the nodes of `failed` faces (whose `intact` entry is already
     /// false) into the components still tied together.
+    ///
+    /// Each set is split once, after every tie of the step is gone, so its pieces are final:
+    /// the sets are listed in the order their nodes come in `failed` (which numbers the new
+    /// pieces, as splitting them one face after the other would), their components labelled
+    /// in parallel (each set read-only, its labels in its own span), and the pieces written
+    /// back in that order. O(members of the sets split), the same on any number of threads.
     pub fn split_after_failure(&mut self, faces: &[SharedFace], intact: &[bool], failed: &[usize]) {
         self.changed.clear();
         self.born.clear();
+        let mut todo = std::mem::take(&mut self.todo);
+        todo.clear();
+        self.listed.resize(self.ranges.len(), false);
         for &f in failed {
-            for k in 0..8 {
-                let s = self.node_set[faces[f].nodes[k] as usize];
-                if s != NONE {
-                    self.split_set(s as usize, faces, intact);
+            for &n in &faces[f].nodes {
+                let s = self.node_set[n as usize];
+                if s != NONE && !self.listed[s as usize] {
+                    self.listed[s as usize] = true;
+                    todo.push(s);
                 }
             }
         }
+        let mut label = std::mem::take(&mut self.label);
+        let mut pieces = std::mem::take(&mut self.pieces);
+        label.clear();
+        label.resize(
+            todo.iter()
+                .map(|&s| self.ranges[s as usize].1 as usize)
+                .sum(),
+            NONE,
+        );
+        pieces.clear();
+        pieces.resize(todo.len(), 0);
+        let mut spans = Vec::with_capacity(todo.len());
+        let mut rest = label.as_mut_slice();
+        for &s in &todo {
+            let (span, tail) = rest.split_at_mut(self.ranges[s as usize].1 as usize);
+            spans.push(span);
+            rest = tail;
+        }
+        let this = &*self;
+        spans
+            .into_par_iter()
+            .zip(todo.par_iter())
+            .zip(pieces.par_iter_mut())
+            .with_min_len(SETS_PER_TASK)
+            .for_each_init(
+                || (Vec::new(), Vec::new()),
+                |(stack, incident), ((span, &s), count)| {
+                    *count = this.label_pieces(s as usize, faces, intact, span, stack, incident);
+                },
+            );
+        let mut at = 0;
+        for (&s, &count) in todo.iter().zip(&pieces) {
+            let len = self.ranges[s as usize].1 as usize;
+            if count > 1 {
+                self.write_pieces(s as usize, &label[at..at + len], count);
+            }
+            at += len;
+            self.listed[s as usize] = false;
+        }
+        self.todo = todo;
+        self.label = label;
+        self.pieces = pieces;
     }
 
-    fn split_set(&mut self, s: usize, faces: &[SharedFace], intact: &[bool]) {
+    /// The components of set `s` still tied together: `label[k]` the piece of its k-th
+    /// member (`label` all NONE on entry), by a search through the tying faces seeded in
+    /// ascending member order; returns the number of pieces.
+    fn label_pieces(
+        &self,
+        s: usize,
+        faces: &[SharedFace],
+        intact: &[bool],
+        label: &mut [u32],
+        stack: &mut Vec<u32>,
+        incident: &mut Vec<u32>,
+    ) -> u32 {
         let (start, len) = self.ranges[s];
         let range = start as usize..(start + len) as usize;
-        // label components by a search through tying faces, seeded in ascending member order;
-        // labels are kept per position in the set (members are ascending: binary search)
-        self.label.clear();
-        self.label.resize(len as usize, NONE);
-        let mut incident = std::mem::take(&mut self.incident);
         let mut pieces = 0u32;
         for seed_at in 0..len as usize {
-            if self.label[seed_at] != NONE {
+            if label[seed_at] != NONE {
                 continue;
             }
-            self.label[seed_at] = pieces;
-            self.stack.push(self.members[start as usize + seed_at]);
-            while let Some(n) = self.stack.pop() {
-                self.faces_of(n, faces, &mut incident);
-                for &f in &incident {
+            label[seed_at] = pieces;
+            stack.push(self.members[start as usize + seed_at]);
+            while let Some(n) = stack.pop() {
+                self.faces_of(n, faces, incident);
+                for &f in incident.iter() {
                     let f = f as usize;
                     if !ties(faces, intact, f) {
                         continue;
@@ -340,28 +411,33 @@ impl CoincidentSets {
                     if self.node_set[partner as usize] != s as u32 {
                         continue;
                     }
+                    // (members are ascending: binary search)
                     let at = self.members[range.clone()]
                         .binary_search(&partner)
                         .expect("a set member");
-                    if self.label[at] == NONE {
-                        self.label[at] = pieces;
-                        self.stack.push(partner);
+                    if label[at] == NONE {
+                        label[at] = pieces;
+                        stack.push(partner);
                     }
                 }
             }
             pieces += 1;
         }
-        self.incident = incident;
-        if pieces == 1 {
-            return;
-        }
-        // write the pieces back contiguously, each ascending, in order of their smallest member
+        pieces
+    }
+
+    /// Write the `pieces` pieces of set `s` (`label`: [`Self::label_pieces`]) back
+    /// contiguously, each ascending, in order of their smallest member: the first keeps the
+    /// set's number and slot, the others get new ones.
+    fn write_pieces(&mut self, s: usize, label: &[u32], pieces: u32) {
+        let (start, len) = self.ranges[s];
+        let range = start as usize..(start + len) as usize;
         self.piece.clear();
         for p in 0..pieces {
             self.piece.extend(
                 self.members[range.clone()]
                     .iter()
-                    .zip(&self.label)
+                    .zip(label)
                     .filter(|&(_, &l)| l == p)
                     .map(|(&n, _)| n),
             );
@@ -370,7 +446,7 @@ impl CoincidentSets {
         self.members[range].copy_from_slice(&self.piece);
         let mut at = start;
         for p in 0..pieces {
-            let size = self.label.iter().filter(|&&l| l == p).count() as u32;
+            let size = label.iter().filter(|&&l| l == p).count() as u32;
             let id = if p == 0 {
                 s as u32
             } else {
@@ -602,5 +678,89 @@ mod tests {
         let own: Vec<f64> = (0..n).map(|i| kept[cs.slots()[i] as usize]).collect();
         assert_eq!(own, mass, "all faces failed: each node its own mass");
         assert_eq!(cs.num_slots(), n, "all faces failed: a slot per node");
+    }
+
+    /// Many interfaces failing in one step, on a 4 x 4 x 4 block (every other interface, so
+    /// more sets split at once than a task of the parallel labelling takes): the sets are
+    /// those built from scratch from the faces still intact, with their masses; each split
+    /// set's new slots are numbered in the order its nodes first come in the failed list;
+    /// and the result, slots and members included, is the same on 1 and on 4 threads.
+    #[test]
+    fn many_failures_in_one_step_split_alike_on_any_thread_count() {
+        let mat = Material {
+            id: 1,
+            density: 1000.0,
+            young: 1e9,
+            poisson: 0.25,
+            kind: MaterialKind::Elastic,
+        };
+        let mut m = box_model([4, 4, 4], [4.0, 4.0, 4.0], mat, 1.0);
+        m.separations.push(SeparationDef {
+            material: 0,
+            model: 1,
+            sigmax: 1e6,
+            beta: 1.0,
+            gc: 0.0,
+            bond: 1,
+            strength: Default::default(),
+        });
+        let sm = split_model(&m);
+        let n = sm.model.num_nodes();
+        let mass: Vec<f64> = (0..n).map(|i| 1.0 + (i % 7) as f64 * 0.29).collect();
+        // every other interface, in a scrambled order
+        let mut failed: Vec<usize> = (0..sm.faces.len()).filter(|f| f % 2 == 0).collect();
+        failed.sort_by_key(|&f| (f * 37) % 101);
+        let mut intact = vec![true; sm.faces.len()];
+        for &f in &failed {
+            intact[f] = false;
+        }
+        let run = |threads: usize| {
+            let mut cs = CoincidentSets::build(n, &sm.faces, &vec![true; sm.faces.len()]);
+            let mut kept = Vec::new();
+            cs.masses(&mass, &mut kept);
+            let before = cs.clone();
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| cs.split_after_failure(&sm.faces, &intact, &failed));
+            cs.reweigh_changed(&mass, &mut kept);
+            (before, cs, kept)
+        };
+        let (before, cs, kept) = run(1);
+        let splits = before.sets().count();
+        assert!(
+            cs.born().len() > 2 * SETS_PER_TASK,
+            "{} new slots",
+            cs.born().len()
+        );
+        let fresh = CoincidentSets::build(n, &sm.faces, &intact);
+        let mut fresh_masses = Vec::new();
+        fresh.masses(&mass, &mut fresh_masses);
+        assert_eq!(partition(&cs), partition(&fresh));
+        assert_eq!(reps(&cs), reps(&fresh));
+        for i in 0..n {
+            let (s, fs) = (cs.slots()[i] as usize, fresh.slots()[i] as usize);
+            assert_eq!(kept[s], fresh_masses[fs], "node {i}");
+        }
+        // new slots in the order the sets they split from first come in `failed`
+        let mut first_seen = vec![usize::MAX; before.num_slots()];
+        for (k, &f) in failed.iter().enumerate() {
+            for &node in &sm.faces[f].nodes {
+                let slot = before.slots()[node as usize] as usize;
+                first_seen[slot] = first_seen[slot].min(k);
+            }
+        }
+        let order: Vec<usize> = (cs.born().iter())
+            .map(|&(_, from)| first_seen[from as usize])
+            .collect();
+        assert!(order.windows(2).all(|w| w[0] <= w[1]), "{order:?}");
+        let (_, cs4, kept4) = run(4);
+        assert_eq!(cs4.slots(), cs.slots());
+        assert_eq!(cs4.born(), cs.born());
+        assert_eq!(cs4.members, cs.members);
+        assert_eq!(cs4.ranges, cs.ranges);
+        assert_eq!(kept4, kept);
+        assert!(splits > 0);
     }
 }

@@ -99,6 +99,9 @@ const ELEM_CHUNK: usize = 256;
 /// Nodes per chunk of the nodal passes.
 const NODE_CHUNK: usize = 1024;
 
+/// Elements a task of [`Solver::sum_split_sets`]' corner forces takes at least.
+const ELEMS_PER_TASK: usize = 16;
+
 /// Wall-clock seconds spent in each phase of the step so far (for benchmarks and profiles).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PhaseTimes {
@@ -228,6 +231,8 @@ pub struct Solver<'m> {
     /// and their elements.
     split_nodes: Vec<u32>,
     split_elems: Vec<u32>,
+    /// Scratch: the corner forces of `split_elems`, worked out in parallel.
+    split_fe: Vec<[Vec3; 8]>,
     chunk_sums: Vec<ElemChunkSum>,
     node_sums: Vec<[f64; 4]>,
     finished: bool,
@@ -341,6 +346,7 @@ impl<'m> Solver<'m> {
             shared_elems: Vec::new(),
             split_nodes: Vec::new(),
             split_elems: Vec::new(),
+            split_fe: Vec::new(),
             chunk_sums,
             node_sums: Vec::with_capacity(nn.div_ceil(NODE_CHUNK)),
             finished: false,
@@ -1103,32 +1109,40 @@ impl<'m> Solver<'m> {
         let conn = self.colouring.conn();
         let st = &self.state;
         let x = NodeValues::new(&st.x, self.per_slot.then_some(slots));
-        for &e in elems.iter() {
-            let e = e as usize;
-            if self.setup.params[self.setup.elem_mat[e] as usize].is_none() {
-                continue; // the element pass skips it too
+        let (setup, sri) = (&self.setup, self.sri.as_ref());
+        // the corner forces on every thread, then added in ascending element order
+        let fes = &mut self.split_fe;
+        fes.clear();
+        fes.resize(elems.len(), [[0.0; 3]; 8]);
+        fes.par_iter_mut()
+            .zip(elems.par_iter())
+            .with_min_len(ELEMS_PER_TASK)
+            .for_each(|(fe, &e)| {
+                let e = e as usize;
+                if setup.params[setup.elem_mat[e] as usize].is_none() {
+                    return; // the element pass skips it too (its forces stay zero)
+                }
+                let xe: [Vec3; 8] = std::array::from_fn(|a| x[conn[e][a] as usize]);
+                // the element pass found every element upright at these positions
+                let shape = setup.elem_shape[e];
+                match sri.and_then(|s| s.position(e).map(|k| (s, k))) {
+                    Some((s, k)) => sri_corner_forces(&xe, &s.pts[k], st.bulk_q[e], fe),
+                    None => element_corner_forces(
+                        shape,
+                        &xe,
+                        &st.stress[e],
+                        st.bulk_q[e],
+                        &st.hg[e],
+                        fe,
+                    ),
+                }
+                .expect("an element upright in this step's element pass");
+            });
+        for (&e, fe) in elems.iter().zip(fes.iter()) {
+            if setup.params[setup.elem_mat[e as usize] as usize].is_none() {
+                continue;
             }
-            let xe: [Vec3; 8] = std::array::from_fn(|a| x[conn[e][a] as usize]);
-            let mut fe = [[0.0; 3]; 8];
-            // the element pass found every element upright at these positions
-            let shape = self.setup.elem_shape[e];
-            match self
-                .sri
-                .as_ref()
-                .and_then(|s| s.position(e).map(|k| (s, k)))
-            {
-                Some((s, k)) => sri_corner_forces(&xe, &s.pts[k], st.bulk_q[e], &mut fe),
-                None => element_corner_forces(
-                    shape,
-                    &xe,
-                    &st.stress[e],
-                    st.bulk_q[e],
-                    &st.hg[e],
-                    &mut fe,
-                ),
-            }
-            .expect("an element upright in this step's element pass");
-            for (&n, fa) in conn[e].iter().zip(fe) {
+            for (&n, &fa) in conn[e as usize].iter().zip(fe) {
                 if nodes.binary_search(&n).is_ok() {
                     let s = slots[n as usize] as usize;
                     self.f[s] = add(self.f[s], fa);

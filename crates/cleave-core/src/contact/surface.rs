@@ -8,6 +8,7 @@
 //! elements that touch share their nodes: a face is exterior when no other element has the same
 //! 4 nodes.
 
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 use crate::element::hex8::{quad_area, volume, FACES};
@@ -65,7 +66,9 @@ pub fn exterior_faces(conn: &[[u32; 8]], elem_filter: impl Fn(u32) -> bool) -> V
 }
 
 /// Penalty stiffness and depth limit of the faces of a model's elements, at the reference
-/// geometry, worked out when asked (when a face joins a surface) from the model it borrows.
+/// geometry, worked out when asked (when a face joins a surface) from the model it borrows and
+/// the elements' volumes (kept: 8 bytes an element, against a hexahedron's volume worked out
+/// again four times for each interface that fails).
 ///
 /// LS-DYNA theory manual, penalty method (SOFT = 0) for a face of a solid element:
 /// `k = SLSFAC * K * A^2 / V`, with K the bulk modulus of the element's material (rigid
@@ -94,6 +97,8 @@ pub struct FaceTable<'m> {
     /// deck node, not per solved node: the 20,000-element ball's 160,072 solved nodes would
     /// take 1.28 MB for the 21,343 values.
     deck_k: Vec<f64>,
+    /// The reference volume of each element.
+    volume: Vec<f64>,
 }
 
 impl<'m> FaceTable<'m> {
@@ -113,11 +118,16 @@ impl<'m> FaceTable<'m> {
             }
         }
         let mean_size = if faces > 0 { sum / faces as f64 } else { 0.0 };
+        let volume = (model.conn.par_iter())
+            .with_min_len(1024)
+            .map(|c| volume(&c.map(|n| model.x0[n as usize])))
+            .collect();
         let mut t = Self {
             model,
             mean_size,
             origin,
             deck_k: Vec::new(),
+            volume,
         };
         t.deck_k = t.deck_stiffnesses();
         t
@@ -137,7 +147,7 @@ impl<'m> FaceTable<'m> {
         let mut k_deck = vec![0.0f64; n_deck];
         for (e, c) in self.model.conn.iter().enumerate() {
             let xe: [Vec3; 8] = std::array::from_fn(|a| self.model.x0[c[a] as usize]);
-            let v = volume(&xe);
+            let v = self.volume[e];
             for (f, corners) in FACES.iter().enumerate() {
                 let p = corners.map(|a| xe[a]);
                 let k = self.stiffness_of(e, quad_area(p[0], p[1], p[2], p[3]), v);
@@ -158,9 +168,8 @@ impl<'m> FaceTable<'m> {
     /// Area of face `f` of element `e` and the element's volume.
     fn geometry(&self, (e, f): FaceId) -> (f64, f64) {
         let c = &self.model.conn[e as usize];
-        let xe: [Vec3; 8] = std::array::from_fn(|a| self.model.x0[c[a] as usize]);
-        let p = FACES[f as usize].map(|a| xe[a]);
-        (quad_area(p[0], p[1], p[2], p[3]), volume(&xe))
+        let p = FACES[f as usize].map(|a| self.model.x0[c[a] as usize]);
+        (quad_area(p[0], p[1], p[2], p[3]), self.volume[e as usize])
     }
 
     /// Penalty stiffness of a face (force per length).

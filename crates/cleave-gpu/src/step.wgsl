@@ -2382,12 +2382,13 @@ fn interfaces(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_i
         sa[k] = sig[ek(ea, k)];
         sb[k] = sig[ek(eb, k)];
     }
-    // the cheap bound first (criteria/mod.rs traction_bound, bound_factor)
-    var factor = 1.0lf;
+    // the cheap bound first (criteria/mod.rs: MODEL 1 tension_bound, the others
+    // traction_bound times max(1, 1 / BETA); the slack of interfaces.rs check_failure)
+    var bound = 0.5lf * (tension_row_bound(sa) + tension_row_bound(sb));
     if (model > 1.5lf) {
-        factor = max(1.0lf, 1.0lf / beta);
+        bound = max(1.0lf, 1.0lf / beta) * 0.5lf * (row_bound(sa) + row_bound(sb));
     }
-    if (factor * 0.5lf * (row_bound(sa) + row_bound(sb)) < strength) {
+    if (bound < strength * (1.0lf - 1e-9lf)) {
         return;
     }
     let n = interface_normal(o);
@@ -2430,6 +2431,15 @@ fn interface_normal(o: u32) -> vec3<f64> {
         return vec3<f64>(0.0lf, 0.0lf, 0.0lf);
     }
     return vec3<f64>(c[0] / n2, c[1] / n2, c[2] / n2);
+}
+
+// The largest signed row bound s_ii + sum_(j != i) |s_ij| of a symmetric stress (Gershgorin:
+// at least n.s.n for any unit n; criteria/mod.rs tension_bound).
+fn tension_row_bound(s: S6) -> f64 {
+    let xy = abs(s[3]);
+    let yz = abs(s[4]);
+    let zx = abs(s[5]);
+    return max(max(s[0] + xy + zx, s[1] + xy + yz), s[2] + yz + zx);
 }
 
 // The largest absolute row sum of a symmetric stress (Gershgorin: at least |s n| for any unit n).

@@ -4,6 +4,7 @@
 //! the shear traction, BETA the shear-to-normal weight.
 
 use super::{Criterion, InterfaceSample};
+use crate::math::Sym3;
 
 /// The effective traction.
 #[derive(Clone, Copy, Debug)]
@@ -20,8 +21,9 @@ impl Criterion for EffectiveStress {
         (sn * sn + ts * ts).sqrt()
     }
 
-    /// `sqrt(<sn>^2 + (tau/BETA)^2) <= |t| max(1, 1/BETA)`.
-    fn bound_factor(&self) -> f64 {
-        (1.0f64).max(1.0 / self.beta)
+    /// `sqrt(<sn>^2 + (tau/BETA)^2) <= |t| max(1, 1/BETA)`, with [`super::traction_bound`]
+    /// for |t|.
+    fn bound(&self, a: &Sym3, b: &Sym3) -> f64 {
+        (1.0f64).max(1.0 / self.beta) * super::traction_bound(a, b)
     }
 }

@@ -4,6 +4,7 @@
 //! never fail it.
 
 use super::{Criterion, InterfaceSample};
+use crate::math::Sym3;
 
 /// The normal stress n.s.n.
 #[derive(Clone, Copy, Debug)]
@@ -14,8 +15,8 @@ impl Criterion for NormalStress {
         s.normal_and_shear().0
     }
 
-    /// `n.s.n <= |s n|`.
-    fn bound_factor(&self) -> f64 {
-        1.0
+    /// [`super::tension_bound`].
+    fn bound(&self, a: &Sym3, b: &Sym3) -> f64 {
+        super::tension_bound(a, b)
     }
 }

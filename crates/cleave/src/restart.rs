@@ -12,7 +12,7 @@
 //! a fingerprint of the model read from the deck ([`fingerprint`]), the end time and the time and step it was taken at. A file made by
 //! another version or from another deck is refused with a message that says which (exit 2).
 //!
-//! Format: the 22 bytes `cleave restart file 2\n`, postcard (serde) of the header and of the
+//! Format: the 22 bytes `cleave restart file 3\n`, postcard (serde) of the header and of the
 //! output's state, the length of the solver's state (u64, little-endian) and that state
 //! ([`Solver::save_state`], postcard too); floats as their IEEE bits.
 
@@ -30,8 +30,10 @@ use crate::results::OutputSaved;
 
 /// The restart file's name in the output folder.
 pub const FILE: &str = "restart.ckpt";
-/// The first bytes, with the format's number (2: the header says which kind of run made it).
-const MAGIC: &[u8] = b"cleave restart file 2\n";
+/// The first bytes, with the format's number (2: the header says which kind of run made it;
+/// 3: the coincident sets no longer save their scratch). Postcard's bytes carry no field
+/// names, so a change to the layout of the saved state takes a new number.
+const MAGIC: &[u8] = b"cleave restart file 3\n";
 
 /// What a restart file says of itself.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -84,11 +86,18 @@ pub fn read(path: &Path) -> Result<RestartFile, Failure> {
     let bad = |what: String| Failure::Input(format!("--restart {}: {what}", path.display()));
     let bytes = std::fs::read(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
     let Some(rest) = bytes.strip_prefix(MAGIC) else {
-        if bytes.starts_with(b"cleave restart file\n") {
-            return Err(bad(
-                "made by an earlier cleave (restart format 1), which this one cannot continue"
-                    .into(),
-            ));
+        if let Some(line) = bytes.strip_prefix(b"cleave restart file") {
+            let end = line.iter().position(|&b| b == b'\n').unwrap_or(0).min(8);
+            let format = String::from_utf8_lossy(&line[..end]);
+            let format = match format.trim() {
+                "" => "1",
+                f => f,
+            };
+            return Err(bad(format!(
+                "made by another cleave (restart format {format}, this one reads {}), which \
+                 this one cannot continue",
+                String::from_utf8_lossy(&MAGIC[20..21])
+            )));
         }
         return Err(bad("not a cleave restart file".into()));
     };

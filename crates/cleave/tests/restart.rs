@@ -361,6 +361,23 @@ fn a_restart_file_of_another_deck_version_or_damaged_is_refused() {
         &["run", &deck, "-o", os, "--restart", oldf.to_str().unwrap()],
         &["made by cleave 9"],
     );
+    // an earlier format: the number in the first line (the state's layout) changed
+    let mut earlier = bytes.clone();
+    assert!(earlier.starts_with(b"cleave restart file 3\n"));
+    earlier[20] = b'2';
+    let earlierf = d.join("earlier.ckpt");
+    std::fs::write(&earlierf, &earlier).unwrap();
+    refused(
+        &[
+            "run",
+            &deck,
+            "-o",
+            os,
+            "--restart",
+            earlierf.to_str().unwrap(),
+        ],
+        &["restart format 2, this one reads 3"],
+    );
     // damaged: cut short, or not a restart file at all
     let cut = d.join("cut.ckpt");
     std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();

@@ -119,7 +119,7 @@ pub fn criterion_for(def: &SeparationDef) -> Result<Box<dyn Criterion>, String> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::norm;
+    use crate::math::{norm, principal_values};
     use crate::separation::split::FaceKind;
 
     /// A deterministic stream of numbers in [-1, 1).
@@ -134,7 +134,9 @@ mod tests {
     }
 
     /// Each criterion's measure, at random stresses (tension, compression, shear; Pa) and
-    /// random unit normals, never exceeds its bound; and the tension bound of the paper's
+    /// random unit normals, never exceeds its bound, nor do the worst normals' (the mean
+    /// stress's largest eigenvalue, and largest in magnitude, below the tension and the
+    /// traction bound); and the tension bound of the paper's
     /// criterion is negative under a compression of every axis however large the shear is
     /// below it, so no compressed interface needs the full sample.
     #[test]
@@ -165,6 +167,12 @@ mod tests {
             let p = 3e8 * (k as f64 / 1000.0 - 1.0);
             let (a, b) = (sym(p), sym(p));
             let stress = [&a, &b];
+            // the worst normal: the extreme eigenvalues of the mean stress
+            let mean: Sym3 = std::array::from_fn(|i| 0.5 * (a[i] + b[i]));
+            let l = principal_values(&mean);
+            let (l_max, l_abs) = (l[0].max(l[1]).max(l[2]), l.map(f64::abs));
+            assert!(l_max <= tension_bound(&a, &b) + 1e-6, "{l:?}");
+            assert!(l_abs[0].max(l_abs[1]).max(l_abs[2]) <= traction_bound(&a, &b) + 1e-6);
             let mut top = [f64::NEG_INFINITY; 3];
             for _ in 0..50 {
                 let v = [r(), r(), r()];

@@ -353,37 +353,32 @@ fn a_restart_file_of_another_deck_version_or_damaged_is_refused() {
     let bytes = std::fs::read(&ckpt).unwrap();
     let v = env!("CARGO_PKG_VERSION").as_bytes();
     let at = bytes.windows(v.len()).position(|w| w == v).unwrap();
+    // each altered file is refused, with a message that says why
+    let refused_file = |name: &str, bytes: &[u8], what: &str| {
+        let f = d.join(name);
+        std::fs::write(&f, bytes).unwrap();
+        refused(
+            &["run", &deck, "-o", os, "--restart", f.to_str().unwrap()],
+            &[what],
+        );
+    };
     let mut old = bytes.clone();
     old[at] = b'9';
-    let oldf = d.join("old.ckpt");
-    std::fs::write(&oldf, &old).unwrap();
-    refused(
-        &["run", &deck, "-o", os, "--restart", oldf.to_str().unwrap()],
-        &["made by cleave 9"],
-    );
+    refused_file("old.ckpt", &old, "made by cleave 9");
     // an earlier format: the number in the first line (the state's layout) changed
     let mut earlier = bytes.clone();
     assert!(earlier.starts_with(b"cleave restart file 3\n"));
     earlier[20] = b'2';
-    let earlierf = d.join("earlier.ckpt");
-    std::fs::write(&earlierf, &earlier).unwrap();
-    refused(
-        &[
-            "run",
-            &deck,
-            "-o",
-            os,
-            "--restart",
-            earlierf.to_str().unwrap(),
-        ],
-        &["restart format 2, this one reads 3"],
+    refused_file(
+        "earlier.ckpt",
+        &earlier,
+        "restart format 2, this one reads 3",
     );
     // damaged: cut short, or not a restart file at all
-    let cut = d.join("cut.ckpt");
-    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
-    refused(
-        &["run", &deck, "-o", os, "--restart", cut.to_str().unwrap()],
-        &["truncated or damaged"],
+    refused_file(
+        "cut.ckpt",
+        &bytes[..bytes.len() / 2],
+        "truncated or damaged",
     );
     refused(
         &["run", &deck, "-o", os, "--restart", &deck],

@@ -483,7 +483,8 @@ mod tests {
     use crate::model::{Material, MaterialKind, SeparationDef};
     use crate::separation::split::split_model;
 
-    fn split_block() -> crate::separation::split::SplitModel {
+    /// A block of n x n x n unit elements, every interface able to fail.
+    fn split_block_of(n: usize) -> crate::separation::split::SplitModel {
         let mat = Material {
             id: 1,
             density: 1000.0,
@@ -491,7 +492,8 @@ mod tests {
             poisson: 0.25,
             kind: MaterialKind::Elastic,
         };
-        let mut m = box_model([2, 2, 2], [2.0, 2.0, 2.0], mat, 1.0);
+        let l = n as f64;
+        let mut m = box_model([n, n, n], [l, l, l], mat, 1.0);
         m.separations.push(SeparationDef {
             material: 0,
             model: 1,
@@ -513,7 +515,7 @@ mod tests {
         Vec<bool>,
         CoincidentSets,
     ) {
-        let sm = split_block();
+        let sm = split_block_of(2);
         let intact = vec![true; sm.faces.len()];
         let cs = CoincidentSets::build(sm.model.num_nodes(), &sm.faces, &intact);
         (sm, intact, cs)
@@ -529,7 +531,7 @@ mod tests {
     /// The 2x2x2 block: 12 edge-midpoint sets of 2, 6 face-centre sets of 4, the centre set of 8.
     #[test]
     fn intact_block_sets() {
-        let sm = split_block();
+        let sm = split_block_of(2);
         let intact = vec![true; sm.faces.len()];
         let cs = CoincidentSets::build(sm.model.num_nodes(), &sm.faces, &intact);
         let mut sizes: Vec<usize> = cs.sets().map(|s| s.len()).collect();
@@ -687,24 +689,7 @@ mod tests {
     /// and the result, slots and members included, is the same on 1 and on 4 threads.
     #[test]
     fn many_failures_in_one_step_split_alike_on_any_thread_count() {
-        let mat = Material {
-            id: 1,
-            density: 1000.0,
-            young: 1e9,
-            poisson: 0.25,
-            kind: MaterialKind::Elastic,
-        };
-        let mut m = box_model([4, 4, 4], [4.0, 4.0, 4.0], mat, 1.0);
-        m.separations.push(SeparationDef {
-            material: 0,
-            model: 1,
-            sigmax: 1e6,
-            beta: 1.0,
-            gc: 0.0,
-            bond: 1,
-            strength: Default::default(),
-        });
-        let sm = split_model(&m);
+        let sm = split_block_of(4);
         let n = sm.model.num_nodes();
         let mass: Vec<f64> = (0..n).map(|i| 1.0 + (i % 7) as f64 * 0.29).collect();
         // every other interface, in a scrambled order

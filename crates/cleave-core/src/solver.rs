@@ -1110,6 +1110,8 @@ impl<'m> Solver<'m> {
         let st = &self.state;
         let x = NodeValues::new(&st.x, self.per_slot.then_some(slots));
         let (setup, sri) = (&self.setup, self.sri.as_ref());
+        // the element pass skips an element without parameters: its forces are not summed
+        elems.retain(|&e| setup.params[setup.elem_mat[e as usize] as usize].is_some());
         // the corner forces on every thread, then added in ascending element order
         let fes = &mut self.split_fe;
         fes.clear();
@@ -1119,9 +1121,6 @@ impl<'m> Solver<'m> {
             .with_min_len(ELEMS_PER_TASK)
             .for_each(|(fe, &e)| {
                 let e = e as usize;
-                if setup.params[setup.elem_mat[e] as usize].is_none() {
-                    return; // the element pass skips it too (its forces stay zero)
-                }
                 let xe: [Vec3; 8] = std::array::from_fn(|a| x[conn[e][a] as usize]);
                 // the element pass found every element upright at these positions
                 let shape = setup.elem_shape[e];
@@ -1139,9 +1138,6 @@ impl<'m> Solver<'m> {
                 .expect("an element upright in this step's element pass");
             });
         for (&e, fe) in elems.iter().zip(fes.iter()) {
-            if setup.params[setup.elem_mat[e as usize] as usize].is_none() {
-                continue;
-            }
             for (&n, &fa) in conn[e as usize].iter().zip(fe) {
                 if nodes.binary_search(&n).is_ok() {
                     let s = slots[n as usize] as usize;

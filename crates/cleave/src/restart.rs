@@ -30,10 +30,19 @@ use crate::results::OutputSaved;
 
 /// The restart file's name in the output folder.
 pub const FILE: &str = "restart.ckpt";
-/// The first bytes, with the format's number (2: the header says which kind of run made it;
-/// 3: the coincident sets no longer save their scratch). Postcard's bytes carry no field
-/// names, so a change to the layout of the saved state takes a new number.
-const MAGIC: &[u8] = b"cleave restart file 3\n";
+/// The format's number (2: the header says which kind of run made it; 3: the coincident sets
+/// no longer save their scratch). Postcard's bytes carry no field names, so a change to the
+/// layout of the saved state takes a new number.
+macro_rules! format_number {
+    () => {
+        "3"
+    };
+}
+/// What every restart file starts with, whatever its format.
+const WORDS: &str = "cleave restart file";
+/// The first bytes: the words, then the format's number.
+const MAGIC: &[u8] = concat!("cleave restart file ", format_number!(), "\n").as_bytes();
+const _: () = assert!(MAGIC.len() == WORDS.len() + 3);
 
 /// What a restart file says of itself.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -86,9 +95,10 @@ pub fn read(path: &Path) -> Result<RestartFile, Failure> {
     let bad = |what: String| Failure::Input(format!("--restart {}: {what}", path.display()));
     let bytes = std::fs::read(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
     let Some(rest) = bytes.strip_prefix(MAGIC) else {
-        if let Some(line) = bytes.strip_prefix(b"cleave restart file") {
-            let end = line.iter().position(|&b| b == b'\n').unwrap_or(0).min(8);
-            let format = String::from_utf8_lossy(&line[..end]);
+        if let Some(line) = bytes.strip_prefix(WORDS.as_bytes()) {
+            // the number up to the line's end (format 1 had none)
+            let end = line.iter().position(|&b| b == b'\n').unwrap_or(line.len());
+            let format = String::from_utf8_lossy(&line[..end.min(8)]);
             let format = match format.trim() {
                 "" => "1",
                 f => f,
@@ -96,7 +106,7 @@ pub fn read(path: &Path) -> Result<RestartFile, Failure> {
             return Err(bad(format!(
                 "made by another cleave (restart format {format}, this one reads {}), which \
                  this one cannot continue",
-                String::from_utf8_lossy(&MAGIC[20..21])
+                format_number!()
             )));
         }
         return Err(bad("not a cleave restart file".into()));

@@ -1079,23 +1079,26 @@ impl Side {
         order
     }
 
-    /// Apply `order` (place k gets node `order[k].1`) by cycles of swaps: `swap(a, b)` must
-    /// swap places a and b of every array of the side's nodes.
-    fn permute(order: &[(u64, u32)], seen: &mut Vec<bool>, mut swap: impl FnMut(usize, usize)) {
-        seen.clear();
-        seen.resize(order.len(), false);
-        for start in 0..order.len() {
-            let mut k = start;
-            while !seen[k] {
-                seen[k] = true;
-                let j = order[k].1 as usize;
-                if j == start {
-                    break;
-                }
-                swap(k, j);
-                k = j;
-            }
+    /// Apply `order` (place k gets the node at `order[k].1`, each place once) to the arrays
+    /// kept per node: `nodes`, `node_faces`, `rank`, and `group` and `next`, which must hold
+    /// model numbers, not places, meanwhile (the callers map them). Each new array is
+    /// gathered on every thread: the swaps along the permutation's cycles this replaced were
+    /// a serial pass with a random access per node, at each full build that orders the nodes.
+    fn permute(&mut self, order: &[(u64, u32)]) {
+        fn gather<T: Copy + Send + Sync>(v: &[T], order: &[(u64, u32)]) -> Vec<T> {
+            (order.par_iter())
+                .with_min_len(NODE_CHUNK)
+                .map(|&(_, j)| v[j as usize])
+                .collect()
         }
+        let n = self.nodes.len();
+        self.group.resize(n, NONE);
+        self.next.resize(n, NONE);
+        self.nodes = gather(&self.nodes, order);
+        self.rank = gather(&self.rank, order);
+        self.group = gather(&self.group, order);
+        self.next = gather(&self.next, order);
+        self.node_faces.permute(order, |v| gather(v, order));
     }
 
     /// Boxes and spheres of the faces that have none yet, from positions `x_ref`.
@@ -1804,8 +1807,12 @@ impl Contact {
     }
 
     /// New candidate lists of every node from the current positions; the motion bound starts
-    /// again at zero.
-    fn rebuild(&mut self, x: Points, tie: &[u32]) {
+    /// again at zero. The leads are found again for every node only when the ties changed
+    /// otherwise than at the faces pending since the last search (`dirty`); else for the
+    /// copies at those faces, as an incremental search would ([`Contact::regroup_pending`];
+    /// `conn`: the model's connectivity): the other sets did not change, and a regroup of
+    /// every node was a serial pass over them at each full build.
+    fn rebuild(&mut self, x: Points, tie: &[u32], conn: &[[u32; 8]]) {
         self.x_ref.clear();
         self.x_ref.extend_from_slice(x.entries());
         // the watched entries again, from the sides' nodes: a slot born of a split is watched
@@ -1817,7 +1824,11 @@ impl Contact {
             }
         }
         self.reorder(x);
-        self.regroup(tie);
+        if self.dirty {
+            self.regroup(tie);
+        } else {
+            self.regroup_pending(tie, conn);
+        }
         let rebase = self.motion;
         self.motion = 0.0;
         let hot_until = HOT_STEPS * self.step_motion;
@@ -1988,28 +1999,17 @@ impl Contact {
             // build after many nodes joined, and keeping its 17 bytes a node took 1.3 MB of the
             // 20,000-element ball's peak
             let order = side.space_order(x);
-            let mut seen = Vec::new();
-            // the renewed nodes and the leads by model number while the places move
+            // the renewed nodes, the leads and the member chains by model number while the
+            // places move
             for i in side.renewed.iter_mut() {
                 *i = side.nodes[*i as usize];
             }
-            side.group.resize(side.nodes.len(), NONE);
-            for g in side.group.iter_mut().filter(|g| **g != NONE) {
+            side.group.resize(n, NONE);
+            side.next.resize(n, NONE);
+            for g in (side.group.iter_mut().chain(&mut side.next)).filter(|g| **g != NONE) {
                 *g = side.nodes[*g as usize];
             }
-            let Side {
-                nodes,
-                node_faces,
-                rank,
-                group,
-                ..
-            } = side;
-            Side::permute(&order, &mut seen, |a, b| {
-                nodes.swap(a, b);
-                node_faces.swap(a, b);
-                rank.swap(a, b);
-                group.swap(a, b);
-            });
+            side.permute(&order);
             for pass in self.passes.iter_mut().filter(|p| p.node_side == si) {
                 let Pass { cand, touching, .. } = pass;
                 // the full build that follows lists every node again; the dues kept would only
@@ -2024,7 +2024,7 @@ impl Contact {
             for i in side.renewed.iter_mut() {
                 *i = side.local[*i as usize];
             }
-            for g in side.group.iter_mut().filter(|g| **g != NONE) {
+            for g in (side.group.iter_mut().chain(&mut side.next)).filter(|g| **g != NONE) {
                 *g = side.local[*g as usize];
             }
         }
@@ -2224,7 +2224,7 @@ impl Contact {
             rebuilt = true;
         }
         if rebuilt {
-            self.rebuild(inp.x, inp.tie);
+            self.rebuild(inp.x, inp.tie, &inp.table.model().conn);
         }
         self.renew();
         #[cfg(test)]

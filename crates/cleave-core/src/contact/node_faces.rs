@@ -53,20 +53,25 @@ impl NodeFaces {
             .chain(more.into_iter().flatten().copied())
     }
 
-    /// Nodes `a` and `b` swap places.
-    pub fn swap(&mut self, a: usize, b: usize) {
-        self.inline.swap(a, b);
+    /// The nodes move: place k gets the node at `order[k].1` (each place once); `gather`
+    /// makes the inline array so moved (`Side::permute`).
+    pub fn permute(
+        &mut self,
+        order: &[(u64, u32)],
+        gather: impl FnOnce(&[[u32; INLINE]]) -> Vec<[u32; INLINE]>,
+    ) {
+        self.inline = gather(&self.inline);
         if self.more.is_empty() {
             return;
         }
-        let (a, b) = (a as u32, b as u32);
-        let (ma, mb) = (self.more.remove(&a), self.more.remove(&b));
-        if let Some(m) = ma {
-            self.more.insert(b, m);
+        let mut place = vec![0u32; order.len()];
+        for (k, &(_, j)) in order.iter().enumerate() {
+            place[j as usize] = k as u32;
         }
-        if let Some(m) = mb {
-            self.more.insert(a, m);
-        }
+        // (a map: only looked up, so the order it is filled in reaches no result)
+        self.more = (std::mem::take(&mut self.more).into_iter())
+            .map(|(i, faces)| (place[i as usize], faces))
+            .collect();
     }
 }
 
@@ -75,7 +80,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn faces_come_back_in_order_past_the_inline_ones_and_move_with_swaps() {
+    fn faces_come_back_in_order_past_the_inline_ones_and_move_with_their_nodes() {
         let mut nf = NodeFaces::default();
         nf.resize(3);
         for f in 0..7 {
@@ -84,12 +89,20 @@ mod tests {
         nf.push(2, 5);
         assert_eq!(nf.of(0).count(), 0);
         assert_eq!(nf.of(1).collect::<Vec<_>>(), (10..17).collect::<Vec<_>>());
-        nf.swap(1, 2);
+        // place k gets the node at order[k].1: nodes 1 and 2 swap places
+        let moved = |nf: &mut NodeFaces, order: &[(u64, u32)]| {
+            nf.permute(order, |v| {
+                order.iter().map(|&(_, j)| v[j as usize]).collect()
+            })
+        };
+        moved(&mut nf, &[(0, 0), (0, 2), (0, 1)]);
         assert_eq!(nf.of(1).collect::<Vec<_>>(), vec![5]);
         assert_eq!(nf.of(2).collect::<Vec<_>>(), (10..17).collect::<Vec<_>>());
-        nf.swap(0, 2);
+        // a cycle: place 0 gets node 2 (the seven faces), 1 gets 0 (none), 2 gets 1 (face 5)
+        moved(&mut nf, &[(0, 2), (0, 0), (0, 1)]);
         assert_eq!(nf.of(0).count(), 7);
-        assert_eq!(nf.of(2).count(), 0);
+        assert_eq!(nf.of(1).count(), 0);
+        assert_eq!(nf.of(2).collect::<Vec<_>>(), vec![5]);
         nf.resize(4);
         assert_eq!(nf.of(3).count(), 0);
     }

@@ -1245,13 +1245,9 @@ fn member_chains_do_not_depend_on_the_places() {
     let mut rev = side.clone();
     let n = rev.nodes.len();
     let order: Vec<(u64, u32)> = (0..n).map(|k| (k as u64, (n - 1 - k) as u32)).collect();
-    let Side {
-        nodes, node_faces, ..
-    } = &mut rev;
-    Side::permute(&order, &mut Vec::new(), |a, b| {
-        nodes.swap(a, b);
-        node_faces.swap(a, b);
-    });
+    rev.group.fill(NONE);
+    rev.next.fill(NONE);
+    rev.permute(&order);
     for k in 0..n {
         rev.local[rev.nodes[k] as usize] = k as u32;
     }

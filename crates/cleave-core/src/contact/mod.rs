@@ -56,8 +56,10 @@
 //! exactly the contact forces of the same mesh unsplit: one penalty spring per surface point,
 //! not one per copy (a deck node on a face of the ball's surface has four copies there, which
 //! would otherwise make its spring four times as stiff), and the work is that of the deck's
-//! nodes. When a set splits, each part has its lead. Leads are found at each search
-//! ([`Contact::regroup`]); a node whose lead changed is searched again, and a new lead takes
+//! nodes. When a set splits, each part has its lead. Leads are found again at each search, for
+//! the copies at the faces that joined since the last ([`Contact::regroup_pending`]; for every
+//! node when ties changed otherwise, [`Contact::regroup`]); a node whose lead changed is
+//! searched again, and a new lead takes
 //! over the contact history of its set's lead before (the engagement and the friction force:
 //! it sits at the same point, on the same faces), so a set that splits, or whose lead changes,
 //! while in contact keeps pushing back; a set whose members changed has all its candidates due

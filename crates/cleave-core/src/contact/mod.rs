@@ -104,8 +104,12 @@
 //! When interfaces fail ([`ContactSet::activate`]), the search is incremental: the new faces get
 //! boxes and spheres from x_ref, a grid that takes each face and node as it joins holds them
 //! ([`join_grid`]: none is sorted again at the next search), and only the
-//! nodes whose x_ref lies in a failed face's box get new lists (a broken tie or a new face only
-//! changes the lists of the nodes at its corners or within its box). The lists are then what a
+//! nodes whose x_ref lies in a failed face's box get new lists (a new face only changes the
+//! lists of the nodes within its box), with every copy of its corners' deck nodes: a broken tie
+//! or chain changes which faces hold a node tied or chained to each copy, and a copy split off
+//! earlier need not lie in the box (on the 20,000-element ball a copy 0.25 mm from a face that
+//! had held a copy tied or chained to it lay outside the box of the failure that ended that,
+//! and kept a list without the face until the next full build). The lists are then what a
 //! full build at x_ref with the new faces and ties would give, and stay valid under the same
 //! margin rule (new nodes are watched from x_ref on). When the faces or nodes that joined since
 //! the last full build exceed a quarter of those in it, a full build is made instead. The
@@ -2117,9 +2121,20 @@ impl Contact {
                     });
                 scratch.append(&mut found);
             }
-            // nodes that became or stopped being leads (all at the failed faces' corners, so
-            // in their boxes already; listed again for safety)
+            // nodes that became or stopped being leads, and every copy of the pending faces'
+            // deck nodes: their ties and chains changed, so which faces hold a node tied or
+            // chained to them did (`Query::run` leaves those out), and a copy split off
+            // earlier need not lie in these faces' boxes (module docs, Search)
             scratch.extend(regrouped[pass.node_side].iter().map(|&(i, _)| i));
+            for &(e, f) in pending.iter() {
+                for n in face_nodes(&table.model().conn[e as usize], f) {
+                    for &c in chains.copies(n) {
+                        if let Some(&k) = ns.local.get(c as usize).filter(|&&k| k != NONE) {
+                            scratch.push(k);
+                        }
+                    }
+                }
+            }
             scratch.sort_unstable();
             scratch.dedup();
             let Pass {

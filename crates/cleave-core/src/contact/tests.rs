@@ -612,6 +612,57 @@ fn incremental_vs_full(single: bool, per_slot: bool) {
     assert!(st.rebuilds < 20, "single {single}: {st:?}");
 }
 
+/// Each lead's candidates (after a step's searches) hold every face it could touch at the
+/// positions `x`: every face, not held (the lead, a copy tied or chained to it) and not eroded,
+/// whose sphere `E r + depth` about its centroid and whose corners' box grown by `depth + 4
+/// INSIDE_TOL r` hold the lead (both needed for contact: mod.rs, Search). Brute force over the
+/// faces.
+fn lists_hold_every_reachable_face(cs: &ContactSet, x: Points, tie: &[u32], step: usize) {
+    let e = penalty::WEIGHT_SUM;
+    for c in cs.contacts() {
+        for pass in &c.passes {
+            let (ns, fs) = (&c.sides[pass.node_side], &c.sides[pass.face_side]);
+            for i in 0..ns.nodes.len() {
+                if ns.group.get(i).copied() != Some(i as u32) || ns.buried(i as u32) {
+                    continue;
+                }
+                let s = ns.nodes[i];
+                let p = x[s as usize];
+                let set = tie.get(s as usize).copied().unwrap_or(NONE);
+                let (sched, room) = pass.cand.get(i);
+                let listed: Vec<u32> = sched.faces(room).collect();
+                for (f, face) in fs.faces.iter().enumerate() {
+                    let q = face.nodes.map(|n| x[n as usize]);
+                    let centre = scale(add(add(q[0], q[1]), add(q[2], q[3])), 0.25);
+                    let r = q
+                        .iter()
+                        .map(|a| dist2(*a, centre))
+                        .fold(0.0, f64::max)
+                        .sqrt();
+                    let reach = e * r + face.depth;
+                    let held = |a: u32| {
+                        a == s || (set != NONE && tie[a as usize] == set) || c.chains.held(a, s)
+                    };
+                    if face.depth <= 0.0
+                        || dist2(p, centre) > reach * reach
+                        || !Aabb::of_points(&q)
+                            .inflated(face.depth + 4.0 * INSIDE_TOL * r)
+                            .contains(p)
+                        || face.nodes.iter().any(|&a| held(a))
+                    {
+                        continue;
+                    }
+                    assert!(
+                        listed.contains(&(f as u32)),
+                        "step {step}: lead {s} lacks face {f} ({:?})",
+                        face.nodes
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// How [`failing_block`] runs.
 struct FailingBlock {
     single: bool,
@@ -711,6 +762,7 @@ fn failing_block(
         let (mut fa, mut fb) = (zeros(x.len()), zeros(x.len()));
         let sa = lazy.compute_with_slots(xv, vv, dt, &tie, slot, &mut fa);
         let sb = full.compute_with_slots(xv, vv, dt, &tie, slot, &mut fb);
+        lists_hold_every_reachable_face(&lazy, xv, &tie, step);
         assert_eq!(
             (fa, sa.energy, sa.pairs),
             (fb, sb.energy, sb.pairs),

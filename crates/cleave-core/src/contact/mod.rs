@@ -983,6 +983,23 @@ impl Side {
         }
     }
 
+    /// Append to `out` the places of the side's copies of the deck nodes of `faces` (`conn`:
+    /// the model's connectivity; none when the model is not split), with repeats: the nodes
+    /// whose ties and chains change when those faces' interfaces fail or their cracks close or
+    /// open.
+    fn copies_at(&self, faces: &[FaceId], conn: &[[u32; 8]], chains: &Chains, out: &mut Vec<u32>) {
+        for &(e, f) in faces {
+            for n in face_nodes(&conn[e as usize], f) {
+                for &c in chains.copies(n) {
+                    let k = self.local[c as usize];
+                    if k != NONE {
+                        out.push(k);
+                    }
+                }
+            }
+        }
+    }
+
     /// Lead `i` and the other members of its coincident set on the side ([`Side::next`]).
     fn members(&self, i: u32) -> impl Iterator<Item = u32> + '_ {
         std::iter::successors(Some(i), |&k| {
@@ -1926,16 +1943,7 @@ impl Contact {
             match pending_in.filter(|_| chains.is_split()) {
                 Some(conn) => {
                     some.clear();
-                    for &(e, f) in pending.iter() {
-                        for n in face_nodes(&conn[e as usize], f) {
-                            for &c in chains.copies(n) {
-                                let k = side.local[c as usize];
-                                if k != NONE {
-                                    some.push(k);
-                                }
-                            }
-                        }
-                    }
+                    side.copies_at(pending, conn, chains, some);
                     // by model number (one place per model number: duplicates stay adjacent)
                     some.sort_unstable_by_key(|&k| side.nodes[k as usize]);
                     some.dedup();
@@ -2126,15 +2134,7 @@ impl Contact {
             // chained to them did (`Query::run` leaves those out), and a copy split off
             // earlier need not lie in these faces' boxes (module docs, Search)
             scratch.extend(regrouped[pass.node_side].iter().map(|&(i, _)| i));
-            for &(e, f) in pending.iter() {
-                for n in face_nodes(&table.model().conn[e as usize], f) {
-                    for &c in chains.copies(n) {
-                        if let Some(&k) = ns.local.get(c as usize).filter(|&&k| k != NONE) {
-                            scratch.push(k);
-                        }
-                    }
-                }
-            }
+            ns.copies_at(pending, &table.model().conn, chains, scratch);
             scratch.sort_unstable();
             scratch.dedup();
             let Pass {

@@ -614,11 +614,9 @@ fn incremental_vs_full(single: bool, per_slot: bool) {
 
 /// Each lead's candidates (after a step's searches) hold every face it could touch at the
 /// positions `x`: every face, not held (the lead, a copy tied or chained to it) and not eroded,
-/// whose sphere `E r + depth` about its centroid and whose corners' box grown by `depth + 4
-/// INSIDE_TOL r` hold the lead (both needed for contact: mod.rs, Search). Brute force over the
-/// faces.
+/// whose search sphere and box at `x` with no margin ([`search_sphere`], [`search_box`]: both
+/// needed for contact, mod.rs Search) hold the lead. Brute force over the faces.
 fn lists_hold_every_reachable_face(cs: &ContactSet, x: Points, tie: &[u32], step: usize) {
-    let e = penalty::WEIGHT_SUM;
     for c in cs.contacts() {
         for pass in &c.passes {
             let (ns, fs) = (&c.sides[pass.node_side], &c.sides[pass.face_side]);
@@ -632,22 +630,14 @@ fn lists_hold_every_reachable_face(cs: &ContactSet, x: Points, tie: &[u32], step
                 let (sched, room) = pass.cand.get(i);
                 let listed: Vec<u32> = sched.faces(room).collect();
                 for (f, face) in fs.faces.iter().enumerate() {
-                    let q = face.nodes.map(|n| x[n as usize]);
-                    let centre = scale(add(add(q[0], q[1]), add(q[2], q[3])), 0.25);
-                    let r = q
-                        .iter()
-                        .map(|a| dist2(*a, centre))
-                        .fold(0.0, f64::max)
-                        .sqrt();
-                    let reach = e * r + face.depth;
+                    // the search's sphere and box with no margin: the least contact needs
+                    let (centre, reach) = search_sphere(face, x, 0.0);
                     let held = |a: u32| {
                         a == s || (set != NONE && tie[a as usize] == set) || c.chains.held(a, s)
                     };
                     if face.depth <= 0.0
                         || dist2(p, centre) > reach * reach
-                        || !Aabb::of_points(&q)
-                            .inflated(face.depth + 4.0 * INSIDE_TOL * r)
-                            .contains(p)
+                        || !search_box(face, x, 0.0).contains(p)
                         || face.nodes.iter().any(|&a| held(a))
                     {
                         continue;

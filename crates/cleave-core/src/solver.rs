@@ -108,8 +108,11 @@ pub struct PhaseTimes {
     /// Element pass: stresses, corner forces and their assembly into the nodes (with the body
     /// loads), element time step.
     pub elements: f64,
-    /// Failure check of the interfaces.
+    /// Failure check of the interfaces (with their release and the split of their sets:
+    /// [`crate::separation::interfaces::Separation::release_seconds`], and `split_sums`).
     pub interfaces: f64,
+    /// Of `interfaces`: the split sets' masses and forces summed again.
+    pub split_sums: f64,
     /// Contact search and forces.
     pub contact: f64,
     /// Everything else of `advance_to_half_step` (cohesive forces, velocities, rigid bodies,
@@ -1020,8 +1023,10 @@ impl<'m> Solver<'m> {
         {
             return;
         }
+        let began = Instant::now();
         self.grow_split_sets();
         self.sum_split_sets();
+        self.times.split_sums += began.elapsed().as_secs_f64();
     }
 
     /// Release the interfaces another backend (the GPU) found failed in the step at t^n:

@@ -251,6 +251,7 @@ pub(crate) mod restart;
 pub mod schedule;
 pub mod search;
 pub mod surface;
+pub mod times;
 mod touching;
 pub mod view;
 
@@ -278,7 +279,9 @@ use node_faces::NodeFaces;
 use penalty::{normal_force, off_corners, project, Cull, CullMore, Projection, INSIDE_TOL};
 use schedule::{Cand, Sched};
 use search::{Aabb, Aabb32, BucketGrid};
+use std::time::Instant;
 use surface::{covered_parts, exterior_faces, face_nodes, side_faces, FaceId, FaceTable};
+use times::{lap, ContactTimes};
 use touching::Touching;
 
 const NONE: u32 = u32::MAX;
@@ -401,6 +404,10 @@ pub struct ContactSet<'m> {
     forces: Vec<ContactForce>,
     /// Faces the bounds caches of the pool's threads have room for ([`bounds_cache`]).
     reserved: usize,
+    /// Seconds spent making failed interfaces' faces join ([`ContactSet::activate_cracks`]),
+    /// and adding the contact forces into the nodes' ([`ContactSet::compute_with_slots`]).
+    activation: f64,
+    sums: f64,
 }
 
 impl<'m> ContactSet<'m> {
@@ -454,6 +461,8 @@ impl<'m> ContactSet<'m> {
             nodal: NodalForces::new(nn),
             forces,
             reserved: 0,
+            activation: 0.0,
+            sums: 0.0,
         })
     }
 
@@ -501,6 +510,7 @@ impl<'m> ContactSet<'m> {
     /// resist interpenetration until the faces slide apart ([`closure`]). Returns what
     /// `activate` returns.
     pub fn activate_cracks(&mut self, cracks: &[Crack]) -> usize {
+        let mut t = Instant::now();
         let mut added = 0;
         for crack in cracks {
             added += self.activate(&crack.faces);
@@ -508,6 +518,7 @@ impl<'m> ContactSet<'m> {
                 c.close(crack, &self.table);
             }
         }
+        lap(&mut t, &mut self.activation);
         added
     }
 
@@ -615,6 +626,7 @@ impl<'m> ContactSet<'m> {
             step.rebuilt |= rebuilt;
         }
         // NOTE: fixed order: last step's nodes, then this step's, each in insertion order.
+        let mut t = Instant::now();
         let mut work = 0.0;
         for (i, fi) in self.nodal.last_step() {
             work += dot(fi, v[i as usize]);
@@ -626,6 +638,7 @@ impl<'m> ContactSet<'m> {
             f[r] = add(f[r], fi);
         }
         step.energy = -0.5 * dt_prev * work;
+        lap(&mut t, &mut self.sums);
         step
     }
 
@@ -723,6 +736,17 @@ impl<'m> ContactSet<'m> {
             s.released += c.released;
         }
         s
+    }
+
+    /// Seconds in each phase of the steps so far, over all definitions
+    /// ([`times::ContactTimes`]).
+    pub fn times(&self) -> ContactTimes {
+        let t = ContactTimes {
+            activation: self.activation,
+            pair_forces: self.sums,
+            ..ContactTimes::default()
+        };
+        self.contacts.iter().fold(t, |t, c| t.plus(&c.times))
     }
 }
 
@@ -1458,6 +1482,9 @@ pub struct Contact {
     rebuilds: u64,
     updates: u64,
     released: u64,
+    /// Seconds in each phase of the steps (not kept in restart files).
+    #[serde(skip)]
+    times: ContactTimes,
     /// Test every candidate every step and keep them all (tests compare with it).
     #[cfg(test)]
     exhaustive: bool,
@@ -1580,6 +1607,7 @@ impl Contact {
             rebuilds: 0,
             updates: 0,
             released: 0,
+            times: ContactTimes::default(),
             #[cfg(test)]
             exhaustive: false,
         })
@@ -2210,9 +2238,12 @@ impl Contact {
     /// One step of this definition: forces into `acc`; the resultants and whether the
     /// candidates were rebuilt in full.
     fn compute(&mut self, inp: &StepInput, acc: &mut NodalForces) -> (ContactForce, bool) {
+        let mut t = Instant::now();
         self.watch_new_nodes(inp.x);
         let spread = self.track(inp.x);
+        lap(&mut t, &mut self.times.tracking);
         self.step_closures(inp);
+        lap(&mut t, &mut self.times.closed_cracks);
         let mut out = ContactForce {
             id: self.id,
             ..Default::default()
@@ -2222,12 +2253,20 @@ impl Contact {
         // the node-to-face pairs'. The order is the same on any number of threads.
         let closures = std::mem::take(&mut self.closures);
         let frictionless = self.friction.is_frictionless();
+        let mut scattered = 0.0;
         let ((), rebuilt) = rayon::join(
-            || scatter_closures(&closures, frictionless, acc, &mut out),
+            || {
+                let mut t = Instant::now();
+                scatter_closures(&closures, frictionless, acc, &mut out);
+                lap(&mut t, &mut scattered);
+            },
             || self.search_and_check(inp, spread),
         );
+        self.times.closed_forces += scattered;
         self.closures = closures;
+        let mut t = Instant::now();
         self.scatter_pairs(acc, &mut out);
+        lap(&mut t, &mut self.times.pair_forces);
         (out, rebuilt)
     }
 
@@ -2235,13 +2274,16 @@ impl Contact {
     /// and the check of every node with a candidate due, each pass's contacts then in its
     /// [`Touching`]; whether the candidates were rebuilt in full.
     fn search_and_check(&mut self, inp: &StepInput, spread: f64) -> bool {
+        let mut t = Instant::now();
         self.chains.refresh(inp.tie);
         let mut rebuilt = self.dirty || spread > self.margin || self.motion > REBASE * self.margin;
         if !rebuilt && !self.pending.is_empty() && !self.update(inp.x, inp.tie, inp.table) {
             rebuilt = true;
         }
+        lap(&mut t, &mut self.times.incremental);
         if rebuilt {
             self.rebuild(inp.x, inp.tie, &inp.table.model().conn);
+            lap(&mut t, &mut self.times.full_builds);
         }
         self.renew();
         #[cfg(test)]
@@ -2311,6 +2353,7 @@ impl Contact {
                 });
             touching.swap();
         }
+        lap(&mut t, &mut self.times.node_checks);
         rebuilt
     }
 

@@ -64,6 +64,10 @@ pub struct CohesiveFace {
 /// The interfaces of a split model at run time.
 #[derive(serde::Serialize, serde::Deserialize)]
 pub struct Separation {
+    /// Wall-clock seconds spent releasing failed interfaces and splitting their sets so far
+    /// (benchmarks: `PhaseTimes::releases`); not saved in a restart file.
+    #[serde(skip)]
+    pub release_seconds: f64,
     faces: Vec<SharedFace>,
     interfaces: usize,
     status: Vec<Status>,
@@ -134,6 +138,7 @@ impl Separation {
         let sets = CoincidentSets::build(m.num_nodes(), &faces, &ties);
         let n = interfaces;
         Ok(Self {
+            release_seconds: 0.0,
             faces,
             interfaces: n,
             status: vec![Status::Intact; n],
@@ -326,6 +331,7 @@ impl Separation {
     /// Release the candidates (failure index, interface) of this step
     /// ([`Self::select_releases`]) and split the sets they tied.
     fn release_candidates(&mut self, (x, per_slot): (&[Vec3], bool), stress: &[Sym3]) -> &[usize] {
+        let began = std::time::Instant::now();
         self.select_releases();
         if !self.released.is_empty() {
             for k in 0..self.released.len() {
@@ -335,6 +341,7 @@ impl Separation {
             self.sets
                 .split_after_failure(&self.faces, &self.ties, &self.released);
         }
+        self.release_seconds += began.elapsed().as_secs_f64();
         &self.released
     }
 

@@ -5,6 +5,7 @@
 //! step, the peak memory, and the share of each phase of the step, contact in particular (the
 //! issue's target: contact at most 30% of the step).
 
+use cleave_core::contact::times::ContactTimes;
 use cleave_core::contact::ContactStats;
 use cleave_core::model::Model;
 use cleave_io::output::peak_rss_mb;
@@ -34,6 +35,11 @@ pub struct BallRun {
     pub failed_interfaces: usize,
     /// Contact search statistics at the end (closed cracks, releases, builds).
     pub contact: ContactStats,
+    /// Seconds in each phase of the contact's steps.
+    pub contact_times: ContactTimes,
+    /// Seconds of the interfaces' phase: in all, releasing the failed ones and splitting their
+    /// sets, summing the split sets again.
+    pub interface_times: [f64; 3],
     /// Steal time during the run (s), where the system reports it (`bench::steal_seconds`).
     pub steal: Option<f64>,
 }
@@ -89,6 +95,12 @@ pub fn run_ball(
         shares: [t.elements, t.interfaces, t.contact, t.nodal].map(|x| x / total),
         failed_interfaces: solver.separation().map_or(0, |s| s.num_failed()),
         contact: solver.contact().map(|c| c.stats()).unwrap_or_default(),
+        contact_times: solver.contact().map(|c| c.times()).unwrap_or_default(),
+        interface_times: [
+            t.interfaces,
+            solver.separation().map_or(0.0, |s| s.release_seconds),
+            t.split_sums,
+        ],
         steal: timing.steal,
     })
 }
@@ -109,6 +121,17 @@ impl BallRun {
             "failed_interfaces": self.failed_interfaces,
             "closed_cracks": self.contact.closed,
             "released_cracks": self.contact.released,
+            "contact_times": {
+                "tracking": self.contact_times.tracking,
+                "closed_cracks": self.contact_times.closed_cracks,
+                "closed_forces": self.contact_times.closed_forces,
+                "incremental": self.contact_times.incremental,
+                "full_builds": self.contact_times.full_builds,
+                "node_checks": self.contact_times.node_checks,
+                "pair_forces": self.contact_times.pair_forces,
+                "activation": self.contact_times.activation,
+            },
+            "interface_times": self.interface_times,
             "steal_s": self.steal,
         })
     }
@@ -133,6 +156,27 @@ impl BallRun {
                 closed: u("closed_cracks").unwrap_or(0) as usize,
                 released: u("released_cracks").unwrap_or(0),
                 ..Default::default()
+            },
+            contact_times: {
+                let t = |k: &str| v["contact_times"][k].as_f64().unwrap_or(0.0);
+                ContactTimes {
+                    tracking: t("tracking"),
+                    closed_cracks: t("closed_cracks"),
+                    closed_forces: t("closed_forces"),
+                    incremental: t("incremental"),
+                    full_builds: t("full_builds"),
+                    node_checks: t("node_checks"),
+                    pair_forces: t("pair_forces"),
+                    activation: t("activation"),
+                }
+            },
+            interface_times: {
+                let it = v["interface_times"].as_array();
+                [0, 1, 2].map(|i| {
+                    it.and_then(|a| a.get(i))
+                        .and_then(|x| x.as_f64())
+                        .unwrap_or(0.0)
+                })
             },
             steal: f("steal_s"),
         })
@@ -174,6 +218,27 @@ pub fn bench_ball(a: &BenchArgs) -> Result<(), Failure> {
         "  contact: {} closed cracks, {} released to the search; {} full searches, {} incremental",
         s.closed, s.released, s.rebuilds, s.updates
     );
+    let [all, releases, sums] = r.interface_times;
+    if releases > 0.0 {
+        println!(
+            "  interface checks {all:.3} s: releases and set splits {releases:.3} s, the split sets summed again {sums:.3} s, the checks {:.3} s",
+            all - releases - sums
+        );
+    }
+    let t = r.contact_times;
+    if t.total() > 0.0 {
+        println!(
+            "  contact phases: node checks {:.3} s, full builds {:.3} s, incremental searches {:.3} s, closed cracks {:.3} s (their forces {:.3} s, beside the searches and checks), motion tracking {:.3} s, pair forces {:.3} s, crack activation {:.3} s",
+            t.node_checks,
+            t.full_builds,
+            t.incremental,
+            t.closed_cracks,
+            t.closed_forces,
+            t.tracking,
+            t.pair_forces,
+            t.activation
+        );
+    }
     super::print_steal(r.steal);
     Ok(())
 }
@@ -268,4 +333,50 @@ fn bench_ball_gpu(a: &BenchArgs, end: f64) -> Result<(), Failure> {
     println!("  contact pairs at the end: {pairs}");
     super::print_steal(timing.steal);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What `--json` writes reads back, the contact's phase times with it (`bench
+    /// paper-tables` runs each ball in its own process and reads its JSON).
+    #[test]
+    fn json_reads_back() {
+        let r = BallRun {
+            ball_elements: 2800,
+            ball_nodes: 3000,
+            elements: 2825,
+            nodes: 3100,
+            nodes_solved: 20000,
+            steps: 1761,
+            us_per_element_step: 0.3,
+            peak_rss_mb: 13.3,
+            shares: [0.6, 0.05, 0.33, 0.02],
+            failed_interfaces: 1686,
+            contact: ContactStats {
+                closed: 1328,
+                released: 358,
+                ..Default::default()
+            },
+            contact_times: ContactTimes {
+                tracking: 0.1,
+                closed_cracks: 0.2,
+                closed_forces: 0.3,
+                incremental: 0.4,
+                full_builds: 0.5,
+                node_checks: 0.6,
+                pair_forces: 0.7,
+                activation: 0.8,
+            },
+            interface_times: [1.0, 0.25, 0.125],
+            steal: Some(0.01),
+        };
+        let back = BallRun::from_json(&r.to_json()).expect("reads back");
+        assert_eq!(back.contact_times, r.contact_times);
+        assert_eq!(back.interface_times, r.interface_times);
+        assert_eq!(back.failed_interfaces, 1686);
+        assert_eq!(back.contact.closed, 1328);
+        assert_eq!(back.shares, r.shares);
+    }
 }

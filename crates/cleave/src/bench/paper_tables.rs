@@ -311,6 +311,8 @@ mod tests {
             shares: [0.5, 0.1, 0.3, 0.1],
             failed_interfaces: 0,
             contact: Default::default(),
+            contact_times: Default::default(),
+            interface_times: [0.0; 3],
             steal: Some(0.0),
         }
     }

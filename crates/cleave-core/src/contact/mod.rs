@@ -207,11 +207,11 @@
 //!
 //! # Cost
 //! Where a fragmenting run's contact time goes (the 20,000-element ball of `cleave bench ball`,
-//! 50 us, one thread, timers added for one run and removed; BENCHMARKS.md has the current
-//! figures and how to take them): the node checks and the force scatter about half, the full
-//! builds 28% (240 of them: the faces' boxes, the grids, the nodes' searches), the closed
-//! cracks 16% (about 150 ns a crack and step), motion tracking 3%, the incremental searches
-//! 2.5%. The node checks are bound by memory: a check reads the node's schedule and list, the
+//! 50 us, one thread, which prints each phase's seconds from the timers of [`times`];
+//! BENCHMARKS.md has the current figures): the node checks 53%, the full builds 20% (240 of
+//! them: the faces' boxes, the grids, the nodes' searches), the closed cracks 13% (about 100
+//! ns a crack and step, their forces included), the incremental searches 2.5%, motion
+//! tracking 2.4%, the forces' sums 2%. The node checks are bound by memory: a check reads the node's schedule and list, the
 //! face's bounds and their stamp; a node's frame costs about 160 ns and a face's bounds about
 //! 120 ns, together about a fifth of the contact. Without separation the contact takes 2-3% of
 //! the ball's step.

@@ -49,7 +49,7 @@ case_() {
   local t0=$SECONDS
   timeout "$secs" "$@" >"$out/$name.txt" 2>&1
   local rc=$?
-  grep -E "us per|ns\)|ns per|idle|device memory|halted|split's|passes|shares|peak|interfaces failed|elements \(|stopped" \
+  grep -E "us per|ns\)|ns per|idle|device memory|halted|split's|passes|shares|contact phases|interface checks [0-9]|peak|interfaces failed|elements \(|stopped" \
     "$out/$name.txt" | head -14 | tee -a "$summary"
   echo "   exit $rc after $((SECONDS - t0)) s$([ $rc = 124 ] && echo " (stopped at its limit of $secs s)")" \
     | tee -a "$summary"

@@ -211,9 +211,9 @@
 //! BENCHMARKS.md has the current figures): the node checks 53%, the full builds 20% (240 of
 //! them: the faces' boxes, the grids, the nodes' searches), the closed cracks 13% (about 100
 //! ns a crack and step, their forces included), the incremental searches 2.5%, motion
-//! tracking 2.4%, the forces' sums 2%. The node checks are bound by memory: a check reads the node's schedule and list, the
-//! face's bounds and their stamp; a node's frame costs about 160 ns and a face's bounds about
-//! 120 ns, together about a fifth of the contact. Without separation the contact takes 2-3% of
+//! tracking 2.4%, the forces' sums 2%. The node checks are bound by memory: a check reads the
+//! node's schedule and list, the face's bounds and their stamp; a node's frame costs about 160
+//! ns and a face's bounds about 120 ns, together about a fifth of the contact. Without separation the contact takes 2-3% of
 //! the ball's step.
 //!
 //! Tried on that ball and dropped, each with the same output bits (the measurements are in the
@@ -404,9 +404,10 @@ pub struct ContactSet<'m> {
     forces: Vec<ContactForce>,
     /// Faces the bounds caches of the pool's threads have room for ([`bounds_cache`]).
     reserved: usize,
-    /// Seconds spent making failed interfaces' faces join ([`ContactSet::activate_cracks`]),
-    /// and adding the contact forces into the nodes' ([`ContactSet::compute_with_slots`]).
+    /// Seconds spent making failed interfaces' faces join ([`ContactSet::activate_cracks`]).
     activation: f64,
+    /// Seconds spent adding the contact forces into the nodes' and taking their work
+    /// ([`ContactSet::compute_with_slots`]).
     sums: f64,
 }
 

@@ -65,7 +65,7 @@ pub struct CohesiveFace {
 #[derive(serde::Serialize, serde::Deserialize)]
 pub struct Separation {
     /// Wall-clock seconds spent releasing failed interfaces and splitting their sets so far
-    /// (benchmarks: `PhaseTimes::releases`); not saved in a restart file.
+    /// (`cleave bench ball` prints them); not saved in a restart file.
     #[serde(skip)]
     pub release_seconds: f64,
     faces: Vec<SharedFace>,

@@ -7,7 +7,8 @@
 use std::time::Instant;
 
 /// Seconds in each phase, summed over the steps and the definitions.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
+#[serde(default)]
 pub struct ContactTimes {
     /// The motion bound's tracking of the positions (and the watch of new nodes).
     pub tracking: f64,

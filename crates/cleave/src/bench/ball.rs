@@ -121,16 +121,7 @@ impl BallRun {
             "failed_interfaces": self.failed_interfaces,
             "closed_cracks": self.contact.closed,
             "released_cracks": self.contact.released,
-            "contact_times": {
-                "tracking": self.contact_times.tracking,
-                "closed_cracks": self.contact_times.closed_cracks,
-                "closed_forces": self.contact_times.closed_forces,
-                "incremental": self.contact_times.incremental,
-                "full_builds": self.contact_times.full_builds,
-                "node_checks": self.contact_times.node_checks,
-                "pair_forces": self.contact_times.pair_forces,
-                "activation": self.contact_times.activation,
-            },
+            "contact_times": self.contact_times,
             "interface_times": self.interface_times,
             "steal_s": self.steal,
         })
@@ -157,19 +148,7 @@ impl BallRun {
                 released: u("released_cracks").unwrap_or(0),
                 ..Default::default()
             },
-            contact_times: {
-                let t = |k: &str| v["contact_times"][k].as_f64().unwrap_or(0.0);
-                ContactTimes {
-                    tracking: t("tracking"),
-                    closed_cracks: t("closed_cracks"),
-                    closed_forces: t("closed_forces"),
-                    incremental: t("incremental"),
-                    full_builds: t("full_builds"),
-                    node_checks: t("node_checks"),
-                    pair_forces: t("pair_forces"),
-                    activation: t("activation"),
-                }
-            },
+            contact_times: serde_json::from_value(v["contact_times"].clone()).unwrap_or_default(),
             interface_times: {
                 let it = v["interface_times"].as_array();
                 [0, 1, 2].map(|i| {

@@ -149,14 +149,8 @@ impl BallRun {
                 ..Default::default()
             },
             contact_times: serde_json::from_value(v["contact_times"].clone()).unwrap_or_default(),
-            interface_times: {
-                let it = v["interface_times"].as_array();
-                [0, 1, 2].map(|i| {
-                    it.and_then(|a| a.get(i))
-                        .and_then(|x| x.as_f64())
-                        .unwrap_or(0.0)
-                })
-            },
+            interface_times: serde_json::from_value(v["interface_times"].clone())
+                .unwrap_or_default(),
             steal: f("steal_s"),
         })
     }
